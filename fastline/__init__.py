@@ -1,0 +1,39 @@
+"""fastline: nominal contact pressure of a cylinder on a randomly rough elastic half-space.
+
+Full Persson contact theory (compiled with Numba) and a fast line-contact solver
+(log-kernel convolution by zero-padded FFT). See README.md and docs/.
+"""
+
+from fastline.elastic import LogKernelOperator, influence_coefficients
+from fastline.limits import (
+    WS_GAUSSIAN,
+    WS_HERTZ,
+    alpha,
+    gaussian_line_contact,
+    hertz_line_contact,
+    p0_ratio_gaussian,
+    penetration,
+)
+from fastline.persson import ExponentialFit, PerssonTheory
+from fastline.spectra import PSD, SelfAffinePSD, SumPSD, TabulatedPSD, effective_modulus
+
+__version__ = "0.1.0"
+
+__all__ = [
+    "PSD",
+    "SelfAffinePSD",
+    "TabulatedPSD",
+    "SumPSD",
+    "effective_modulus",
+    "PerssonTheory",
+    "ExponentialFit",
+    "LogKernelOperator",
+    "influence_coefficients",
+    "hertz_line_contact",
+    "gaussian_line_contact",
+    "p0_ratio_gaussian",
+    "penetration",
+    "alpha",
+    "WS_HERTZ",
+    "WS_GAUSSIAN",
+]

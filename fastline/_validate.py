@@ -1,0 +1,65 @@
+"""Input validation shared by the public wrappers.
+
+Every public function checks its arguments here before any compiled kernel sees them, so a
+bad value produces a ``ValueError`` that names the parameter and the allowed range instead of a
+NaN, an inf or a hang deep inside Numba code.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+
+def finite_scalar(name: str, value) -> float:
+    """Return ``value`` as a float, rejecting NaN, inf and non-numbers."""
+    try:
+        out = float(value)
+    except (TypeError, ValueError):
+        raise ValueError(f"{name} must be a finite real number, got {value!r}") from None
+    if not math.isfinite(out):
+        raise ValueError(f"{name} must be finite (not NaN or inf), got {value!r}")
+    return out
+
+
+def positive(name: str, value, unit: str = "") -> float:
+    """A finite scalar > 0."""
+    out = finite_scalar(name, value)
+    if out <= 0.0:
+        u = f" {unit}" if unit else ""
+        raise ValueError(f"{name} must be > 0{u} (allowed range (0, inf)), got {out!r}")
+    return out
+
+
+def in_range(name: str, value, lo: float, hi: float, lo_open=True, hi_open=False) -> float:
+    """A finite scalar inside the interval (lo, hi], brackets as given."""
+    out = finite_scalar(name, value)
+    ok_lo = out > lo if lo_open else out >= lo
+    ok_hi = out < hi if hi_open else out <= hi
+    if not (ok_lo and ok_hi):
+        lb = "(" if lo_open else "["
+        rb = ")" if hi_open else "]"
+        raise ValueError(f"{name} must lie in {lb}{lo:g}, {hi:g}{rb}, got {out!r}")
+    return out
+
+
+def finite_array(name: str, value, ndim: int | None = None) -> np.ndarray:
+    """A float64 array with no NaN or inf."""
+    try:
+        arr = np.asarray(value, dtype=np.float64)
+    except (TypeError, ValueError):
+        raise ValueError(f"{name} must be an array of real numbers") from None
+    if ndim is not None and arr.ndim != ndim:
+        raise ValueError(f"{name} must be {ndim}-dimensional, got shape {arr.shape}")
+    if not np.all(np.isfinite(arr)):
+        raise ValueError(f"{name} must contain only finite values (no NaN or inf)")
+    return arr
+
+
+def positive_array(name: str, value) -> np.ndarray:
+    """A finite float64 array whose entries are all > 0."""
+    arr = finite_array(name, value)
+    if np.any(arr <= 0.0):
+        raise ValueError(f"{name} must be > 0 everywhere (allowed range (0, inf))")
+    return arr

@@ -1,0 +1,289 @@
+"""Plane-strain logarithmic-kernel operator for a line contact (THEORY.md section 4).
+
+Conventions
+-----------
+The nominal pressure is piecewise constant: ``p_j`` [Pa] acts on the cell of width ``dx`` [m]
+centred on the grid point ``x_j = x_0 + j*dx`` (``j = 0 .. n-1``).  The elastic displacement
+(gap increase, positive away from the cylinder) at the collocation point ``x_i`` is
+
+    (K p)_i = -(2 / (pi E*)) * sum_j p_j * int_{cell j} ln(|x_i - x'| / dx) dx'      [m]
+
+With ``g(t) = t ln|t| - t`` (``g(0) = 0``, an antiderivative of ``ln|t|``) the integral over a cell
+is exact and
+
+    K_ij = (dx / E*) * khat_{|i-j|},   khat_m = -(2/pi) * [g(m + 1/2) - g(m - 1/2)],
+
+so ``K`` is a symmetric Toeplitz matrix (``khat`` is dimensionless).  ``khat_0 > 0``; ``khat_m``
+decreases like ``-(2/pi) ln m`` for large ``m``.
+
+Reference length
+----------------
+The length inside the logarithm is the cell width ``dx``.  Any other reference length ``L``
+changes every displacement by the same constant
+
+    -(2 / (pi E*)) * ln(dx / L) * sum_j p_j dx      [m]
+
+(i.e. ``u_L = u_dx + shift``), proportional to the load per unit length ``f = sum_j p_j dx``
+[N/m].  A uniform constant is absorbed by the rigid-body approach ``u1``, so the choice of
+reference length never changes pressures; :func:`log_reference_shift` returns the constant, for
+comparing ``u1`` between grids or with an analytic solution written with another length.  On
+zero-sum pressure increments the shift vanishes, which is why ``K`` restricted to that subspace
+(positive definite, see the tests) does not depend on ``L``.
+
+Implementation
+--------------
+:meth:`LogKernelOperator.apply` computes the *linear* convolution ``K p`` with a zero-padded
+real FFT of length ``2n`` (pyFFTW): the kernel is embedded in the circulant
+``[k_0 .. k_{n-1}, 0, k_{n-1} .. k_1]`` whose spectrum is real (the embedding is symmetric).  The
+dimensionless spectrum is built once per ``n`` and shared read-only by all operators; each
+operator only scales the result by ``dx / E*``.  FFTW plans and their aligned buffers are built
+once per ``n`` *per thread* (``threading.local``), so concurrent ``apply`` calls from different
+threads never share a buffer.  Plans use ``FFTW_ESTIMATE`` and ``threads=1``; no global FFTW or
+pyFFTW state is changed.
+"""
+
+from __future__ import annotations
+
+import math
+import operator
+import threading
+
+import numpy as np
+import pyfftw
+
+from fastline._validate import finite_scalar, positive
+
+__all__ = [
+    "LogKernelOperator",
+    "influence_coefficients",
+    "log_reference_shift",
+]
+
+_TWO_OVER_PI = 2.0 / math.pi
+
+
+def _grid_size(name: str, value, minimum: int) -> int:
+    """An integer >= ``minimum`` (bools and non-integral floats rejected)."""
+    if isinstance(value, bool):
+        raise ValueError(f"{name} must be an integer >= {minimum}, got {value!r}")
+    try:
+        out = operator.index(value)
+    except TypeError:
+        raise ValueError(f"{name} must be an integer >= {minimum}, got {value!r}") from None
+    if out < minimum:
+        raise ValueError(f"{name} must be an integer >= {minimum}, got {out!r}")
+    return out
+
+
+def influence_coefficients(n) -> np.ndarray:
+    """Dimensionless influence coefficients ``khat_0 .. khat_{n-1}`` of the log kernel.
+
+    ``khat_m = -(2/pi) [g(m + 1/2) - g(m - 1/2)]`` with ``g(t) = t ln|t| - t``; the physical
+    coefficients are ``K_ij = (dx / E*) khat_{|i-j|}`` (module docstring).
+
+    Parameters
+    ----------
+    n : int
+        Number of coefficients, ``n >= 1``.
+
+    Returns
+    -------
+    ndarray, shape (n,)
+        ``khat_m`` for ``m = 0 .. n-1`` (dimensionless).
+
+    Notes
+    -----
+    The difference ``g(m + 1/2) - g(m - 1/2)`` is rewritten without the cancellation between two
+    terms of size ``m ln m``:
+
+    * ``m = 0``: ``2 g(1/2) = -ln 2 - 1``;
+    * ``m >= 1``: ``[atanh(y)/y - 1] + ln m + (1/2) log1p(-y^2)`` with ``y = 1/(2m)``,
+
+    whose relative error stays ~1e-15 for every ``m`` (no growth with ``m``).
+    """
+    n = _grid_size("n", n, 1)
+    d = np.empty(n, dtype=np.float64)
+    d[0] = -math.log(2.0) - 1.0
+    if n > 1:
+        m = np.arange(1, n, dtype=np.float64)
+        y = 0.5 / m
+        d[1:] = (np.arctanh(y) / y - 1.0) + np.log(m) + 0.5 * np.log1p(-(y * y))
+    return -_TWO_OVER_PI * d
+
+
+def log_reference_shift(load, dx, E_star, length) -> float:
+    """Uniform displacement change when the log reference length goes from ``dx`` to ``length``.
+
+    Returns ``-(2 / (pi E*)) ln(dx / length) * load``: the displacement computed with
+    ``ln(|x - x'| / length)`` equals the one from :class:`LogKernelOperator` (reference ``dx``)
+    plus this constant.  The rigid approach ``u1`` absorbs it (``u1_length = u1_dx - shift``).
+
+    Parameters
+    ----------
+    load : float
+        Net load per unit length ``sum_j p_j dx`` [N/m] (any finite value).
+    dx : float
+        Cell width [m], > 0.
+    E_star : float
+        Effective modulus [Pa], > 0.
+    length : float
+        The other reference length [m], > 0.
+
+    Returns
+    -------
+    float
+        The constant shift [m].
+    """
+    load = finite_scalar("load", load)
+    dx = positive("dx", dx, "m")
+    E_star = positive("E_star", E_star, "Pa")
+    length = positive("length", length, "m")
+    return -_TWO_OVER_PI / E_star * math.log(dx / length) * load
+
+
+# --------------------------------------------------------------------------------------------
+# Caches: the dimensionless kernel spectrum (shared, read-only) and per-thread FFT plans.
+
+_spectrum_lock = threading.Lock()
+_spectra: dict[int, np.ndarray] = {}
+_local = threading.local()
+
+
+def _kernel_spectrum(n: int) -> np.ndarray:
+    """Read-only rfft of the circulant embedding of ``khat``, pre-divided by ``2n``.
+
+    Stored as float64 of length ``2(n+1)`` with every value repeated twice, so that it multiplies
+    the float64 view of the complex spectrum (real and imaginary parts) in one real product.
+    """
+    spec = _spectra.get(n)
+    if spec is not None:
+        return spec
+    with _spectrum_lock:
+        spec = _spectra.get(n)
+        if spec is None:
+            khat = influence_coefficients(n)
+            circ = np.zeros(2 * n, dtype=np.float64)
+            circ[:n] = khat
+            circ[n + 1 :] = khat[:0:-1]
+            full = np.fft.rfft(circ)
+            # symmetric embedding -> real spectrum (imaginary part is round-off only)
+            spec = np.repeat(full.real / (2 * n), 2)
+            spec.flags.writeable = False
+            _spectra[n] = spec
+    return spec
+
+
+def _workspace(n: int):
+    """This thread's (input head, input, complex view, output head, fwd, bwd) for size ``n``."""
+    try:
+        return _local.plans[n]
+    except AttributeError:
+        _local.plans = {}
+    except KeyError:
+        pass
+    nfft = 2 * n
+    rin = pyfftw.empty_aligned(nfft, dtype=np.float64)
+    cbuf = pyfftw.empty_aligned(n + 1, dtype=np.complex128)
+    rout = pyfftw.empty_aligned(nfft, dtype=np.float64)
+    fwd = pyfftw.FFTW(
+        rin,
+        cbuf,
+        direction="FFTW_FORWARD",
+        flags=("FFTW_ESTIMATE",),  # r2c: FFTW preserves the input by default
+        threads=1,
+    )
+    bwd = pyfftw.FFTW(
+        cbuf,
+        rout,
+        direction="FFTW_BACKWARD",
+        flags=("FFTW_ESTIMATE", "FFTW_DESTROY_INPUT"),
+        threads=1,
+    )
+    rin[:] = 0.0  # the padding half rin[n:] stays zero for ever
+    ws = (rin[:n], cbuf.view(np.float64), rout[:n], fwd.execute, bwd.execute, fwd, bwd)
+    _local.plans[n] = ws
+    return ws
+
+
+class LogKernelOperator:
+    """Plane-strain log-kernel compliance ``K`` on a uniform grid (module docstring).
+
+    Parameters
+    ----------
+    n : int
+        Number of cells, ``n >= 2``.
+    dx : float
+        Cell width [m], > 0.
+    E_star : float
+        Effective plane-strain modulus ``E*`` [Pa], > 0.
+
+    Attributes
+    ----------
+    n, dx, E_star
+        As given (``dx``, ``E_star`` as floats).
+    diagonal : float
+        ``K_00 = (dx / E*) khat_0`` [m/Pa].
+    convolutions : int
+        Number of :meth:`apply` calls made on this instance (not synchronised: exact only if the
+        instance is not applied from several threads at once).
+
+    Notes
+    -----
+    ``apply`` is thread-safe: FFT plans and buffers are per thread and per ``n`` (built on first
+    use in each thread, then reused by every operator of that size), the kernel spectrum per
+    ``n`` is shared read-only.  ``apply`` does not check ``p`` for NaN/inf (hot path).
+    """
+
+    __slots__ = ("n", "dx", "E_star", "diagonal", "convolutions", "_scale", "_spec")
+
+    def __init__(self, n, dx, E_star):
+        self.n = _grid_size("n", n, 2)
+        self.dx = positive("dx", dx, "m")
+        self.E_star = positive("E_star", E_star, "Pa")
+        self._scale = self.dx / self.E_star
+        self._spec = _kernel_spectrum(self.n)
+        self.diagonal = self._scale * float(influence_coefficients(1)[0])
+        self.convolutions = 0
+
+    def __repr__(self) -> str:
+        return f"LogKernelOperator(n={self.n}, dx={self.dx!r}, E_star={self.E_star!r})"
+
+    def apply(self, p, out=None) -> np.ndarray:
+        """Return the displacement ``K p``.
+
+        Parameters
+        ----------
+        p : array_like, shape (n,)
+            Cell pressures [Pa] (any real values; not checked for NaN/inf).
+        out : ndarray, shape (n,), float64, optional
+            Destination; may be ``p`` itself.
+
+        Returns
+        -------
+        ndarray, shape (n,)
+            Displacements [m] (``out`` if given).
+        """
+        n = self.n
+        if np.shape(p) != (n,):
+            raise ValueError(f"p must have shape ({n},), got {np.shape(p)}")
+        head_in, cview, head_out, fwd, bwd, _, _ = _workspace(n)
+        np.copyto(head_in, p)
+        fwd()
+        np.multiply(cview, self._spec, out=cview)
+        bwd()
+        if out is None:
+            out = np.multiply(head_out, self._scale)
+        else:
+            if not isinstance(out, np.ndarray) or out.shape != (n,) or out.dtype != np.float64:
+                raise ValueError(f"out must be a float64 ndarray of shape ({n},)")
+            np.multiply(head_out, self._scale, out=out)
+        self.convolutions += 1
+        return out
+
+    __call__ = apply
+
+    def dense(self) -> np.ndarray:
+        """The dense ``(n, n)`` matrix ``K`` [m/Pa]; O(n^2) memory and time, for tests/reference."""
+        khat = influence_coefficients(self.n)
+        idx = np.arange(self.n)
+        return self._scale * khat[np.abs(idx[:, None] - idx[None, :])]

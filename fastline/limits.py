@@ -1,0 +1,279 @@
+"""Analytic limits of the rough cylinder-on-flat line contact (THEORY.md section 5).
+
+Two closed-form pressure profiles bracket the rough line contact (Tiwari & Persson,
+"Cylinder-flat contact mechanics with surface roughness"):
+
+* the smooth Hertz line contact (alpha -> 0; paper eqs. 6-9), an ellipse of half-width ``a``;
+* the Gaussian limit (alpha >> 1; paper eqs. 12-14) obtained from the exponential
+  pressure-separation law ``p ~ beta E* exp(-u / u0)`` with bulk deformation neglected.
+
+Here ``delta = 4 f_N / (pi E*)`` is the Hertz penetration and ``alpha = h_rms / delta`` the
+roughness parameter.  The profile width is reported by its standard deviation ``s`` (about the
+centroid) and its full width at half maximum ``w``; the ratio ``w/s`` is ``2 sqrt(3)`` for Hertz
+and ``2 sqrt(2 ln 2)`` for the Gaussian.
+
+SI units throughout: Pa, m, N/m (load per unit cylinder length).
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from fastline._validate import finite_array, positive
+
+__all__ = [
+    "WS_GAUSSIAN",
+    "WS_HERTZ",
+    "GaussianLineContact",
+    "HertzLineContact",
+    "alpha",
+    "gaussian_line_contact",
+    "hertz_line_contact",
+    "p0_ratio_gaussian",
+    "penetration",
+]
+
+#: FWHM / standard deviation of the Hertz (elliptical) profile, ``2 sqrt(3)`` (~3.464).
+WS_HERTZ = 2.0 * math.sqrt(3.0)
+#: FWHM / standard deviation of a Gaussian profile, ``2 sqrt(2 ln 2)`` (~2.355).
+WS_GAUSSIAN = 2.0 * math.sqrt(2.0 * math.log(2.0))
+
+
+def _as_result(out: np.ndarray):
+    """A Python float for 0-d results, the array otherwise."""
+    return float(out) if out.ndim == 0 else out
+
+
+def penetration(E_star, load) -> float:
+    """Hertz penetration ``delta = 4 f_N / (pi E*)`` of a line contact.
+
+    Parameters
+    ----------
+    E_star : float
+        Effective modulus ``E*`` [Pa], > 0.
+    load : float
+        Normal load per unit length ``f_N`` [N/m], > 0.
+
+    Returns
+    -------
+    float
+        ``delta`` [m] (paper eq. 9 solved for ``delta``; ``a = sqrt(R delta)``, eq. 8).
+    """
+    E_star = positive("E_star", E_star, "Pa")
+    load = positive("load", load, "N/m")
+    return 4.0 * load / (math.pi * E_star)
+
+
+def alpha(h_rms, E_star, load) -> float:
+    """Roughness parameter ``alpha = h_rms / delta`` (paper, text after eq. 5).
+
+    Parameters
+    ----------
+    h_rms : float
+        Combined rms roughness amplitude [m], > 0.
+    E_star : float
+        Effective modulus [Pa], > 0.
+    load : float
+        Normal load per unit length [N/m], > 0.
+
+    Returns
+    -------
+    float
+        ``alpha`` (dimensionless); Hertz-like below ~0.01, Gaussian-like above ~10.
+    """
+    h_rms = positive("h_rms", h_rms, "m")
+    return h_rms / penetration(E_star, load)
+
+
+@dataclass(frozen=True)
+class HertzLineContact:
+    """Smooth cylinder on an elastic half-space, plane strain (paper eqs. 6-9).
+
+    Attributes
+    ----------
+    E_star : float
+        Effective modulus [Pa].
+    radius : float
+        Cylinder radius ``R`` [m].
+    load : float
+        Load per unit length ``f_N`` [N/m].
+    p0 : float
+        Peak pressure ``sqrt(E* f_N / (pi R))`` [Pa] (paper eq. 7).
+    a : float
+        Contact half-width ``sqrt(R delta)`` [m] (paper eq. 8).
+    delta : float
+        Penetration ``4 f_N / (pi E*)`` [m] (paper eq. 9).
+    """
+
+    E_star: float
+    radius: float
+    load: float
+    p0: float
+    a: float
+    delta: float
+
+    @property
+    def s(self) -> float:
+        """Standard deviation of the pressure profile, ``a / 2`` [m]."""
+        return 0.5 * self.a
+
+    @property
+    def fwhm(self) -> float:
+        """Full width at half maximum, ``sqrt(3) a`` [m] (so ``fwhm / s = WS_HERTZ``)."""
+        return math.sqrt(3.0) * self.a
+
+    def pressure(self, x):
+        """Pressure ``p0 sqrt(1 - (x/a)^2)`` for ``|x| < a``, 0 outside (paper eq. 6).
+
+        Parameters
+        ----------
+        x : float or array_like
+            Position(s) from the contact centre [m], finite.
+
+        Returns
+        -------
+        float or ndarray
+            Pressure [Pa], same shape as ``x``.
+        """
+        t = finite_array("x", x) / self.a
+        inside = np.abs(t) < 1.0
+        out = np.zeros_like(t)
+        ti = t[inside]
+        out[inside] = self.p0 * np.sqrt((1.0 - ti) * (1.0 + ti))
+        return _as_result(out)
+
+
+@dataclass(frozen=True)
+class GaussianLineContact:
+    """Gaussian limit of the rough line contact, alpha >> 1 (paper eqs. 12-13).
+
+    With the exponential law ``p ~ exp(-u/u0)`` and rigid bulk, ``u = u1 + x^2 / (2R)`` gives
+    ``p = p0 exp(-x^2 / (2 s^2))``.
+
+    Attributes
+    ----------
+    u0 : float
+        Decay length of the exponential law ``p ~ exp(-u/u0)`` (paper eqs. 5, 10),
+        ``gamma_u h_rms`` [m].
+    radius : float
+        Cylinder radius ``R`` [m].
+    load : float
+        Load per unit length ``f_N`` [N/m].
+    s : float
+        Standard deviation ``sqrt(R u0)`` [m] (text after paper eq. 12).
+    p0 : float
+        Peak pressure ``f_N / (s sqrt(2 pi))`` [Pa] (paper eq. 13).
+    """
+
+    u0: float
+    radius: float
+    load: float
+    s: float
+    p0: float
+
+    @property
+    def fwhm(self) -> float:
+        """Full width at half maximum, ``2 sqrt(2 ln 2) s`` [m] (``fwhm / s = WS_GAUSSIAN``)."""
+        return WS_GAUSSIAN * self.s
+
+    def pressure(self, x):
+        """Pressure ``p0 exp(-x^2 / (2 s^2))`` (paper eq. 12).
+
+        Parameters
+        ----------
+        x : float or array_like
+            Position(s) from the contact centre [m], finite.
+
+        Returns
+        -------
+        float or ndarray
+            Pressure [Pa], same shape as ``x``.
+        """
+        t = finite_array("x", x) / self.s
+        return _as_result(self.p0 * np.exp(-0.5 * t * t))
+
+
+def hertz_line_contact(E_star, radius, load) -> HertzLineContact:
+    """Hertz solution for a smooth cylinder pressed on a half-space (paper eqs. 6-9).
+
+    Parameters
+    ----------
+    E_star : float
+        Effective plane-strain modulus ``E*`` [Pa], > 0 (paper eq. 1).
+    radius : float
+        Cylinder radius ``R`` [m], > 0.
+    load : float
+        Normal load per unit length ``f_N`` [N/m], > 0.
+
+    Returns
+    -------
+    HertzLineContact
+        ``p0 = sqrt(E* f_N / (pi R))``, ``delta = 4 f_N / (pi E*)``, ``a = sqrt(R delta)``.
+    """
+    E_star = positive("E_star", E_star, "Pa")
+    radius = positive("radius", radius, "m")
+    load = positive("load", load, "N/m")
+    delta = penetration(E_star, load)
+    return HertzLineContact(
+        E_star=E_star,
+        radius=radius,
+        load=load,
+        p0=math.sqrt(E_star * load / (math.pi * radius)),
+        a=math.sqrt(radius * delta),
+        delta=delta,
+    )
+
+
+def gaussian_line_contact(u0, radius, load) -> GaussianLineContact:
+    """Gaussian (large-alpha) limit of the rough line contact (paper eqs. 12-13).
+
+    Parameters
+    ----------
+    u0 : float
+        Decay length of the exponential pressure-separation law [m], > 0 (``u0 = gamma_u
+        h_rms``, paper eq. 5).
+    radius : float
+        Cylinder radius ``R`` [m], > 0.
+    load : float
+        Normal load per unit length ``f_N`` [N/m], > 0.
+
+    Returns
+    -------
+    GaussianLineContact
+        ``s = sqrt(R u0)`` and ``p0 = f_N / (s sqrt(2 pi))``.
+    """
+    u0 = positive("u0", u0, "m")
+    radius = positive("radius", radius, "m")
+    load = positive("load", load, "N/m")
+    s = math.sqrt(radius * u0)
+    return GaussianLineContact(
+        u0=u0, radius=radius, load=load, s=s, p0=load / (s * math.sqrt(2.0 * math.pi))
+    )
+
+
+def p0_ratio_gaussian(alpha, gamma_u):
+    """Peak-pressure ratio ``p0(rough) / p0(smooth)`` in the Gaussian limit (paper eq. 14).
+
+    ``(pi / (8 gamma_u alpha))^(1/2)``: the Gaussian ``p0`` with ``u0 = gamma_u h_rms`` over the
+    Hertz ``p0`` at the same load and radius, where ``alpha = h_rms / delta``.
+
+    Parameters
+    ----------
+    alpha : float or array_like
+        Roughness parameter(s) ``h_rms / delta``, each > 0 and finite.
+    gamma_u : float
+        Ratio ``u0 / h_rms`` of the exponential law, > 0 (the paper uses ~0.4).
+
+    Returns
+    -------
+    float or ndarray
+        The ratio (dimensionless), same shape as ``alpha``.
+    """
+    a = finite_array("alpha", alpha)
+    if np.any(a <= 0.0):
+        raise ValueError("alpha must be > 0 everywhere (allowed range (0, inf))")
+    gamma_u = positive("gamma_u", gamma_u)
+    return _as_result(np.sqrt(math.pi / (8.0 * gamma_u * a)))

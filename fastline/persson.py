@@ -1,0 +1,466 @@
+"""Persson contact theory for randomly rough surfaces: P(q, p), u(p) and its inverse p(u).
+
+Equations (THEORY.md section 3; Persson, J. Chem. Phys. 115, 3840 (2001); Yang & Persson,
+J. Phys.: Condens. Matter 20, 215214 (2008)), with ``A(q) = pi int_{q0}^q q'^3 C dq'`` and
+``w(q) = A(q)^(-1/2)``:
+
+* relative contact area ``P(q, p) = erf(w(q) p / E*)``;
+* mean interfacial separation, from the elastic energy with the correction
+  ``S = gamma + (1 - gamma) P^2`` and ``p = -dU/du``:
+
+      u(p) = sqrt(pi) int_{q0}^{q1} dq q^2 C(q) w(q) F(w(q) p / E*),
+
+  where F is the universal function of :mod:`fastline._special`. The bracket
+  ``gamma + 3 (1 - gamma) P^2`` inside F is d/dP [P S] from the energy derivation; some papers
+  print it without the factor 3. fastline follows the derivation.
+
+Numerics
+--------
+* q-quadrature: Gauss-Legendre panels uniform in ln q, split at every kink of C(q). On the
+  first panel ``w ~ (q - q0)^(-1/2)``: the substitution ``q = q0 + L tau^2`` removes that and a
+  geometric grading of tau towards 0 resolves the logarithm of F at small pressure. There A is
+  integrated from q0 directly (no cancellation in ``A(q) - A(q0)``).
+* Table T1: ``ln u`` on a uniform grid of ``v = ln p`` with exact first and second
+  derivatives from the quadrature (quintic Hermite interpolation). Below the grid the
+  exponential law ``u = u0 ln(beta E*/p)`` continues it (the theory's own small-p asymptote),
+  above it the near-full-contact form ``ln u = ln u_hi - kappa (p^2 - p_hi^2)``.
+* Table T2: ``v`` on a uniform grid of ``y = ln(u/u0) + u/u0`` (cubic Hermite), for p(u).
+  Both tables share the same extensions, so ``pressure`` and the table u(p) are inverses.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numba
+import numpy as np
+from scipy.special import roots_legendre
+
+from fastline._special import EULER_GAMMA, JIT, G0, _F, f_coefficients
+from fastline._validate import finite_array, in_range, positive, positive_array
+from fastline.spectra import PSD
+
+__all__ = ["PerssonTheory", "ExponentialFit", "TableSettings"]
+
+_SQRT_PI = math.sqrt(math.pi)
+_TWO_OVER_SQRT_PI = 2.0 / _SQRT_PI
+
+
+@dataclass(frozen=True)
+class TableSettings:
+    """Grid sizes of the quadrature and tables (chosen from ``rtol``; see :meth:`for_rtol`)."""
+
+    panels_per_decade: int
+    order: int
+    grading_levels: int
+    h_v: float
+    h_y: float
+
+    @classmethod
+    def for_rtol(cls, rtol: float) -> TableSettings:
+        """Settings whose measured error is below ``rtol`` (tests/test_persson.py checks)."""
+        if rtol >= 1e-4:
+            return cls(panels_per_decade=2, order=6, grading_levels=6, h_v=0.2, h_y=0.08)
+        if rtol >= 1e-6:
+            return cls(panels_per_decade=3, order=8, grading_levels=12, h_v=0.1, h_y=0.04)
+        return cls(panels_per_decade=5, order=10, grading_levels=14, h_v=0.05, h_y=0.015)
+
+
+@dataclass(frozen=True)
+class ExponentialFit:
+    """The exponential law ``p = beta E* exp(-u/u0)`` (paper eq. 5) of the theory.
+
+    Attributes
+    ----------
+    u0 : float
+        Decay length in m (``u0 = gamma_u h_rms``).
+    beta : float
+        Dimensionless prefactor.
+    gamma_u : float
+        ``u0 / h_rms``, the paper's gamma (about 0.4).
+    """
+
+    u0: float
+    beta: float
+    gamma_u: float
+
+
+# ----------------------------------------------------------------------------------------------
+# compiled kernels
+# ----------------------------------------------------------------------------------------------
+@numba.njit(**JIT)
+def _separation_kernel(p, s, W, gamma, c1, c2, c3, out):
+    """u(p_i) = sum_j W_j F(s_j p_i); s_j = w(q_j)/E* decreasing in j."""
+    for i in range(p.shape[0]):
+        acc = 0.0
+        for j in range(s.shape[0] - 1, -1, -1):
+            x = s[j] * p[i]
+            if x > 27.3:  # F underflows; all earlier nodes have larger x
+                break
+            acc += W[j] * _F(max(x, 1e-300), gamma, c1, c2, c3)
+        out[i] = acc
+
+
+@numba.njit(**JIT)
+def _lnu_nodes(v, s, W, gamma, c1, c2, c3, L, L1, L2):
+    """ln u and its first two v-derivatives at v = ln p (exact, from the quadrature)."""
+    b3 = 3.0 * (1.0 - gamma)
+    for i in range(v.shape[0]):
+        p = math.exp(v[i])
+        u = 0.0
+        d1 = 0.0
+        d2 = 0.0
+        for j in range(s.shape[0] - 1, -1, -1):
+            x = s[j] * p
+            if x > 27.3:
+                break
+            e = math.exp(-x * x)
+            er = math.erf(x)
+            b = gamma + b3 * er * er
+            u += W[j] * _F(max(x, 1e-300), gamma, c1, c2, c3)
+            d1 -= W[j] * b * e
+            d2 += W[j] * e * (2.0 * x * x * b - 2.0 * b3 * er * _TWO_OVER_SQRT_PI * x * e)
+        L[i] = math.log(u)
+        L1[i] = d1 / u
+        L2[i] = d2 / u - L1[i] * L1[i]
+
+
+@numba.njit(**JIT)
+def _quintic(t, h, f0, a0, b0, f1, a1, b1):
+    """Quintic Hermite on [0, 1] (t) with values f, slopes a, curvatures b at both ends
+    (slopes and curvatures per unit of the original variable, cell width h).
+    Returns the value and the derivative per unit of the original variable."""
+    t2 = t * t
+    t3 = t2 * t
+    t4 = t3 * t
+    t5 = t4 * t
+    h00 = 1.0 - 10.0 * t3 + 15.0 * t4 - 6.0 * t5
+    h10 = t - 6.0 * t3 + 8.0 * t4 - 3.0 * t5
+    h20 = 0.5 * (t2 - 3.0 * t3 + 3.0 * t4 - t5)
+    h01 = 10.0 * t3 - 15.0 * t4 + 6.0 * t5
+    h11 = -4.0 * t3 + 7.0 * t4 - 3.0 * t5
+    h21 = 0.5 * (t3 - 2.0 * t4 + t5)
+    g00 = -30.0 * t2 + 60.0 * t3 - 30.0 * t4
+    g10 = 1.0 - 18.0 * t2 + 32.0 * t3 - 15.0 * t4
+    g20 = 0.5 * (2.0 * t - 9.0 * t2 + 12.0 * t3 - 5.0 * t4)
+    g01 = -g00
+    g11 = -12.0 * t2 + 28.0 * t3 - 15.0 * t4
+    g21 = 0.5 * (3.0 * t2 - 8.0 * t3 + 5.0 * t4)
+    hh = h * h
+    val = f0 * h00 + h * a0 * h10 + hh * b0 * h20 + f1 * h01 + h * a1 * h11 + hh * b1 * h21
+    der = (f0 * g00 + f1 * g01) / h + a0 * g10 + h * b0 * g20 + a1 * g11 + h * b1 * g21
+    return val, der
+
+
+@numba.njit(**JIT)
+def _lnu_table(v, v0, h, L, L1, L2, u0, kappa):
+    """ln u(v) and d ln u / dv from table T1 with its two extensions."""
+    n = L.shape[0]
+    if v <= v0:  # exponential law: u = u_lo + u0 (v0 - v)
+        u = math.exp(L[0]) + u0 * (v0 - v)
+        return math.log(u), -u0 / u
+    vhi = v0 + (n - 1) * h
+    if v >= vhi:  # near full contact: ln u = L_hi - kappa (p^2 - p_hi^2)
+        p2 = math.exp(2.0 * v)
+        return L[n - 1] - kappa * (p2 - math.exp(2.0 * vhi)), -2.0 * kappa * p2
+    z = (v - v0) / h
+    k = min(int(z), n - 2)
+    return _quintic(z - k, h, L[k], L1[k], L2[k], L[k + 1], L1[k + 1], L2[k + 1])
+
+
+@numba.njit(**JIT)
+def _separation_and_slope(v, v0, h, L, L1, L2, u0, kappa, u, dudv):
+    """Solver-facing: u and du/dv at v = ln p, vectorised (T1 and its extensions)."""
+    for i in range(v.shape[0]):
+        lu, d = _lnu_table(v[i], v0, h, L, L1, L2, u0, kappa)
+        u[i] = math.exp(lu)
+        dudv[i] = u[i] * d
+
+
+@numba.njit(**JIT)
+def _y_of_lnu(lu, u0):
+    return lu - math.log(u0) + math.exp(lu) / u0
+
+
+@numba.njit(**JIT)
+def _build_inverse(y0, hy, ny, v0, h, L, L1, L2, u0, kappa, V, V1):
+    """Table T2: v and dv/dy on the uniform y grid, by inverting T1.
+
+    y decreases along the T1 nodes, so one pointer walks the T1 cells while the T2 nodes are
+    visited in increasing y (from the last T1 node backwards); Newton finishes inside a cell.
+    """
+    n = L.shape[0]
+    k = n - 1  # T1 cell [k-1, k] brackets y
+    for m in range(ny):
+        y = y0 + m * hy
+        while k > 1 and _y_of_lnu(L[k - 1], u0) < y:
+            k -= 1
+        vk = v0 + (k - 0.5) * h
+        for _ in range(30):
+            lu, d = _lnu_table(vk, v0, h, L, L1, L2, u0, kappa)
+            dydv = d * (1.0 + math.exp(lu) / u0)
+            step = (_y_of_lnu(lu, u0) - y) / dydv
+            vk = min(max(vk - step, v0 + (k - 1) * h), v0 + k * h)
+            if abs(step) < 1e-14:
+                break
+        lu, d = _lnu_table(vk, v0, h, L, L1, L2, u0, kappa)
+        V[m] = vk
+        V1[m] = 1.0 / (d * (1.0 + math.exp(lu) / u0))
+
+
+@numba.njit(**JIT)
+def _pressure_kernel(u, y0, hy, V, V1, u0, u_lo, v_lo, lnu_hi, p_hi, kappa, out):
+    """p(u) from table T2 and the shared extensions; u > 0."""
+    ny = V.shape[0]
+    y_hi = y0 + (ny - 1) * hy
+    for i in range(u.shape[0]):
+        ui = u[i]
+        r = ui / u0
+        y = math.log(r) + r
+        if y >= y_hi:
+            out[i] = math.exp(v_lo - (ui - u_lo) / u0)
+        elif y <= y0:
+            out[i] = math.sqrt(p_hi * p_hi + (lnu_hi - math.log(ui)) / kappa)
+        else:
+            z = (y - y0) / hy
+            k = min(int(z), ny - 2)
+            t = z - k
+            t2 = t * t
+            t3 = t2 * t
+            vv = (
+                (2.0 * t3 - 3.0 * t2 + 1.0) * V[k]
+                + (t3 - 2.0 * t2 + t) * hy * V1[k]
+                + (-2.0 * t3 + 3.0 * t2) * V[k + 1]
+                + (t3 - t2) * hy * V1[k + 1]
+            )
+            out[i] = math.exp(vv)
+
+
+@numba.njit(**JIT)
+def _erf_vec(x, out):
+    for i in range(x.shape[0]):
+        out[i] = math.erf(x[i])
+
+
+# ----------------------------------------------------------------------------------------------
+# q quadrature
+# ----------------------------------------------------------------------------------------------
+def _q_quadrature(psd: PSD, settings: TableSettings):
+    """Nodes q_j and weights of ``int dq f(q)`` over [q0, q1], plus A(q_j).
+
+    Returns ``q, dq_weight, A`` sorted by increasing q.
+    """
+    t_ref, w_ref = roots_legendre(settings.order)
+    t_ref = 0.5 * (t_ref + 1.0)
+    w_ref = 0.5 * w_ref
+    q0, q1 = psd.q0, psd.q1
+    bps = psd.breakpoints()
+    bps = np.unique(np.concatenate([[q0], bps[(bps > q0) & (bps < q1)], [q1]]))
+    edges = [q0]
+    for a, b in zip(bps[:-1], bps[1:]):
+        n = max(1, math.ceil(settings.panels_per_decade * math.log10(b / a)))
+        edges.extend(np.geomspace(a, b, n + 1)[1:])
+    edges = np.asarray(edges)
+    # first panel: q = q0 + L tau^2, graded in tau
+    L = edges[1] - q0
+    ratio = 0.15
+    tau_edges = np.concatenate([[0.0], ratio ** np.arange(settings.grading_levels, -1, -1)])
+    ta, tb = tau_edges[:-1, None], tau_edges[1:, None]
+    tau = (ta + (tb - ta) * t_ref).ravel()
+    dtau = ((tb - ta) * w_ref).ravel()
+    delta = L * tau * tau
+    q_first = q0 + delta
+    w_first = 2.0 * L * tau * dtau
+    # A(q0 + delta) = pi delta int_0^1 (q0 + delta t)^3 C(q0 + delta t) dt, no cancellation
+    qq = q0 + delta[:, None] * t_ref[None, :]
+    A_first = math.pi * delta * np.sum(w_ref * qq**3 * psd(qq), axis=1)
+    # remaining panels: Gauss-Legendre in ln q
+    la = np.log(edges[1:-1])[:, None]
+    lb = np.log(edges[2:])[:, None]
+    lq = (la + (lb - la) * t_ref).ravel()
+    q_rest = np.exp(lq)
+    w_rest = ((lb - la) * w_ref).ravel() * q_rest
+    A_rest = psd.cumulative(q_rest)
+    return (
+        np.concatenate([q_first, q_rest]),
+        np.concatenate([w_first, w_rest]),
+        np.concatenate([A_first, A_rest]),
+    )
+
+
+# ----------------------------------------------------------------------------------------------
+# public class
+# ----------------------------------------------------------------------------------------------
+class PerssonTheory:
+    """The full Persson contact theory for one spectrum and one material.
+
+    Building it computes the q-quadrature and the tables (a few milliseconds); the methods are
+    vectorised and cheap afterwards.
+
+    Parameters
+    ----------
+    psd : PSD
+        The combined roughness spectrum (m^4 vs 1/m).
+    E_star : float
+        Effective modulus E* in Pa (paper eq. 1), > 0.
+    gamma : float, optional
+        The energy-correction parameter of Yang & Persson, in (0, 1] (default 0.45).
+    rtol : float, optional
+        Wanted relative accuracy of the tables (default 1e-6), in [1e-9, 1e-2]; it sizes the
+        quadrature and the table grids.
+
+    Notes
+    -----
+    ``separation(p)`` evaluates the quadrature directly (no table); ``pressure(u)`` and the
+    solver use the tables, whose error against ``separation`` is below ``rtol``.
+    """
+
+    def __init__(self, psd: PSD, E_star, gamma=0.45, rtol=1e-6):
+        if not isinstance(psd, PSD):
+            raise ValueError(f"psd must be a fastline PSD, got {type(psd).__name__}")
+        self.psd = psd
+        self.E_star = positive("E_star", E_star, "Pa")
+        self.gamma = in_range("gamma", gamma, 0.0, 1.0)
+        self.rtol = in_range("rtol", rtol, 1e-9, 1e-2, lo_open=False)
+        self.settings = TableSettings.for_rtol(self.rtol)
+        self._coef = f_coefficients(self.gamma)
+
+        q, dq, A = _q_quadrature(psd, self.settings)
+        keep = A > 0.0
+        q, dq, A = q[keep], dq[keep], A[keep]
+        w = 1.0 / np.sqrt(A)
+        self._q = q
+        self._W = np.ascontiguousarray(_SQRT_PI * q * q * psd(q) * w * dq)
+        self._s = np.ascontiguousarray(w / self.E_star)  # x_j = s_j p
+        self._w1 = 1.0 / math.sqrt(float(psd.cumulative(psd.q1)))
+
+        # exponential law from the small-x expansion of F (THEORY.md section 3)
+        total = float(self._W.sum())
+        u0 = self.gamma * total
+        ln_w_mean = float(np.dot(self._W, np.log(w))) / total
+        ln_beta = -ln_w_mean - 0.5 * EULER_GAMMA + 3.0 * (1.0 - self.gamma) * G0() / self.gamma
+        self._fit = ExponentialFit(u0=u0, beta=math.exp(ln_beta), gamma_u=u0 / psd.h_rms)
+        self._build_tables()
+
+    # -- tables ---------------------------------------------------------------------------------
+    def _u_direct(self, p: np.ndarray) -> np.ndarray:
+        p = np.ascontiguousarray(p, dtype=np.float64)
+        out = np.empty_like(p)
+        _separation_kernel(p, self._s, self._W, self.gamma, *self._coef, out)
+        return out
+
+    def _build_tables(self):
+        st = self.settings
+        u0 = self._fit.u0
+        E = self.E_star
+        # low end: where the full u(p) meets the exponential law to within rtol/10
+        law = lambda p: u0 * math.log(self._fit.beta * E / p)  # noqa: E731
+        p_lo = 1e-6 * E
+        while p_lo > 1e-40 * E:
+            u = float(self._u_direct(np.array([p_lo]))[0])
+            if abs(u - law(p_lo)) <= 0.1 * self.rtol * u:
+                break
+            p_lo *= 1e-2
+        # high end: P(q1, p) = erf(5), the interface is closed to 1e-12
+        p_hi = 5.0 * E / self._w1
+        v0 = math.log(p_lo)
+        n = int(math.ceil((math.log(p_hi) - v0) / st.h_v)) + 1
+        h = (math.log(p_hi) - v0) / (n - 1)
+        v = v0 + h * np.arange(n)
+        L, L1, L2 = np.empty(n), np.empty(n), np.empty(n)
+        _lnu_nodes(v, self._s, self._W, self.gamma, *self._coef, L, L1, L2)
+        kappa = -L1[-1] / (2.0 * p_hi * p_hi)
+        self._t1 = (v0, h, L, L1, L2, u0, kappa)
+        # T2 over the y range that T1 covers
+        y_a = float(_y_of_lnu(L[-1], u0))
+        y_b = float(_y_of_lnu(L[0], u0))
+        ny = int(math.ceil((y_b - y_a) / st.h_y)) + 1
+        hy = (y_b - y_a) / (ny - 1)
+        V, V1 = np.empty(ny), np.empty(ny)
+        _build_inverse(y_a, hy, ny, v0, h, L, L1, L2, u0, kappa, V, V1)
+        V[0], V[-1] = math.log(p_hi), v0  # the ends are the T1 ends exactly
+        self._t2 = (y_a, hy, V, V1, u0, math.exp(L[0]), v0, L[-1], p_hi, kappa)
+        self.p_range = (p_lo, p_hi)
+
+    # -- public methods -------------------------------------------------------------------------
+    def separation(self, p) -> np.ndarray:
+        """Mean interfacial separation u(p) in m for nominal pressures p in Pa (> 0).
+
+        Evaluates the Yang-Persson integral directly (quadrature over q with the universal
+        function F), not the table. Vectorised; returns an array shaped like ``p``.
+        """
+        p = positive_array("p", p)
+        return self._u_direct(p.ravel()).reshape(p.shape)
+
+    def pressure(self, u) -> np.ndarray:
+        """Nominal pressure p(u) in Pa for separations u in m (> 0): the inverse of u(p).
+
+        From the tables (relative accuracy ``rtol``). Beyond them: the exponential law at large
+        u (p decays like exp(-u/u0), underflowing to 0 rather than turning negative) and the
+        near-full-contact form ``p = sqrt(p_hi^2 + ln(u_hi/u)/kappa)`` at small u, which grows
+        without bound but stays finite for every u > 0.
+        """
+        u = positive_array("u", u)
+        flat = np.ascontiguousarray(u.ravel())
+        out = np.empty_like(flat)
+        _pressure_kernel(flat, *self._t2, out)
+        return out.reshape(u.shape)
+
+    def separation_table(self, p):
+        """u(p) in m and du/dv (v = ln p) from the table T1 (what the solver uses)."""
+        p = positive_array("p", p)
+        v = np.ascontiguousarray(np.log(p.ravel()))
+        u, d = np.empty_like(v), np.empty_like(v)
+        _separation_and_slope(v, *self._t1, u, d)
+        return u.reshape(p.shape), d.reshape(p.shape)
+
+    def contact_area(self, p, q=None) -> np.ndarray:
+        """Relative contact area ``P(q, p) = erf(w(q) p / E*)`` (dimensionless).
+
+        Parameters
+        ----------
+        p : array_like
+            Nominal pressure in Pa (>= 0).
+        q : array_like, optional
+            Magnification wavenumber in 1/m, in [q0, q1]; default q1 (the real contact area).
+            ``p`` and ``q`` broadcast against each other.
+        """
+        p = finite_array("p", p)
+        if np.any(p < 0.0):
+            raise ValueError("p must be >= 0 Pa everywhere (allowed range [0, inf))")
+        if q is None:
+            w = self._w1
+        else:
+            q = finite_array("q", q)
+            if np.any((q < self.psd.q0) | (q > self.psd.q1)):
+                raise ValueError(
+                    f"q must lie in [q0, q1] = [{self.psd.q0:g}, {self.psd.q1:g}] 1/m"
+                )
+            A = self.psd.cumulative(q)
+            with np.errstate(divide="ignore"):
+                w = np.where(A > 0.0, 1.0 / np.sqrt(np.maximum(A, 0.0)), np.inf)
+        x = np.ascontiguousarray(np.broadcast_to(w * p / self.E_star, np.broadcast(w, p).shape))
+        x = np.where(np.isnan(x), 0.0, x)  # inf * 0 at q = q0, p = 0
+        flat = np.ascontiguousarray(x.ravel())
+        out = np.empty_like(flat)
+        _erf_vec(flat, out)
+        return out.reshape(x.shape)
+
+    def exponential_fit(self) -> ExponentialFit:
+        """u0 and beta of ``p = beta E* exp(-u/u0)`` (paper eq. 5) from the theory itself.
+
+        From the small-argument expansion ``F(x) = -gamma ln x - gamma gamma_E/2
+        + 3 (1-gamma) G(0) + O(x^2)``: ``u0 = sqrt(pi) gamma int dq q^2 C w`` and
+        ``ln beta = -<ln w> - gamma_E/2 + 3 (1-gamma) G(0)/gamma`` (the mean weighted by
+        ``q^2 C w``). The full u(p) approaches this law as p -> 0.
+        """
+        return self._fit
+
+    @property
+    def rms_slope(self) -> float:
+        """rms slope h' of the spectrum (dimensionless)."""
+        return self.psd.rms_slope
+
+    def __repr__(self):
+        return f"PerssonTheory({self.psd!r}, E_star={self.E_star!r}, gamma={self.gamma!r})"

@@ -1,0 +1,79 @@
+"""Slow, readable reference implementations used by the tests.
+
+Nothing here is fast or clever on purpose: each function writes the equation of THEORY.md out
+with SciPy ``quad`` so that the compiled kernels of fastline have an independent check.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+from scipy.integrate import quad
+from scipy.special import erf, exp1
+
+
+def universal_F(x0: float, gamma: float) -> float:
+    """F(x0) = int_{x0}^inf (1/x)[gamma + 3(1-gamma) erf(x)^2] exp(-x^2) dx.
+
+    The gamma part is E1(x0^2)/2 (SciPy); the erf^2 part by quad on [x0, inf).
+    """
+    part_b = quad(
+        lambda x: erf(x) ** 2 * math.exp(-x * x) / x,
+        x0,
+        np.inf,
+        epsabs=0.0,
+        epsrel=1e-13,
+        limit=200,
+    )[0]
+    return gamma * exp1(x0 * x0) / 2.0 + 3.0 * (1.0 - gamma) * part_b
+
+
+def separation(psd, E_star: float, p: float, gamma: float = 0.45, epsrel: float = 1e-10):
+    """u(p) by a direct double integral (THEORY.md section 3), one pressure at a time.
+
+    The outer integral over q is split at the kinks of C(q) and at every decade; on the first
+    interval the substitution q = q0 + L t^2 removes the (q - q0)^(-1/2) of w(q).
+    """
+
+    def A(q):
+        return float(psd.cumulative(q))
+
+    def integrand_q(q, A_q):
+        if A_q <= 0.0:
+            return 0.0
+        w = 1.0 / math.sqrt(A_q)
+        x0 = w * p / E_star
+        if x0 > 27.0:
+            return 0.0
+        return q * q * float(psd(q)) * w * universal_F(x0, gamma)
+
+    q0, q1 = psd.q0, psd.q1
+    cuts = [q0] + [b for b in psd.breakpoints() if q0 < b < q1] + [q1]
+    edges = []
+    for a, b in zip(cuts[:-1], cuts[1:]):
+        n = max(1, math.ceil(math.log10(b / a)))
+        edges.extend(list(np.geomspace(a, b, n + 1))[:-1])
+    edges.append(q1)
+    total = 0.0
+    # first interval: q = q0 + L t^2; A(q0 + L t^2) integrated from q0 to avoid cancellation
+    L = edges[1] - q0
+
+    def first(t):
+        if t == 0.0:
+            return 0.0
+        d = L * t * t
+        A_q = math.pi * quad(lambda r: (q0 + r) ** 3 * float(psd(q0 + r)), 0.0, d)[0]
+        return integrand_q(q0 + d, A_q) * 2.0 * L * t
+
+    total += quad(first, 0.0, 1.0, epsabs=0.0, epsrel=epsrel, limit=400)[0]
+    for a, b in zip(edges[1:-1], edges[2:]):
+        total += quad(
+            lambda lq: integrand_q(math.exp(lq), A(math.exp(lq))) * math.exp(lq),
+            math.log(a),
+            math.log(b),
+            epsabs=0.0,
+            epsrel=epsrel,
+            limit=200,
+        )[0]
+    return math.sqrt(math.pi) * total
