@@ -15,6 +15,14 @@ from fastline.limits import (
     penetration,
 )
 from fastline.persson import ExponentialFit, PerssonTheory
+from fastline.solver import (
+    ConvergenceWarning,
+    LineContactResult,
+    p0_ratio,
+    profile,
+    solve_line_contact,
+    w_over_s,
+)
 from fastline.spectra import PSD, SelfAffinePSD, SumPSD, TabulatedPSD, effective_modulus
 
 __version__ = "0.1.0"
@@ -36,4 +44,10 @@ __all__ = [
     "alpha",
     "WS_HERTZ",
     "WS_GAUSSIAN",
+    "solve_line_contact",
+    "profile",
+    "w_over_s",
+    "p0_ratio",
+    "LineContactResult",
+    "ConvergenceWarning",
 ]

@@ -23,7 +23,8 @@ Numerics
 * Table T1: ``ln u`` on a uniform grid of ``v = ln p`` with exact first and second
   derivatives from the quadrature (quintic Hermite interpolation). Below the grid the
   exponential law ``u = u0 ln(beta E*/p)`` continues it (the theory's own small-p asymptote),
-  above it the near-full-contact form ``ln u = ln u_hi - kappa (p^2 - p_hi^2)``.
+  above it the near-full-contact form ``ln u = ln u_hi - k (p^2 - p_hi^2) - m ln(p/p_hi)``
+  (the large-x behaviour of F, with k and m matching the table's slope and curvature).
 * Table T2: ``v`` on a uniform grid of ``y = ln(u/u0) + u/u0`` (cubic Hermite), for p(u).
   Both tables share the same extensions, so ``pressure`` and the table u(p) are inverses.
 """
@@ -63,8 +64,8 @@ class TableSettings:
         if rtol >= 1e-4:
             return cls(panels_per_decade=2, order=6, grading_levels=6, h_v=0.2, h_y=0.08)
         if rtol >= 1e-6:
-            return cls(panels_per_decade=3, order=8, grading_levels=12, h_v=0.1, h_y=0.04)
-        return cls(panels_per_decade=5, order=10, grading_levels=14, h_v=0.05, h_y=0.015)
+            return cls(panels_per_decade=3, order=12, grading_levels=12, h_v=0.1, h_y=0.04)
+        return cls(panels_per_decade=5, order=14, grading_levels=16, h_v=0.05, h_y=0.015)
 
 
 @dataclass(frozen=True)
@@ -161,9 +162,10 @@ def _lnu_table(v, v0, h, L, L1, L2, u0, kappa):
         u = math.exp(L[0]) + u0 * (v0 - v)
         return math.log(u), -u0 / u
     vhi = v0 + (n - 1) * h
-    if v >= vhi:  # near full contact: ln u = L_hi - kappa (p^2 - p_hi^2)
+    if v >= vhi:  # near full contact: ln u = L_hi - k (p^2 - p_hi^2) - m (v - v_hi)
+        k, m = kappa[0], kappa[1]
         p2 = math.exp(2.0 * v)
-        return L[n - 1] - kappa * (p2 - math.exp(2.0 * vhi)), -2.0 * kappa * p2
+        return L[n - 1] - k * (p2 - math.exp(2.0 * vhi)) - m * (v - vhi), -2.0 * k * p2 - m
     z = (v - v0) / h
     k = min(int(z), n - 2)
     return _quintic(z - k, h, L[k], L1[k], L2[k], L[k + 1], L1[k + 1], L2[k + 1])
@@ -210,8 +212,22 @@ def _build_inverse(y0, hy, ny, v0, h, L, L1, L2, u0, kappa, V, V1):
 
 
 @numba.njit(**JIT)
-def _pressure_kernel(u, y0, hy, V, V1, u0, u_lo, v_lo, lnu_hi, p_hi, kappa, out):
-    """p(u) from table T2 and the shared extensions; u > 0."""
+def _invert_t1(lu_target, v_start, t1):
+    """v with ln u(v) = lu_target from T1, by safeguarded Newton from v_start (upwards)."""
+    v0, h, L, L1, L2, u0, kappa = t1
+    v = v_start
+    for _ in range(60):
+        lu, d = _lnu_table(v, v0, h, L, L1, L2, u0, kappa)
+        step = (lu - lu_target) / d
+        v -= max(min(step, 1.0), -1.0)
+        if abs(step) < 1e-13:
+            break
+    return v
+
+
+@numba.njit(**JIT)
+def _pressure_kernel(u, y0, hy, V, V1, u0, u_lo, v_lo, lnu_hi, p_hi, kappa, t1, out):
+    """p(u) from table T2, T1 near full contact, and the shared extensions; u > 0."""
     ny = V.shape[0]
     y_hi = y0 + (ny - 1) * hy
     for i in range(u.shape[0]):
@@ -220,8 +236,8 @@ def _pressure_kernel(u, y0, hy, V, V1, u0, u_lo, v_lo, lnu_hi, p_hi, kappa, out)
         y = math.log(r) + r
         if y >= y_hi:
             out[i] = math.exp(v_lo - (ui - u_lo) / u0)
-        elif y <= y0:
-            out[i] = math.sqrt(p_hi * p_hi + (lnu_hi - math.log(ui)) / kappa)
+        elif y <= y0:  # near full contact: invert T1 and its continuation
+            out[i] = math.exp(_invert_t1(math.log(ui), V[0], t1))
         else:
             z = (y - y0) / hy
             k = min(int(z), ny - 2)
@@ -359,28 +375,33 @@ class PerssonTheory:
         p_lo = 1e-6 * E
         while p_lo > 1e-40 * E:
             u = float(self._u_direct(np.array([p_lo]))[0])
-            if abs(u - law(p_lo)) <= 0.1 * self.rtol * u:
+            if abs(u - law(p_lo)) <= 0.1 * self.rtol * u0:
                 break
             p_lo *= 1e-2
-        # high end: P(q1, p) = erf(5), the interface is closed to 1e-12
-        p_hi = 5.0 * E / self._w1
+        # high end: x = w(q1) p / E* = 12, u ~ exp(-144) h_rms: beyond any physical closure.
+        # T2 (the fast inverse) stops at x = 5 (P(q1, p) = erf(5)); above, p(u) inverts T1.
+        p_hi = 12.0 * E / self._w1
+        p_t2 = 5.0 * E / self._w1
         v0 = math.log(p_lo)
         n = int(math.ceil((math.log(p_hi) - v0) / st.h_v)) + 1
         h = (math.log(p_hi) - v0) / (n - 1)
         v = v0 + h * np.arange(n)
         L, L1, L2 = np.empty(n), np.empty(n), np.empty(n)
         _lnu_nodes(v, self._s, self._W, self.gamma, *self._coef, L, L1, L2)
-        kappa = -L1[-1] / (2.0 * p_hi * p_hi)
+        # continuation above: match ln u, its slope and curvature at p_hi
+        k = -L2[-1] / (4.0 * p_hi * p_hi)
+        kappa = np.array([k, -L1[-1] - 2.0 * k * p_hi * p_hi])
         self._t1 = (v0, h, L, L1, L2, u0, kappa)
-        # T2 over the y range that T1 covers
-        y_a = float(_y_of_lnu(L[-1], u0))
+        # T2 from x = 5 down to the low end of T1
+        lu_t2, _ = _lnu_table(math.log(p_t2), v0, h, L, L1, L2, u0, kappa)
+        y_a = float(_y_of_lnu(lu_t2, u0))
         y_b = float(_y_of_lnu(L[0], u0))
         ny = int(math.ceil((y_b - y_a) / st.h_y)) + 1
         hy = (y_b - y_a) / (ny - 1)
         V, V1 = np.empty(ny), np.empty(ny)
         _build_inverse(y_a, hy, ny, v0, h, L, L1, L2, u0, kappa, V, V1)
-        V[0], V[-1] = math.log(p_hi), v0  # the ends are the T1 ends exactly
-        self._t2 = (y_a, hy, V, V1, u0, math.exp(L[0]), v0, L[-1], p_hi, kappa)
+        V[0], V[-1] = math.log(p_t2), v0  # the ends are T1 points exactly
+        self._t2 = (y_a, hy, V, V1, u0, math.exp(L[0]), v0, L[-1], p_hi, kappa, self._t1)
         self.p_range = (p_lo, p_hi)
 
     # -- public methods -------------------------------------------------------------------------
@@ -396,7 +417,9 @@ class PerssonTheory:
     def pressure(self, u) -> np.ndarray:
         """Nominal pressure p(u) in Pa for separations u in m (> 0): the inverse of u(p).
 
-        From the tables (relative accuracy ``rtol``). Beyond them: the exponential law at large
+        From the tables (relative accuracy ``rtol``) up to ``w(q1) p/E* = 12`` (u < 1e-60 m for
+        the paper's surfaces); above, a continuation fitted to the large-x form of F (relative
+        error ~1e-4 at twice that pressure). Beyond them: the exponential law at large
         u (p decays like exp(-u/u0), underflowing to 0 rather than turning negative) and the
         near-full-contact form ``p = sqrt(p_hi^2 + ln(u_hi/u)/kappa)`` at small u, which grows
         without bound but stays finite for every u > 0.
@@ -440,7 +463,8 @@ class PerssonTheory:
             A = self.psd.cumulative(q)
             with np.errstate(divide="ignore"):
                 w = np.where(A > 0.0, 1.0 / np.sqrt(np.maximum(A, 0.0)), np.inf)
-        x = np.ascontiguousarray(np.broadcast_to(w * p / self.E_star, np.broadcast(w, p).shape))
+        with np.errstate(invalid="ignore"):
+            x = np.asarray(w * p / self.E_star, dtype=np.float64)
         x = np.where(np.isnan(x), 0.0, x)  # inf * 0 at q = q0, p = 0
         flat = np.ascontiguousarray(x.ravel())
         out = np.empty_like(flat)

@@ -40,13 +40,21 @@ from fastline.models import ExponentialModel, PerssonModel
 from fastline.persson import PerssonTheory
 from fastline.spectra import PSD
 
-__all__ = ["LineContactResult", "solve_line_contact", "profile", "w_over_s", "p0_ratio"]
+__all__ = [
+    "ConvergenceWarning",
+    "LineContactResult",
+    "solve_line_contact",
+    "profile",
+    "w_over_s",
+    "p0_ratio",
+]
 
 MODELS = ("persson", "exponential", "hertz")
 METHODS = ("newton", "picard")
 DEFAULT_N = 1024
 _MAX_NEWTON = 100
 _MAX_PICARD_SWEEPS = 20000
+ETA_MAX, ETA_MIN = 0.1, 1e-2  # inexact-Newton forcing term bounds
 
 
 class ConvergenceWarning(RuntimeWarning):
@@ -184,18 +192,33 @@ def _std(x, p, dx):
 # ----------------------------------------------------------------------------------------------
 # Newton on v = ln p
 # ----------------------------------------------------------------------------------------------
-def _projected_pcg(op, D, rhs, c, minv, rtol, maxit):
-    """Solve (D + K) dp + du1 = rhs, sum(dp) = c by projected PCG (Jacobi M^-1 = minv).
+class _Jacobi:
+    """M^-1 = 1/(D + K00): the diagonal of D + K (the elastic self-compliance in the loaded core,
+    1/D outside). A circulant inverse of K was tried for the core and lost: the log kernel's
+    long-wave behaviour on a finite interval is far from circulant (see the issue note)."""
 
-    Returns dp, du1, final residual vector, iterations.
+    def __init__(self, op, D):
+        self.minv = 1.0 / (D + op.diagonal)
+
+    def __call__(self, y):
+        return self.minv * y
+
+
+def _projected_pcg(op, D, rhs, c, prec, rtol, maxit):
+    """Solve (D + K) dp + du1 = rhs, sum(dp) = c by projected PCG.
+
+    The projection keeps every search direction at zero net load, so CG works on the subspace
+    where D + K is positive definite; du1 is the multiplier. Returns dp, du1, iterations.
     """
-    sm = minv.sum()
-    dp = minv * (c / sm)
+    m1 = prec(np.ones_like(rhs))
+    sm = m1.sum()
+    dp = m1 * (c / sm)
     res = rhs - (D * dp + op.apply(dp))
 
     def proj(y):
-        lam = np.dot(minv, y) / sm
-        return minv * (y - lam), lam
+        my = prec(y)
+        lam = my.sum() / sm
+        return my - lam * m1, lam
 
     z, lam = proj(res)
     rz = np.dot(res, z)
@@ -212,8 +235,7 @@ def _projected_pcg(op, D, rhs, c, minv, rtol, maxit):
         d = z + (rz_new / rz) * d
         rz = rz_new
         it += 1
-    _, lam = proj(res)
-    return dp, lam, res - lam, it
+    return dp, lam, it
 
 
 def _normalise(v, f_N, dx):
@@ -230,22 +252,22 @@ def _newton(model, op, g, f_N, dx, v, u_ref, tol, max_iter):
     r = U - u1 - g - Kp
     phi = np.linalg.norm(r)
     it = 0
-    message = ""
+    cg_total = 0
     while True:
         res = float(np.max(np.abs(r))) / u_ref
         if res < tol:
             message = f"converged: residual {res:.2e} < tol {tol:.1e} after {it} Newton steps"
-            return v, u1, r, res, True, it, message
+            return v, u1, r, res, True, it, message, {"cg_iterations": cg_total}
         if it >= max_iter:
             message = f"not converged: residual {res:.2e} after {it} Newton steps (max_iter)"
-            return v, u1, r, res, False, it, message
+            return v, u1, r, res, False, it, message, {"cg_iterations": cg_total}
         it += 1
         psafe = np.maximum(p, 1e-300)
         absdU = np.maximum(-dU, 1e-300 * u_ref)
         D = np.minimum(absdU / psafe, 1e300)
-        minv = 1.0 / (D + op.diagonal)
-        eta = min(0.1, max(1e-4, math.sqrt(res * tol)))
-        dp, du1, cg_res, _ = _projected_pcg(op, D, r, f_N / dx - p.sum(), minv, eta, 200)
+        eta = min(ETA_MAX, max(ETA_MIN, math.sqrt(res * tol)))
+        dp, du1, cg_its = _projected_pcg(op, D, r, f_N / dx - p.sum(), _Jacobi(op, D), eta, 400)
+        cg_total += cg_its
         dv = dp / psafe
         # backtracking line search on ||r||
         # limit the change of ln p where the pressure matters (elsewhere u_law is ~linear in v)
@@ -272,14 +294,18 @@ def _solve_u1(model, base, f_N, dx, u1):
     """u1 such that sum(p_law(u1 + base)) dx = f_N (monotone; Newton on ln of the load)."""
     target = math.log(f_N / dx)
     for _ in range(200):
-        p = model.pressure(u1 + base)
-        tot = p.sum()
+        with np.errstate(over="ignore"):
+            p = model.pressure(u1 + base)
+            tot = p.sum()
+        if not math.isfinite(tot):
+            u1 += 10.0 * model.u0
+            continue
         if tot <= 0.0:
             u1 -= 10.0 * model.u0
             continue
         # d ln(sum p)/du1 = sum(dp/du)/sum(p); dp/du = p / (du/dv)
         _, dU = model.u_and_slope(np.log(np.maximum(p, 1e-300)))
-        slope = np.sum(p / dU) / tot
+        slope = np.sum((p / tot) / dU)
         step = (math.log(tot) - target) / slope
         u1 -= step
         if abs(step) < 1e-14 * model.u0:
@@ -288,27 +314,33 @@ def _solve_u1(model, base, f_N, dx, u1):
 
 
 def _picard(model, op, g, f_N, dx, v, u_ref, tol, max_iter, omega=0.5):
+    """Damped fixed point in ln p; the damping halves whenever the residual grows (and recovers
+    slowly while it falls), which keeps the plain loop from blowing up in the stiff regime."""
     p = np.exp(v)
-    u1 = 0.0
     U, _ = model.u_and_slope(v)
     Kp = op.apply(p)
     u1 = np.dot(p, U - g - Kp) / p.sum()
+    res_old = math.inf
     for it in range(1, max_iter + 1):
         base = g + Kp
         u1 = _solve_u1(model, base, f_N, dx, u1)
-        p_new = model.pressure(u1 + base)
-        v_new = np.log(np.maximum(p_new, 1e-300))
-        v = _normalise((1.0 - omega) * v + omega * v_new, f_N, dx)
-        p = np.exp(v)
-        Kp = op.apply(p)
-        U, _ = model.u_and_slope(v)
-        r = U - u1 - g - Kp
+        v_law = np.log(np.maximum(model.pressure(u1 + base), 1e-300))
+        v_new = _normalise((1.0 - omega) * v + omega * v_law, f_N, dx)
+        p_new = np.exp(v_new)
+        Kp_new = op.apply(p_new)
+        U, _ = model.u_and_slope(v_new)
+        r = U - u1 - g - Kp_new
         res = float(np.max(np.abs(r))) / u_ref
+        if res > res_old and omega > 1e-6:
+            omega *= 0.5  # reject the sweep, retry with more damping
+            continue
+        v, p, Kp, res_old = v_new, p_new, Kp_new, res
+        omega = min(0.5, 1.2 * omega)
         if res < tol:
             msg = f"converged: residual {res:.2e} < tol {tol:.1e} after {it} sweeps"
-            return v, u1, r, res, True, it, msg
-    msg = f"not converged: residual {res:.2e} after {max_iter} sweeps (max_iter)"
-    return v, u1, r, res, False, max_iter, msg
+            return v, u1, r, res, True, it, msg, {"damping": omega}
+    msg = f"not converged: residual {res_old:.2e} after {max_iter} sweeps (max_iter)"
+    return v, u1, r, res_old, False, max_iter, msg, {"damping": omega}
 
 
 # ----------------------------------------------------------------------------------------------
@@ -483,6 +515,7 @@ def solve_line_contact(
             op, g, load, dx, delta, tol, max_iter or 10 * n
         )
         real = (p > 0.0).astype(float)
+        extra = {}
     else:
         # initial guess: Hertz and Gaussian profiles blended in log space
         gs = gaussian_line_contact(mdl.u0, radius, load)
@@ -495,7 +528,7 @@ def solve_line_contact(
             out = _newton(mdl, op, g, load, dx, v, u_ref, tol, max_iter or _MAX_NEWTON)
         else:
             out = _picard(mdl, op, g, load, dx, v, u_ref, tol, max_iter or _MAX_PICARD_SWEEPS)
-        v, u1, r, res, ok, it, msg = out
+        v, u1, r, res, ok, it, msg, extra = out
         p = np.exp(v)
         sep = mdl.u_and_slope(v)[0]
         real = mdl.real_area(p)
@@ -534,7 +567,7 @@ def solve_line_contact(
         dx=dx,
         force_error=force_error,
         edge_pressure=edge,
-        diagnostics={"ws_hertz": WS_HERTZ, "ws_gaussian": WS_GAUSSIAN, "n": n},
+        diagnostics={"n": n, "half_width": half_width, **extra},
     )
 
 

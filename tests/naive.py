@@ -77,3 +77,46 @@ def separation(psd, E_star: float, p: float, gamma: float = 0.45, epsrel: float 
             limit=200,
         )[0]
     return math.sqrt(math.pi) * total
+
+
+def log_kernel_matrix(n: int, dx: float, E_star: float) -> np.ndarray:
+    """Dense plane-strain log-kernel matrix, cell-integrated, reference length dx.
+
+    K_ij = -(2/(pi E*)) int_{cell j} ln(|x_i - x'|/dx) dx', written with quad per distance.
+    """
+    coeff = np.empty(n)
+    for m in range(n):
+        points = [0.0] if m == 0 else None
+        val = quad(lambda t: math.log(abs(t)) if t != 0.0 else 0.0, m - 0.5, m + 0.5,
+                   points=points, epsabs=1e-14, epsrel=1e-14, limit=200)[0]
+        coeff[m] = -(2.0 / math.pi) * val * dx / E_star
+    idx = np.arange(n)
+    return coeff[np.abs(idx[:, None] - idx[None, :])]
+
+
+def line_contact_exponential(E_star, radius, load, u0, beta, n, half_width):
+    """Line contact with the exponential law p = beta E* exp(-u/u0), dense matrix, scipy root.
+
+    Unknowns v = ln p (n values) and u1; equations u0 ln(beta E*/p_i) = u1 + x_i^2/2R + (K p)_i
+    and sum(p) dx = load. Returns x, p.
+    """
+    from scipy.optimize import root
+
+    dx = 2.0 * half_width / n
+    x = (np.arange(n) - 0.5 * (n - 1)) * dx
+    K = log_kernel_matrix(n, dx, E_star)
+    g = x * x / (2.0 * radius)
+    s = math.sqrt(radius * u0)
+    v0 = np.log(load / (s * math.sqrt(2.0 * math.pi))) - x * x / (2.0 * s * s)
+
+    def fun(z):
+        v, u1 = z[:-1], z[-1]
+        p = np.exp(v)
+        r = u0 * (math.log(beta * E_star) - v) - u1 - g - K @ p
+        return np.concatenate([r / u0, [p.sum() * dx / load - 1.0]])
+
+    z0 = np.concatenate([v0, [u0 * math.log(beta * E_star / (load / s)) ]])
+    sol = root(fun, z0, method="hybr", tol=1e-13)
+    if not sol.success:
+        raise RuntimeError(sol.message)
+    return x, np.exp(sol.x[:-1])

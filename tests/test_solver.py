@@ -1,0 +1,226 @@
+"""The line-contact solver against closed forms, a dense reference and invariants."""
+
+from __future__ import annotations
+
+import math
+import threading
+import warnings
+
+import numpy as np
+import pytest
+
+import fastline as fl
+from naive import line_contact_exponential
+
+# tiered tolerances
+RTOL_FORCE = 1e-10  # force balance (enforced exactly by the log-sum-exp normalisation)
+RTOL_SYMMETRY = 1e-9  # p(x) = p(-x), relative to p0
+RTOL_REFERENCE = 1e-5  # against the dense SciPy solve at equal n
+RTOL_HERTZ = 5e-3  # p0 and a against Hertz at default n (issue: 0.5 %)
+RTOL_GAUSS = 1e-2  # eq. 14 and w/s of the Gaussian limit at alpha >= 100 (issue: 1 %)
+
+E_STAR, RADIUS = 1.33e9, 0.01
+SURFACES = {
+    "surface1": fl.SelfAffinePSD(10e-6, 0.8, 1e3, 1e4, 1e9),
+    "surface2": fl.SelfAffinePSD(10e-6, 1.0, 1e3, 1e4, 1e9),
+    "surface3": fl.SelfAffinePSD(1e-6, 0.8, 1e3, 1e4, 1e9),
+}
+HARD = {
+    **SURFACES,
+    "H0.3": fl.SelfAffinePSD(10e-6, 0.3, 1e3, 1e4, 1e9),
+    "q1/q0=1e10": fl.SelfAffinePSD(10e-6, 0.8, 1e3, 1e4, 1e13),
+}
+ALPHAS = [1e-4, 1e-3, 1e-2, 0.1, 1.0, 10.0, 100.0, 1e3]
+
+
+def load_for(psd, alpha):
+    return math.pi / 4.0 * psd.h_rms * E_STAR / alpha
+
+
+def solve(psd, alpha, **kw):
+    return fl.solve_line_contact(psd, E_STAR, RADIUS, load_for(psd, alpha), **kw)
+
+
+# ---- closed forms ---------------------------------------------------------------------------
+def contact_half_width(res):
+    inside = res.x[res.pressure > 0.0]
+    return float(np.max(np.abs(inside))) + 0.5 * res.dx
+
+
+def test_hertz_model_matches_hertz():
+    load = 1e4
+    res = fl.solve_line_contact(None, E_STAR, RADIUS, load, model="hertz")
+    hz = fl.hertz_line_contact(E_STAR, RADIUS, load)
+    assert res.converged
+    assert abs(res.p0 / hz.p0 - 1.0) < RTOL_HERTZ
+    assert abs(contact_half_width(res) / hz.a - 1.0) < RTOL_HERTZ
+    assert abs(res.w_over_s / fl.WS_HERTZ - 1.0) < RTOL_HERTZ
+    # complementarity: p >= 0, gap >= 0 (to the tolerance), p * gap = 0
+    assert np.all(res.pressure >= 0.0)
+    assert np.min(res.separation) > -1e-6 * hz.delta
+    assert np.max(np.abs(res.pressure * res.separation)) < 1e-6 * hz.p0 * hz.delta
+
+
+def test_hertz_error_shrinks_with_n():
+    """The L1 profile error against Hertz falls about like 1/n (observed order ~ 1-1.5)."""
+    load = 1e4
+    hz = fl.hertz_line_contact(E_STAR, RADIUS, load)
+    errs = []
+    for n in (128, 512, 2048):
+        res = fl.solve_line_contact(None, E_STAR, RADIUS, load, model="hertz", n=n, tol=1e-10)
+        errs.append(np.sum(np.abs(res.pressure - hz.pressure(res.x))) * res.dx / load)
+    assert errs[0] > errs[1] > errs[2]
+    order = math.log(errs[0] / errs[2]) / math.log(16.0)
+    assert order > 0.8
+
+
+@pytest.mark.parametrize("alpha", [100.0, 1e3])
+def test_gaussian_limit(alpha):
+    psd = SURFACES["surface1"]
+    res = solve(psd, alpha, model="exponential")
+    gamma_u = fl.PerssonTheory(psd, E_STAR).exponential_fit().gamma_u
+    assert res.converged
+    assert abs(res.p0_ratio / fl.p0_ratio_gaussian(alpha, gamma_u) - 1.0) < RTOL_GAUSS
+    assert abs(res.w_over_s / fl.WS_GAUSSIAN - 1.0) < RTOL_GAUSS
+
+
+@pytest.mark.parametrize("alpha", [0.05, 1.0, 20.0])
+def test_against_dense_scipy_reference(alpha):
+    psd = SURFACES["surface1"]
+    fit = fl.PerssonTheory(psd, E_STAR).exponential_fit()
+    n = 96
+    res = solve(psd, alpha, model="exponential", n=n, tol=1e-11)
+    half = 0.5 * n * res.dx
+    x, p = line_contact_exponential(E_STAR, RADIUS, res.load, fit.u0, fit.beta, n, half)
+    np.testing.assert_allclose(res.x, x, rtol=1e-12)
+    core = p > 1e-6 * p.max()
+    np.testing.assert_allclose(res.pressure[core], p[core], rtol=RTOL_REFERENCE)
+
+
+# ---- invariants -----------------------------------------------------------------------------
+@pytest.mark.parametrize("alpha", [1e-3, 0.03, 1.0, 30.0])
+@pytest.mark.parametrize("model", ["persson", "exponential"])
+def test_invariants(alpha, model):
+    psd = SURFACES["surface1"]
+    res = solve(psd, alpha, model=model)
+    p = res.pressure
+    assert res.converged and res.residual < 1e-8
+    assert np.all(np.isfinite(p)) and np.all(p >= 0.0)
+    assert abs(p.sum() * res.dx / res.load - 1.0) < RTOL_FORCE
+    assert np.max(np.abs(p - p[::-1])) < RTOL_SYMMETRY * res.p0
+    assert fl.WS_GAUSSIAN * 0.995 < res.w_over_s < fl.WS_HERTZ * 1.005
+    assert res.edge_pressure < 1e-8
+
+
+@pytest.mark.parametrize("model", ["persson", "hertz"])
+def test_monotone_in_load(model):
+    psd = None if model == "hertz" else SURFACES["surface3"]
+    loads = [1e3, 1e4, 1e5, 1e6]
+    out = [fl.solve_line_contact(psd, E_STAR, RADIUS, f, model=model) for f in loads]
+    p0 = [r.p0 for r in out]
+    w = [r.fwhm for r in out]
+    assert all(a < b for a, b in zip(p0, p0[1:]))
+    assert all(a < b for a, b in zip(w, w[1:]))
+
+
+# ---- hard cases -----------------------------------------------------------------------------
+@pytest.mark.parametrize("name", list(HARD))
+def test_hard_cases_converge(name):
+    psd = HARD[name]
+    for alpha in ALPHAS:
+        with warnings.catch_warnings():
+            warnings.simplefilter("error")  # no ConvergenceWarning, no numpy overflow
+            res = solve(psd, alpha)
+        assert res.converged, (name, alpha, res.message)
+        assert res.residual < 1e-8
+        assert np.all(np.isfinite(res.pressure)) and np.all(np.isfinite(res.separation))
+        assert math.isfinite(res.w_over_s) and math.isfinite(res.p0_ratio)
+
+
+def test_non_converged_says_so():
+    psd = SURFACES["surface1"]
+    with pytest.warns(fl.ConvergenceWarning):
+        res = solve(psd, 1e-3, max_iter=1)
+    assert not res.converged
+    assert "not converged" in res.message
+    assert res.iterations == 1
+
+
+def test_picard_bounded_and_consistent():
+    psd = SURFACES["surface1"]
+    ref = solve(psd, 1.0)
+    pic = solve(psd, 1.0, method="picard")
+    assert pic.converged
+    assert abs(pic.w_over_s / ref.w_over_s - 1.0) < 1e-6
+    with pytest.warns(fl.ConvergenceWarning):
+        stiff = solve(psd, 1e-2, method="picard", max_iter=50)
+    assert not stiff.converged and stiff.iterations == 50
+
+
+# ---- the paper's qualitative result ---------------------------------------------------------
+def test_paper_regimes_and_collapse():
+    alphas = np.array([1e-3, 5e-3, 0.1, 1.0, 20.0, 100.0])
+    curves = {}
+    for name, psd in SURFACES.items():
+        curves[name] = np.array([solve(psd, a).w_over_s for a in alphas])
+        assert np.all(curves[name][alphas < 0.01] > 3.3)
+        assert np.all(curves[name][alphas > 10] < 2.45)
+    stack = np.array(list(curves.values()))
+    spread = (stack.max(axis=0) - stack.min(axis=0)) / stack.mean(axis=0)
+    assert np.all(spread < 0.05)
+
+
+# ---- wrappers, threads, validation ------------------------------------------------------------
+def test_wrappers_scalar_and_array():
+    psd = SURFACES["surface2"]
+    loads = np.array([1e3, 1e4])
+    ws = fl.w_over_s(psd, E_STAR, RADIUS, loads)
+    pr = fl.p0_ratio(psd, E_STAR, RADIUS, loads)
+    assert ws.shape == (2,) and pr.shape == (2,)
+    assert ws[1] == pytest.approx(fl.w_over_s(psd, E_STAR, RADIUS, 1e4), rel=1e-12)
+    assert isinstance(fl.p0_ratio(psd, E_STAR, RADIUS, 1e4), float)
+    x, p = fl.profile(psd, E_STAR, RADIUS, 1e4)
+    assert x.shape == p.shape
+
+
+def test_two_threads_two_scenes():
+    a, b = SURFACES["surface1"], SURFACES["surface3"]
+    want = [solve(a, 0.05).pressure, solve(b, 2.0).pressure]
+    got = [None, None]
+
+    def run(i, psd, alpha):
+        for _ in range(5):
+            got[i] = solve(psd, alpha).pressure
+
+    ts = [threading.Thread(target=run, args=(0, a, 0.05)), threading.Thread(target=run, args=(1, b, 2.0))]
+    for t in ts:
+        t.start()
+    for t in ts:
+        t.join()
+    np.testing.assert_array_equal(got[0], want[0])
+    np.testing.assert_array_equal(got[1], want[1])
+
+
+@pytest.mark.parametrize(
+    "kwargs, name",
+    [
+        ({"load": 0.0}, "load"),
+        ({"load": -1.0}, "load"),
+        ({"radius": 0.0}, "radius"),
+        ({"E_star": -1.0}, "E_star"),
+        ({"load": math.nan}, "load"),
+        ({"radius": math.inf}, "radius"),
+        ({"n": 8}, "n"),
+        ({"n": 100.5}, "n"),
+        ({"model": "gw"}, "model"),
+        ({"method": "lbfgs"}, "method"),
+        ({"tol": 0.0}, "tol"),
+        ({"half_width": -1.0}, "half_width"),
+        ({"psd": None}, "psd"),
+    ],
+)
+def test_bad_input(kwargs, name):
+    args = {"psd": SURFACES["surface1"], "E_star": E_STAR, "radius": RADIUS, "load": 1e4}
+    args.update(kwargs)
+    with pytest.raises(ValueError, match=name):
+        fl.solve_line_contact(args.pop("psd"), **args)
