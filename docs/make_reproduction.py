@@ -70,9 +70,9 @@ def main_script() -> int:
     )
     w(
         "Scene, as in section 3 of the paper: E* = 1.33 GPa, R = 1 cm, loads f_N = 1e3 ... 1.5e6 "
-        "N/m, spectra with roll-off between q0 = 1e3 1/m and qr = 1e4 1/m, cut off at q1. Surface 1: "
-        "h_rms = 10 µm, H = 0.8; surface 2: 10 µm, H = 1.0; surface 3: 1 µm, H = 0.8. Every PNG has a "
-        "CSV next to it with the plotted numbers."
+        "N/m, spectra with roll-off between q0 = 1e3 1/m and qr = 1e4 1/m, cut off at q1. "
+        "Surface 1: h_rms = 10 µm, H = 0.8; surface 2: 10 µm, H = 1.0; surface 3: 1 µm, H = 0.8. "
+        "Every PNG has a CSV next to it with the plotted numbers."
     )
     w("")
     w(
@@ -181,8 +181,9 @@ def main_script() -> int:
     w(
         "- Surface 3 (h_rms = 1 µm) only reaches alpha ≈ 1 in the paper's load range, so its "
         "Gaussian end is not visible; its w/s curve runs slightly steeper through the transition "
-        "than those of surfaces 1-2 (see the alpha = 0.1 rows above): the collapse against alpha is "
-        "close but not exact, because the near-contact part of u(p) depends on the spectrum, not "
+        "than those of surfaces 1-2 (see the alpha = 0.1 rows above): the collapse against "
+        "alpha is close but not exact, because the near-contact part of u(p) depends on the "
+        "spectrum, not "
         "on h_rms alone."
     )
     w("")

@@ -4,6 +4,7 @@ Full Persson contact theory (compiled with Numba) and a fast line-contact solver
 (log-kernel convolution by zero-padded FFT). See README.md and docs/.
 """
 
+from fastline.diagnostics import ValidityWarning, assess
 from fastline.elastic import LogKernelOperator, influence_coefficients
 from fastline.limits import (
     WS_GAUSSIAN,
@@ -50,4 +51,6 @@ __all__ = [
     "p0_ratio",
     "LineContactResult",
     "ConvergenceWarning",
+    "ValidityWarning",
+    "assess",
 ]

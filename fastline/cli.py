@@ -464,11 +464,11 @@ def cmd_paper(args) -> int:
     _write_csv(
         os.path.join(out, "fig2_psd.csv"),
         ["q_1_per_m", "C1_m4", "C2_m4", "C3_m4"],
-        zip(q, *Cs),
+        zip(q, *Cs, strict=True),
         "Fig. 2: C(q) of surfaces 1-3\n" + scene,
     )
     fig, ax = plt.subplots(figsize=(5.5, 4.2))
-    for s, C, c in zip(surfs, Cs, styles):
+    for s, C, c in zip(surfs, Cs, styles, strict=True):
         ax.plot(
             np.log10(q),
             np.log10(C),
@@ -489,7 +489,7 @@ def cmd_paper(args) -> int:
     _write_csv(
         os.path.join(out, "fig3_profile.csv"),
         ["x_m", "p_rough_Pa", "p_hertz_Pa"],
-        zip(f3["x"], f3["p"], f3["p_hertz"]),
+        zip(f3["x"], f3["p"], f3["p_hertz"], strict=True),
         f"Fig. 3: surface 1, f_N = {PAPER_FIG3_LOAD:g} N/m, alpha = {r3.alpha:.6g}\n" + scene,
     )
     fig, ax = plt.subplots(figsize=(5.5, 4.2))
@@ -549,7 +549,7 @@ def cmd_paper(args) -> int:
     _write_csv(os.path.join(out, "fig5_p0ratio.csv"), header, rows, comment)
 
     fig, ax = plt.subplots(figsize=(5.5, 4.2))
-    for s, c in zip(surfs, styles):
+    for s, c in zip(surfs, styles, strict=True):
         a = np.array([r[1] for r in s["rows"]])
         ax.plot(np.log10(a), [r[6] for r in s["rows"]], "o-", ms=3, color=c, label=s["label"])
     ax.axhline(fl.WS_HERTZ, ls="--", color="k", lw=1)
@@ -575,7 +575,7 @@ def cmd_paper(args) -> int:
     plt.close(fig)
 
     fig, ax = plt.subplots(figsize=(5.5, 4.2))
-    for s, c in zip(surfs, styles):
+    for s, c in zip(surfs, styles, strict=True):
         a = np.array([r[1] for r in s["rows"]])
         ax.plot(np.log10(a), [r[3] for r in s["rows"]], "o-", ms=3, color=c, label=s["label"])
         aa = np.logspace(math.log10(a.min()), math.log10(a.max()), 100)
@@ -675,7 +675,7 @@ def cmd_profile(args) -> int:
         _write_csv(
             args.csv,
             ["x_m", "p_Pa", "u_m"],
-            zip(r.x, r.pressure, r.separation),
+            zip(r.x, r.pressure, r.separation, strict=True),
             f"fastline profile: model {r.model}, f_N = {r.load:g} N/m, E* = {E:g} Pa, "
             f"R = {args.radius:g} m, alpha = {r.alpha:.6g}",
         )

@@ -81,7 +81,7 @@ def _exponential_validity(theory, fit, p_lo_met: float, p_hi_met: float) -> dict
     }
 
 
-def assess(result, theory=None, hardness=None, *, psd=None) -> dict:
+def assess(result, theory=None, hardness=None, *, psd=None, warn=True) -> dict:
     """Regime and validity checks of a solved line contact.
 
     Parameters
@@ -96,6 +96,8 @@ def assess(result, theory=None, hardness=None, *, psd=None) -> dict:
         ``h' E*/2`` exceeds it a :class:`ValidityWarning` is emitted.
     psd : PSD, optional
         The roughness spectrum, used only when ``theory`` is not given.
+    warn : bool
+        Emit the :class:`ValidityWarning` s (they are listed in the result either way).
 
     Returns
     -------
@@ -165,7 +167,7 @@ def assess(result, theory=None, hardness=None, *, psd=None) -> dict:
             )
         )
 
-    for m in msgs:
-        warnings.warn(f"fastline: {m}", ValidityWarning, stacklevel=2)
+    for m in msgs if warn else ():
+        warnings.warn(f"fastline: {m}", ValidityWarning, stacklevel=3)
     out["warnings"] = msgs
     return out

@@ -38,7 +38,7 @@ import numba
 import numpy as np
 from scipy.special import roots_legendre
 
-from fastline._special import EULER_GAMMA, JIT, G0, _F, f_coefficients
+from fastline._special import _F, EULER_GAMMA, G0, JIT, f_coefficients
 from fastline._validate import finite_array, in_range, positive, positive_array
 from fastline.spectra import PSD
 
@@ -274,7 +274,7 @@ def _q_quadrature(psd: PSD, settings: TableSettings):
     bps = psd.breakpoints()
     bps = np.unique(np.concatenate([[q0], bps[(bps > q0) & (bps < q1)], [q1]]))
     edges = [q0]
-    for a, b in zip(bps[:-1], bps[1:]):
+    for a, b in zip(bps[:-1], bps[1:], strict=False):
         n = max(1, math.ceil(settings.panels_per_decade * math.log10(b / a)))
         edges.extend(np.geomspace(a, b, n + 1)[1:])
     edges = np.asarray(edges)
@@ -457,9 +457,7 @@ class PerssonTheory:
         else:
             q = finite_array("q", q)
             if np.any((q < self.psd.q0) | (q > self.psd.q1)):
-                raise ValueError(
-                    f"q must lie in [q0, q1] = [{self.psd.q0:g}, {self.psd.q1:g}] 1/m"
-                )
+                raise ValueError(f"q must lie in [q0, q1] = [{self.psd.q0:g}, {self.psd.q1:g}] 1/m")
             A = self.psd.cumulative(q)
             with np.errstate(divide="ignore"):
                 w = np.where(A > 0.0, 1.0 / np.sqrt(np.maximum(A, 0.0)), np.inf)

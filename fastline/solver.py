@@ -34,8 +34,9 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from fastline._validate import finite_scalar, positive
+from fastline.diagnostics import assess
 from fastline.elastic import LogKernelOperator, log_reference_shift
-from fastline.limits import WS_GAUSSIAN, WS_HERTZ, gaussian_line_contact, hertz_line_contact
+from fastline.limits import gaussian_line_contact, hertz_line_contact
 from fastline.models import ExponentialModel, PerssonModel
 from fastline.persson import PerssonTheory
 from fastline.spectra import PSD
@@ -54,6 +55,7 @@ METHODS = ("newton", "picard")
 DEFAULT_N = 1024
 _MAX_NEWTON = 100
 _MAX_PICARD_SWEEPS = 20000
+_LN_TINY = math.log(1e-300)
 ETA_MAX, ETA_MIN = 0.1, 1e-2  # inexact-Newton forcing term bounds
 
 
@@ -244,8 +246,13 @@ def _normalise(v, f_N, dx):
     return v + (math.log(f_N / dx) - (vmax + math.log(np.exp(v - vmax).sum())))
 
 
+def _pressure_of(v):
+    """exp(v), flushed to 0 below 1e-300 Pa (subnormals only slow the arithmetic down)."""
+    return np.where(v > _LN_TINY, np.exp(np.maximum(v, _LN_TINY)), 0.0)
+
+
 def _newton(model, op, g, f_N, dx, v, u_ref, tol, max_iter):
-    p = np.exp(v)
+    p = _pressure_of(v)
     U, dU = model.u_and_slope(v)
     Kp = op.apply(p)
     u1 = np.dot(p, U - g - Kp) / p.sum()
@@ -275,7 +282,7 @@ def _newton(model, op, g, f_N, dx, v, u_ref, tol, max_iter):
         t = min(1.0, 2.0 / max(1e-300, float(np.max(np.abs(dv[core])))))
         for _ in range(30):
             v_new = _normalise(v + t * dv, f_N, dx)
-            p_new = np.exp(v_new)
+            p_new = _pressure_of(v_new)
             U_new, dU_new = model.u_and_slope(v_new)
             Kp_new = op.apply(p_new)
             u1_new = u1 + t * du1
@@ -349,14 +356,15 @@ def _picard(model, op, g, f_N, dx, v, u_ref, tol, max_iter, omega=0.5):
 def _hertz_cg(op, g, f_N, dx, delta, tol, max_iter):
     """Constrained conjugate gradient for hard frictionless contact (Polonsky & Keer 1999)."""
     n = g.size
-    a0 = math.sqrt(2.0 * 1.0)  # placeholder, replaced below
-    del a0
-    p = np.where(g <= np.min(g) + 0.5 * (np.max(g) - np.min(g)) * 0.25, 1.0, 0.0)
+    # start: uniform pressure on the central third of the domain (inside the Hertz width)
+    p = np.where(np.abs(np.arange(n) - 0.5 * (n - 1)) <= n / 6.0, 1.0, 0.0)
     p *= f_N / (p.sum() * dx)
     d = np.zeros(n)
     G_old = 1.0
     restart = True
-    for it in range(1, max_iter + 1):
+    it = 0
+    while it < max_iter:
+        it += 1
         h = g + op.apply(p)
         c = p > 0.0
         hbar = h[c].mean()
@@ -417,6 +425,7 @@ def solve_line_contact(
     u0=None,
     beta=None,
     theory: PerssonTheory | None = None,
+    hardness=None,
     warn: bool = True,
 ) -> LineContactResult:
     """Solve for the nominal pressure under a rigid cylinder on a rough elastic half-space.
@@ -452,8 +461,12 @@ def solve_line_contact(
         Exponential-law parameters for ``model="exponential"`` (m, dimensionless).
     theory : PerssonTheory, optional
         A prebuilt theory (must match psd and E_star); otherwise one is built and cached.
+    hardness : float, optional
+        Indentation hardness of the softer solid in Pa: the diagnostics warn when the elastic
+        mean asperity pressure h' E*/2 exceeds it (plastic flow of asperities likely).
     warn : bool
-        Emit a ``ConvergenceWarning`` when the solve does not converge.
+        Emit a ``ConvergenceWarning`` when the solve does not converge, and the diagnostics'
+        ``ValidityWarning`` s (regime, exponential-law range, plasticity, half-space).
 
     Returns
     -------
@@ -511,9 +524,7 @@ def solve_line_contact(
     op = LogKernelOperator(n, dx, E_star)
 
     if model == "hertz":
-        p, u1, sep, res, ok, it, msg = _hertz_cg(
-            op, g, load, dx, delta, tol, max_iter or 10 * n
-        )
+        p, u1, sep, res, ok, it, msg = _hertz_cg(op, g, load, dx, delta, tol, max_iter or 10 * n)
         real = (p > 0.0).astype(float)
         extra = {}
     else:
@@ -541,7 +552,7 @@ def solve_line_contact(
     u1_R = u1 + log_reference_shift(load, dx, E_star, radius)
     if not ok and warn:
         warnings.warn(f"fastline: {msg}", ConvergenceWarning, stacklevel=2)
-    return LineContactResult(
+    result = LineContactResult(
         x=x,
         pressure=p,
         separation=sep,
@@ -567,8 +578,10 @@ def solve_line_contact(
         dx=dx,
         force_error=force_error,
         edge_pressure=edge,
-        diagnostics={"n": n, "half_width": half_width, **extra},
+        diagnostics={"n": n, "domain_half_width": half_width, **extra},
     )
+    result.diagnostics.update(assess(result, theory, hardness, warn=warn))
+    return result
 
 
 def profile(psd, E_star, radius, load, **kwargs):

@@ -51,7 +51,7 @@ def separation(psd, E_star: float, p: float, gamma: float = 0.45, epsrel: float 
     q0, q1 = psd.q0, psd.q1
     cuts = [q0] + [b for b in psd.breakpoints() if q0 < b < q1] + [q1]
     edges = []
-    for a, b in zip(cuts[:-1], cuts[1:]):
+    for a, b in zip(cuts[:-1], cuts[1:], strict=False):
         n = max(1, math.ceil(math.log10(b / a)))
         edges.extend(list(np.geomspace(a, b, n + 1))[:-1])
     edges.append(q1)
@@ -67,7 +67,7 @@ def separation(psd, E_star: float, p: float, gamma: float = 0.45, epsrel: float 
         return integrand_q(q0 + d, A_q) * 2.0 * L * t
 
     total += quad(first, 0.0, 1.0, epsabs=0.0, epsrel=epsrel, limit=400)[0]
-    for a, b in zip(edges[1:-1], edges[2:]):
+    for a, b in zip(edges[1:-1], edges[2:], strict=False):
         total += quad(
             lambda lq: integrand_q(math.exp(lq), A(math.exp(lq))) * math.exp(lq),
             math.log(a),
@@ -87,8 +87,15 @@ def log_kernel_matrix(n: int, dx: float, E_star: float) -> np.ndarray:
     coeff = np.empty(n)
     for m in range(n):
         points = [0.0] if m == 0 else None
-        val = quad(lambda t: math.log(abs(t)) if t != 0.0 else 0.0, m - 0.5, m + 0.5,
-                   points=points, epsabs=1e-14, epsrel=1e-14, limit=200)[0]
+        val = quad(
+            lambda t: math.log(abs(t)) if t != 0.0 else 0.0,
+            m - 0.5,
+            m + 0.5,
+            points=points,
+            epsabs=1e-14,
+            epsrel=1e-14,
+            limit=200,
+        )[0]
         coeff[m] = -(2.0 / math.pi) * val * dx / E_star
     idx = np.arange(n)
     return coeff[np.abs(idx[:, None] - idx[None, :])]
@@ -115,7 +122,7 @@ def line_contact_exponential(E_star, radius, load, u0, beta, n, half_width):
         r = u0 * (math.log(beta * E_star) - v) - u1 - g - K @ p
         return np.concatenate([r / u0, [p.sum() * dx / load - 1.0]])
 
-    z0 = np.concatenate([v0, [u0 * math.log(beta * E_star / (load / s)) ]])
+    z0 = np.concatenate([v0, [u0 * math.log(beta * E_star / (load / s))]])
     sol = root(fun, z0, method="hybr", tol=1e-13)
     if not sol.success:
         raise RuntimeError(sol.message)

@@ -123,7 +123,7 @@ def test_profile_elastic_constants_and_psd_file(tmp_path, capsys):
     psd = fl.SelfAffinePSD(5e-6, 0.8, 1e3, 1e4, 1e8)
     q = np.logspace(3, 8, 120)
     f = tmp_path / "psd.txt"
-    body = "\n".join(f"{float(a)!r}, {float(b)!r}" for a, b in zip(q, psd(q)))
+    body = "\n".join(f"{float(a)!r}, {float(b)!r}" for a, b in zip(q, psd(q), strict=True))
     f.write_text("# q [1/m], C [m^4]\n" + body + "\n")
     args = [
         "profile",
@@ -184,7 +184,7 @@ def test_sweep_vs_api(tmp_path, capsys):
         "converged",
     ]
     psd = fl.SelfAffinePSD(1e-6, 0.8, 1e3, 1e4, 1e9)
-    for row, f in zip(rows, np.logspace(3, 5, 4)):
+    for row, f in zip(rows, np.logspace(3, 5, 4), strict=True):
         assert float(row["load_N_per_m"]) == pytest.approx(f, rel=1e-12)
         r = solve_line_contact(psd, E_STAR, R, f, n=256)
         assert float(row["w_over_s"]) == pytest.approx(r.w_over_s, rel=1e-9)
