@@ -45,6 +45,8 @@ from fastline.spectra import PSD
 __all__ = ["PerssonTheory", "ExponentialFit", "TableSettings"]
 
 _SQRT_PI = math.sqrt(math.pi)
+#: graded sub-panels towards q1; the integrand's pile-up there is ~1/(0.4 x^2) wide in ln q
+_TOP_LEVELS = 5
 _TWO_OVER_SQRT_PI = 2.0 / _SQRT_PI
 
 
@@ -55,6 +57,7 @@ class TableSettings:
     panels_per_decade: int
     order: int
     grading_levels: int
+    graded_order: int
     h_v: float
     h_y: float
 
@@ -62,10 +65,16 @@ class TableSettings:
     def for_rtol(cls, rtol: float) -> TableSettings:
         """Settings whose measured error is below ``rtol`` (tests/test_persson.py checks)."""
         if rtol >= 1e-4:
-            return cls(panels_per_decade=2, order=6, grading_levels=6, h_v=0.2, h_y=0.08)
+            return cls(
+                panels_per_decade=2, order=6, grading_levels=6, graded_order=6, h_v=0.2, h_y=0.08
+            )
         if rtol >= 1e-6:
-            return cls(panels_per_decade=3, order=12, grading_levels=12, h_v=0.1, h_y=0.04)
-        return cls(panels_per_decade=5, order=14, grading_levels=16, h_v=0.05, h_y=0.015)
+            return cls(
+                panels_per_decade=2, order=12, grading_levels=12, graded_order=10, h_v=0.1, h_y=0.04
+            )
+        return cls(
+            panels_per_decade=5, order=14, grading_levels=16, graded_order=14, h_v=0.05, h_y=0.015
+        )
 
 
 @dataclass(frozen=True)
@@ -281,22 +290,33 @@ def _q_quadrature(psd: PSD, settings: TableSettings):
     # first panel: q = q0 + L tau^2, graded in tau
     L = edges[1] - q0
     ratio = 0.15
+    tg, wg = roots_legendre(settings.graded_order)
+    tg, wg = 0.5 * (tg + 1.0), 0.5 * wg
     tau_edges = np.concatenate([[0.0], ratio ** np.arange(settings.grading_levels, -1, -1)])
     ta, tb = tau_edges[:-1, None], tau_edges[1:, None]
-    tau = (ta + (tb - ta) * t_ref).ravel()
-    dtau = ((tb - ta) * w_ref).ravel()
+    tau = (ta + (tb - ta) * tg).ravel()
+    dtau = ((tb - ta) * wg).ravel()
     delta = L * tau * tau
     q_first = q0 + delta
     w_first = 2.0 * L * tau * dtau
     # A(q0 + delta) = pi delta int_0^1 (q0 + delta t)^3 C(q0 + delta t) dt, no cancellation
     qq = q0 + delta[:, None] * t_ref[None, :]
     A_first = math.pi * delta * np.sum(w_ref * qq**3 * psd(qq), axis=1)
-    # remaining panels: Gauss-Legendre in ln q
-    la = np.log(edges[1:-1])[:, None]
-    lb = np.log(edges[2:])[:, None]
-    lq = (la + (lb - la) * t_ref).ravel()
+    # remaining panels: Gauss-Legendre in ln q. The last one is graded geometrically towards
+    # q1: at high pressure exp(-(w p/E*)^2) concentrates the integrand against q1.
+    lnq = np.log(edges[1:])
+    if lnq.size >= 2:
+        width = lnq[-1] - lnq[-2]
+        top = lnq[-1] - width * ratio ** np.arange(_TOP_LEVELS + 1)
+    else:
+        top = lnq[-1:]
+    la = lnq[:-2, None]
+    lb = lnq[1:-1, None]
+    ga = top[:, None]
+    gb = np.append(top[1:], lnq[-1])[:, None]
+    lq = np.concatenate([(la + (lb - la) * t_ref).ravel(), (ga + (gb - ga) * tg).ravel()])
     q_rest = np.exp(lq)
-    w_rest = ((lb - la) * w_ref).ravel() * q_rest
+    w_rest = np.concatenate([((lb - la) * w_ref).ravel(), ((gb - ga) * wg).ravel()]) * q_rest
     A_rest = psd.cumulative(q_rest)
     return (
         np.concatenate([q_first, q_rest]),
