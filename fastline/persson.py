@@ -235,31 +235,22 @@ def _invert_t1(lu_target, v_start, t1):
 
 
 @numba.njit(**JIT)
-def _pressure_kernel(u, y0, hy, V, V1, u0, u_lo, v_lo, lnu_hi, p_hi, kappa, t1, out):
-    """p(u) from table T2, T1 near full contact, and the shared extensions; u > 0."""
-    ny = V.shape[0]
-    y_hi = y0 + (ny - 1) * hy
+def _pressure_kernel(u, y0, inv_hy, Cf, inv_u0, u_lo, v_lo, v_t2, t1, out):
+    """p(u) from table T2 (cubic per cell, Horner), T1 near full contact, and the shared
+    exponential-law extension at large u; u > 0."""
+    ncell = Cf.shape[0]
     for i in range(u.shape[0]):
         ui = u[i]
-        r = ui / u0
-        y = math.log(r) + r
-        if y >= y_hi:
-            out[i] = math.exp(v_lo - (ui - u_lo) / u0)
-        elif y <= y0:  # near full contact: invert T1 and its continuation
-            out[i] = math.exp(_invert_t1(math.log(ui), V[0], t1))
+        r = ui * inv_u0
+        z = (math.log(r) + r - y0) * inv_hy
+        if z >= ncell:
+            out[i] = math.exp(v_lo - (ui - u_lo) * inv_u0)
+        elif z <= 0.0:  # near full contact: invert T1 and its continuation
+            out[i] = math.exp(_invert_t1(math.log(ui), v_t2, t1))
         else:
-            z = (y - y0) / hy
-            k = min(int(z), ny - 2)
+            k = int(z)
             t = z - k
-            t2 = t * t
-            t3 = t2 * t
-            vv = (
-                (2.0 * t3 - 3.0 * t2 + 1.0) * V[k]
-                + (t3 - 2.0 * t2 + t) * hy * V1[k]
-                + (-2.0 * t3 + 3.0 * t2) * V[k + 1]
-                + (t3 - t2) * hy * V1[k + 1]
-            )
-            out[i] = math.exp(vv)
+            out[i] = math.exp(Cf[k, 0] + t * (Cf[k, 1] + t * (Cf[k, 2] + t * Cf[k, 3])))
 
 
 @numba.njit(**JIT)
@@ -421,7 +412,14 @@ class PerssonTheory:
         V, V1 = np.empty(ny), np.empty(ny)
         _build_inverse(y_a, hy, ny, v0, h, L, L1, L2, u0, kappa, V, V1)
         V[0], V[-1] = math.log(p_t2), v0  # the ends are T1 points exactly
-        self._t2 = (y_a, hy, V, V1, u0, math.exp(L[0]), v0, L[-1], p_hi, kappa, self._t1)
+        # cubic Hermite per cell in Horner form: v = c0 + t (c1 + t (c2 + t c3)), t in [0, 1]
+        dV = np.diff(V)
+        Cf = np.empty((ny - 1, 4))
+        Cf[:, 0] = V[:-1]
+        Cf[:, 1] = hy * V1[:-1]
+        Cf[:, 2] = 3.0 * dV - hy * (2.0 * V1[:-1] + V1[1:])
+        Cf[:, 3] = -2.0 * dV + hy * (V1[:-1] + V1[1:])
+        self._t2 = (y_a, 1.0 / hy, Cf, 1.0 / u0, math.exp(L[0]), v0, V[0], self._t1)
         self.p_range = (p_lo, p_hi)
 
     # -- public methods -------------------------------------------------------------------------
