@@ -8,6 +8,7 @@ NaN, an inf or a hang deep inside Numba code.
 from __future__ import annotations
 
 import math
+import operator
 
 import numpy as np
 
@@ -63,3 +64,15 @@ def positive_array(name: str, value) -> np.ndarray:
     if np.any(arr <= 0.0):
         raise ValueError(f"{name} must be > 0 everywhere (allowed range (0, inf))")
     return arr
+
+
+def integer(name: str, value, minimum: int) -> int:
+    """An integer >= ``minimum`` (bools and non-integral floats rejected)."""
+    if not isinstance(value, bool):
+        try:
+            out = operator.index(value)
+        except TypeError:
+            out = None
+        if out is not None and out >= minimum:
+            return out
+    raise ValueError(f"{name} must be an integer >= {minimum}, got {value!r}")

@@ -19,6 +19,7 @@ SI units throughout: Pa, m, N/m.
 
 from __future__ import annotations
 
+import functools
 import math
 import warnings
 
@@ -51,31 +52,36 @@ def regime(alpha: float) -> str:
     return "transition"
 
 
-def _exponential_validity(theory, fit, p_lo_met: float, p_hi_met: float) -> dict:
-    """Range of p [Pa] over which u0 ln(beta E*/p) is within 5 % of the full u(p)."""
-    E = theory.E_star
+@functools.lru_cache(maxsize=32)
+def _law_valid_range(theory) -> tuple[float, float]:
+    """(0, p_top) in Pa: where u0 ln(beta E*/p) is within 5 % of the full u(p).
+
+    Depends on the theory only, so it is computed once per theory (400 direct evaluations over
+    the table range; below it the law holds by construction, above it u -> 0 and it fails).
+    """
+    fit = theory.exponential_fit()
     lo, hi = theory.p_range
-    lo = min(lo, p_lo_met)
-    hi = max(hi, p_hi_met)
     p = np.logspace(math.log10(lo), math.log10(hi), 400)
     u_full = theory.separation(p)
-    u_law = fit.u0 * np.log(fit.beta * E / p)
-    ok = np.abs(u_law - u_full) <= EXPONENTIAL_RTOL * u_full
+    ok = np.abs(fit.u0 * np.log(fit.beta * theory.E_star / p) - u_full) <= (
+        EXPONENTIAL_RTOL * u_full
+    )
     # the law is the small-p asymptote: the valid range starts at the bottom of the grid and
     # ends at the first pressure where the mismatch exceeds the tolerance
     if not ok[0]:
-        valid = (float("nan"), float("nan"))
-    else:
-        bad = np.nonzero(~ok)[0]
-        top = p[bad[0] - 1] if bad.size else p[-1]
-        valid = (0.0, float(top))
-    # direct check on the pressures the contact actually meets
+        return (float("nan"), float("nan"))
+    bad = np.nonzero(~ok)[0]
+    return (0.0, float(p[bad[0] - 1] if bad.size else p[-1]))
+
+
+def _exponential_validity(theory, fit, p_lo_met: float, p_hi_met: float) -> dict:
+    """The law's valid range and a direct check on the pressures the contact meets."""
     pm = np.logspace(math.log10(p_lo_met), math.log10(p_hi_met), 60)
     um = theory.separation(pm)
-    err = np.abs(fit.u0 * np.log(fit.beta * E / pm) - um) / um
+    err = np.abs(fit.u0 * np.log(fit.beta * theory.E_star / pm) - um) / um
     return {
         "exponential_valid": bool(np.all(err <= EXPONENTIAL_RTOL)),
-        "exponential_valid_range": valid,
+        "exponential_valid_range": _law_valid_range(theory),
         "exponential_max_error": float(err.max()),
         "pressure_range_met": (float(p_lo_met), float(p_hi_met)),
     }

@@ -45,13 +45,12 @@ pyFFTW state is changed.
 from __future__ import annotations
 
 import math
-import operator
 import threading
 
 import numpy as np
 import pyfftw
 
-from fastline._validate import finite_scalar, positive
+from fastline._validate import finite_scalar, integer, positive
 
 __all__ = [
     "LogKernelOperator",
@@ -60,19 +59,6 @@ __all__ = [
 ]
 
 _TWO_OVER_PI = 2.0 / math.pi
-
-
-def _grid_size(name: str, value, minimum: int) -> int:
-    """An integer >= ``minimum`` (bools and non-integral floats rejected)."""
-    if isinstance(value, bool):
-        raise ValueError(f"{name} must be an integer >= {minimum}, got {value!r}")
-    try:
-        out = operator.index(value)
-    except TypeError:
-        raise ValueError(f"{name} must be an integer >= {minimum}, got {value!r}") from None
-    if out < minimum:
-        raise ValueError(f"{name} must be an integer >= {minimum}, got {out!r}")
-    return out
 
 
 def influence_coefficients(n) -> np.ndarray:
@@ -101,7 +87,7 @@ def influence_coefficients(n) -> np.ndarray:
 
     whose relative error stays ~1e-15 for every ``m`` (no growth with ``m``).
     """
-    n = _grid_size("n", n, 1)
+    n = integer("n", n, 1)
     d = np.empty(n, dtype=np.float64)
     d[0] = -math.log(2.0) - 1.0
     if n > 1:
@@ -237,7 +223,7 @@ class LogKernelOperator:
     __slots__ = ("n", "dx", "E_star", "diagonal", "convolutions", "_scale", "_spec")
 
     def __init__(self, n, dx, E_star):
-        self.n = _grid_size("n", n, 2)
+        self.n = integer("n", n, 2)
         self.dx = positive("dx", dx, "m")
         self.E_star = positive("E_star", E_star, "Pa")
         self._scale = self.dx / self.E_star

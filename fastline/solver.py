@@ -33,7 +33,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from fastline._validate import finite_scalar, positive
+from fastline._validate import finite_scalar, integer, positive
 from fastline.diagnostics import assess
 from fastline.elastic import LogKernelOperator, log_reference_shift
 from fastline.limits import gaussian_line_contact, hertz_line_contact
@@ -401,14 +401,6 @@ def _hertz_cg(op, g, f_N, dx, delta, tol, max_iter):
 # ----------------------------------------------------------------------------------------------
 # public API
 # ----------------------------------------------------------------------------------------------
-def _check_int(name, value, minimum):
-    if isinstance(value, bool) or not isinstance(value, (int, np.integer)):
-        raise ValueError(f"{name} must be an integer >= {minimum}, got {value!r}")
-    if value < minimum:
-        raise ValueError(f"{name} must be an integer >= {minimum}, got {value!r}")
-    return int(value)
-
-
 def solve_line_contact(
     psd: PSD | None,
     E_star,
@@ -479,12 +471,12 @@ def solve_line_contact(
         raise ValueError(f"model must be one of {MODELS}, got {model!r}")
     if method not in METHODS:
         raise ValueError(f"method must be one of {METHODS}, got {method!r}")
-    n = _check_int("n", n, 16)
+    n = integer("n", n, 16)
     tol = finite_scalar("tol", tol)
     if not 0.0 < tol <= 1e-2:
         raise ValueError(f"tol must lie in (0, 1e-2], got {tol!r}")
     if max_iter is not None:
-        max_iter = _check_int("max_iter", max_iter, 1)
+        max_iter = integer("max_iter", max_iter, 1)
     if psd is None and model != "hertz":
         raise ValueError(f"psd must be a PSD for model={model!r} (None is allowed for 'hertz')")
     if psd is not None and not isinstance(psd, PSD):
