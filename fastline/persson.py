@@ -25,8 +25,11 @@ Numerics
   exponential law ``u = u0 ln(beta E*/p)`` continues it (the theory's own small-p asymptote),
   above it the near-full-contact form ``ln u = ln u_hi - k (p^2 - p_hi^2) - m ln(p/p_hi)``
   (the large-x behaviour of F, with k and m matching the table's slope and curvature).
-* Table T2: ``v`` on a uniform grid of ``y = ln(u/u0) + u/u0`` (cubic Hermite), for p(u).
-  Both tables share the same extensions, so ``pressure`` and the table u(p) are inverses.
+* Table T2, for p(u): ``v`` as a cubic Hermite polynomial in u on cells that split every
+  binade ``[2^e, 2^(e+1))`` of u into ``2^m`` equal parts. The cell index and the local
+  coordinate are read off the bits of the float64 (exponent and leading mantissa bits), so
+  evaluating p(u) costs one ``exp`` and no ``log``. Both tables share the same extensions, so
+  ``pressure`` and the table u(p) are inverses.
 """
 
 from __future__ import annotations
@@ -59,21 +62,36 @@ class TableSettings:
     grading_levels: int
     graded_order: int
     h_v: float
-    h_y: float
+    log2_cells_per_binade: int
 
     @classmethod
     def for_rtol(cls, rtol: float) -> TableSettings:
         """Settings whose measured error is below ``rtol`` (tests/test_persson.py checks)."""
         if rtol >= 1e-4:
             return cls(
-                panels_per_decade=2, order=6, grading_levels=6, graded_order=6, h_v=0.2, h_y=0.08
+                panels_per_decade=2,
+                order=6,
+                grading_levels=6,
+                graded_order=6,
+                h_v=0.2,
+                log2_cells_per_binade=4,
             )
         if rtol >= 1e-6:
             return cls(
-                panels_per_decade=2, order=12, grading_levels=12, graded_order=10, h_v=0.1, h_y=0.04
+                panels_per_decade=2,
+                order=12,
+                grading_levels=12,
+                graded_order=10,
+                h_v=0.1,
+                log2_cells_per_binade=6,
             )
         return cls(
-            panels_per_decade=5, order=14, grading_levels=16, graded_order=14, h_v=0.05, h_y=0.015
+            panels_per_decade=5,
+            order=14,
+            grading_levels=16,
+            graded_order=14,
+            h_v=0.05,
+            log2_cells_per_binade=7,
         )
 
 
@@ -190,34 +208,35 @@ def _separation_and_slope(v, v0, h, L, L1, L2, u0, kappa, u, dudv):
 
 
 @numba.njit(**JIT)
-def _y_of_lnu(lu, u0):
-    return lu - math.log(u0) + math.exp(lu) / u0
+def _build_inverse(e0, logm, ncell, v0, h, L, L1, L2, u0, kappa, V, V1):
+    """Table T2: v and dv/du at the cell ends ``u = 2^e (1 + j/2^m)``, by inverting T1.
 
-
-@numba.njit(**JIT)
-def _build_inverse(y0, hy, ny, v0, h, L, L1, L2, u0, kappa, V, V1):
-    """Table T2: v and dv/dy on the uniform y grid, by inverting T1.
-
-    y decreases along the T1 nodes, so one pointer walks the T1 cells while the T2 nodes are
-    visited in increasing y (from the last T1 node backwards); Newton finishes inside a cell.
+    ln u decreases along the T1 nodes, so one pointer walks the T1 cells while the T2 nodes are
+    visited in increasing u (from the last T1 node backwards); Newton finishes inside a cell.
+    Nodes beyond the low-pressure end of T1 take the exponential law.
     """
     n = L.shape[0]
-    k = n - 1  # T1 cell [k-1, k] brackets y
-    for m in range(ny):
-        y = y0 + m * hy
-        while k > 1 and _y_of_lnu(L[k - 1], u0) < y:
+    m = 1 << logm
+    k = n - 1  # T1 cell [k-1, k] brackets ln u
+    for j in range(ncell + 1):
+        un = math.ldexp(1.0 + (j % m) / m, e0 + j // m)
+        lu_t = math.log(un)
+        if lu_t >= L[0]:
+            V[j] = v0 - (un - math.exp(L[0])) / u0
+            V1[j] = -1.0 / u0
+            continue
+        while k > 1 and L[k - 1] < lu_t:
             k -= 1
         vk = v0 + (k - 0.5) * h
         for _ in range(30):
             lu, d = _lnu_table(vk, v0, h, L, L1, L2, u0, kappa)
-            dydv = d * (1.0 + math.exp(lu) / u0)
-            step = (_y_of_lnu(lu, u0) - y) / dydv
+            step = (lu - lu_t) / d
             vk = min(max(vk - step, v0 + (k - 1) * h), v0 + k * h)
             if abs(step) < 1e-14:
                 break
         lu, d = _lnu_table(vk, v0, h, L, L1, L2, u0, kappa)
-        V[m] = vk
-        V1[m] = 1.0 / (d * (1.0 + math.exp(lu) / u0))
+        V[j] = vk
+        V1[j] = 1.0 / (un * d)
 
 
 @numba.njit(**JIT)
@@ -235,21 +254,28 @@ def _invert_t1(lu_target, v_start, t1):
 
 
 @numba.njit(**JIT)
-def _pressure_kernel(u, y0, inv_hy, Cf, inv_u0, u_lo, v_lo, v_t2, t1, out):
-    """p(u) from table T2 (cubic per cell, Horner), T1 near full contact, and the shared
-    exponential-law extension at large u; u > 0."""
+def _pressure_kernel(u, Cf, base, logm, inv_u0, u_lo, v_lo, v_first, t1, out):
+    """p(u) for u > 0 (contiguous float64): table T2 (cubic per cell, Horner), T1 near full
+    contact, and the shared exponential-law extension at large u.
+
+    A positive float64 ``u = 2^e (1 + f)`` has the bits ``(e + 1023) << 52 | f 2^52``, so the
+    top ``52 - logm`` bits shifted down count the cells ``(e, floor(f 2^m))`` in order; ``base``
+    is the count of the first cell, and the remaining bits give t = frac(f 2^m).
+    """
+    bits = u.view(np.int64)
     ncell = Cf.shape[0]
+    shift = 52 - logm
+    mask = (np.int64(1) << shift) - 1
+    scale = 1.0 / float(np.int64(1) << shift)
     for i in range(u.shape[0]):
-        ui = u[i]
-        r = ui * inv_u0
-        z = (math.log(r) + r - y0) * inv_hy
-        if z >= ncell:
-            out[i] = math.exp(v_lo - (ui - u_lo) * inv_u0)
-        elif z <= 0.0:  # near full contact: invert T1 and its continuation
-            out[i] = math.exp(_invert_t1(math.log(ui), v_t2, t1))
+        b = bits[i]
+        k = (b >> shift) - base
+        if k >= ncell:
+            out[i] = math.exp(v_lo - (u[i] - u_lo) * inv_u0)
+        elif k < 0:  # near full contact: invert T1 and its continuation
+            out[i] = math.exp(_invert_t1(math.log(u[i]), v_first, t1))
         else:
-            k = int(z)
-            t = z - k
+            t = (b & mask) * scale
             out[i] = math.exp(Cf[k, 0] + t * (Cf[k, 1] + t * (Cf[k, 2] + t * Cf[k, 3])))
 
 
@@ -390,7 +416,7 @@ class PerssonTheory:
                 break
             p_lo *= 1e-2
         # high end: x = w(q1) p / E* = 12, u ~ exp(-144) h_rms: beyond any physical closure.
-        # T2 (the fast inverse) stops at x = 5 (P(q1, p) = erf(5)); above, p(u) inverts T1.
+        # T2 (the fast inverse) starts near x = 5 (P(q1, p) = erf(5)); above, p(u) inverts T1.
         p_hi = 12.0 * E / self._w1
         p_t2 = 5.0 * E / self._w1
         v0 = math.log(p_lo)
@@ -403,23 +429,24 @@ class PerssonTheory:
         k = -L2[-1] / (4.0 * p_hi * p_hi)
         kappa = np.array([k, -L1[-1] - 2.0 * k * p_hi * p_hi])
         self._t1 = (v0, h, L, L1, L2, u0, kappa)
-        # T2 from x = 5 down to the low end of T1
+        # T2 over whole binades of u, from the one holding u(x = 5) to the one holding u(p_lo)
         lu_t2, _ = _lnu_table(math.log(p_t2), v0, h, L, L1, L2, u0, kappa)
-        y_a = float(_y_of_lnu(lu_t2, u0))
-        y_b = float(_y_of_lnu(L[0], u0))
-        ny = int(math.ceil((y_b - y_a) / st.h_y)) + 1
-        hy = (y_b - y_a) / (ny - 1)
-        V, V1 = np.empty(ny), np.empty(ny)
-        _build_inverse(y_a, hy, ny, v0, h, L, L1, L2, u0, kappa, V, V1)
-        V[0], V[-1] = math.log(p_t2), v0  # the ends are T1 points exactly
-        # cubic Hermite per cell in Horner form: v = c0 + t (c1 + t (c2 + t c3)), t in [0, 1]
+        e0 = max(math.frexp(math.exp(lu_t2))[1] - 1, -1022)  # subnormal u: T1 branch
+        e1 = math.frexp(math.exp(L[0]))[1] - 1
+        logm = st.log2_cells_per_binade
+        ncell = (e1 - e0 + 1) << logm
+        V, V1 = np.empty(ncell + 1), np.empty(ncell + 1)
+        _build_inverse(e0, logm, ncell, v0, h, L, L1, L2, u0, kappa, V, V1)
+        # cubic Hermite per cell in Horner form: v = c0 + t (c1 + t (c2 + t c3)), t in [0, 1)
+        hu = np.ldexp(1.0, e0 - logm + np.arange(ncell) // (1 << logm))  # cell widths in u
         dV = np.diff(V)
-        Cf = np.empty((ny - 1, 4))
+        Cf = np.empty((ncell, 4))
         Cf[:, 0] = V[:-1]
-        Cf[:, 1] = hy * V1[:-1]
-        Cf[:, 2] = 3.0 * dV - hy * (2.0 * V1[:-1] + V1[1:])
-        Cf[:, 3] = -2.0 * dV + hy * (V1[:-1] + V1[1:])
-        self._t2 = (y_a, 1.0 / hy, Cf, 1.0 / u0, math.exp(L[0]), v0, V[0], self._t1)
+        Cf[:, 1] = hu * V1[:-1]
+        Cf[:, 2] = 3.0 * dV - hu * (2.0 * V1[:-1] + V1[1:])
+        Cf[:, 3] = -2.0 * dV + hu * (V1[:-1] + V1[1:])
+        base = (e0 + 1023) << logm
+        self._t2 = (Cf, base, logm, 1.0 / u0, math.exp(L[0]), v0, V[0], self._t1)
         self.p_range = (p_lo, p_hi)
 
     # -- public methods -------------------------------------------------------------------------

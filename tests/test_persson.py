@@ -150,6 +150,37 @@ def test_table_inverse_consistent(case):
     np.testing.assert_allclose(th.pressure(ut), pp, rtol=RTOL_TABLE_INVERSE, atol=0.0)
 
 
+@pytest.mark.parametrize("case", ["surface1", "hurst0.3"])
+def test_pressure_cells_join_continuously(case):
+    """p(u) reads its cell from the float's bits: check every cell edge from both sides.
+
+    At each edge ``u_e = 2^e (1 + j/2^m)`` the value just below comes from the end of one cell
+    polynomial and the value at u_e from the start of the next one; both interpolate the same
+    node, so they agree to rounding. A wrong shift, mask or base offset breaks this by the
+    size of a cell.
+    """
+    th = _theory(case)
+    Cf, base, logm = th._t2[:3]
+    m = 1 << logm
+    ks = np.arange(Cf.shape[0] + 1) + base
+    edges = np.ldexp(1.0 + (ks % m) / m, ks // m - 1023)
+    below = np.nextafter(edges, 0.0)
+    p_at, p_below = th.pressure(edges), th.pressure(below)
+    live = p_at > 1e-290
+    np.testing.assert_allclose(p_below[live], p_at[live], rtol=1e-12, atol=0.0)
+    # the cells agree with a plain Newton inversion of the table u(p) at their midpoints
+    mid = 0.5 * (edges[:-1] + edges[1:])
+    pm = th.pressure(mid)
+    live = pm > 1e-290
+    np.testing.assert_allclose(
+        th.separation_table(pm[live])[0], mid[live], rtol=RTOL_TABLE_INVERSE, atol=0.0
+    )
+    # subnormal and strided input take the general paths
+    assert np.isfinite(th.pressure(np.array([5e-324, 1e-310]))).all()
+    u = np.geomspace(1e-12, 1e-4, 101)
+    np.testing.assert_array_equal(th.pressure(u[::2]), th.pressure(u)[::2])
+
+
 @pytest.mark.parametrize("case", PAPER)
 def test_monotonic(case):
     th = _theory(case)
