@@ -132,6 +132,7 @@ def log_reference_shift(load, dx, E_star, length) -> float:
 
 _spectrum_lock = threading.Lock()
 _spectra: dict[int, np.ndarray] = {}
+_strang: dict[int, np.ndarray] = {}
 _local = threading.local()
 
 
@@ -156,6 +157,31 @@ def _kernel_spectrum(n: int) -> np.ndarray:
             spec = np.repeat(full.real / (2 * n), 2)
             spec.flags.writeable = False
             _spectra[n] = spec
+    return spec
+
+
+def _strang_spectrum(n: int) -> np.ndarray:
+    """Eigenvalues (dimensionless, length ``n + 1``) of the Strang circulant of size ``2n`` built
+    from ``khat_0 .. khat_n``; read-only, cached per ``n``.
+
+    The log kernel's circulant has a large negative mean (``khat_m ~ -(2/pi) ln m``), i.e. a
+    negative zero-frequency eigenvalue. Constants carry load, not shape, and the solver keeps
+    the load fixed, so that eigenvalue is replaced by the largest of the others (``shift`` in
+    :meth:`LogKernelOperator.circulant_inverse` keeps every eigenvalue positive).
+    """
+    spec = _strang.get(n)
+    if spec is not None:
+        return spec
+    with _spectrum_lock:
+        spec = _strang.get(n)
+        if spec is None:
+            khat = influence_coefficients(n + 1)
+            circ = np.concatenate([khat, khat[-2:0:-1]])
+            lam = np.fft.rfft(circ).real
+            lam[0] = lam[1:].max()
+            spec = lam
+            spec.flags.writeable = False
+            _strang[n] = spec
     return spec
 
 
@@ -210,8 +236,11 @@ class LogKernelOperator:
     diagonal : float
         ``K_00 = (dx / E*) khat_0`` [m/Pa].
     convolutions : int
-        Number of :meth:`apply` calls made on this instance (not synchronised: exact only if the
-        instance is not applied from several threads at once).
+        Number of FFT convolutions of length ``2n`` made by this instance: :meth:`apply` calls
+        and :meth:`CirculantInverse.apply` calls of its preconditioners (not synchronised: exact
+        only if the instance is not used from several threads at once).
+    circulant_solves : int
+        How many of those were preconditioner solves.
 
     Notes
     -----
@@ -220,7 +249,16 @@ class LogKernelOperator:
     ``n`` is shared read-only.  ``apply`` does not check ``p`` for NaN/inf (hot path).
     """
 
-    __slots__ = ("n", "dx", "E_star", "diagonal", "convolutions", "_scale", "_spec")
+    __slots__ = (
+        "n",
+        "dx",
+        "E_star",
+        "diagonal",
+        "convolutions",
+        "circulant_solves",
+        "_scale",
+        "_spec",
+    )
 
     def __init__(self, n, dx, E_star):
         self.n = integer("n", n, 2)
@@ -230,6 +268,7 @@ class LogKernelOperator:
         self._spec = _kernel_spectrum(self.n)
         self.diagonal = self._scale * float(influence_coefficients(1)[0])
         self.convolutions = 0
+        self.circulant_solves = 0
 
     def __repr__(self) -> str:
         return f"LogKernelOperator(n={self.n}, dx={self.dx!r}, E_star={self.E_star!r})"
@@ -268,8 +307,55 @@ class LogKernelOperator:
 
     __call__ = apply
 
+    def circulant_inverse(self, shift) -> CirculantInverse:
+        """An approximate inverse of ``K + shift I`` for vectors supported on at most n cells.
+
+        The block of ``K`` seen by such a vector is a symmetric Toeplitz matrix; it is replaced
+        by the Strang circulant of size ``2n`` (the vector zero-padded), whose inverse is
+        diagonal in Fourier space. Used as the preconditioner of the loaded core, where the
+        elastic compliance dominates (:mod:`fastline.solver`).
+
+        Parameters
+        ----------
+        shift : float
+            Diagonal term [m/Pa], >= 0 (a representative value of the model's ``|du/dp|``).
+        """
+        shift = finite_scalar("shift", shift)
+        if shift < 0.0:
+            raise ValueError(f"shift must be >= 0 (allowed range [0, inf)), got {shift!r}")
+        eig = self._scale * _strang_spectrum(self.n) + shift
+        # the backward FFT is unnormalised: fold 1/(2n) into the inverse eigenvalues
+        return CirculantInverse(self, np.repeat(1.0 / (eig * (2 * self.n)), 2))
+
     def dense(self) -> np.ndarray:
         """The dense ``(n, n)`` matrix ``K`` [m/Pa]; O(n^2) memory and time, for tests/reference."""
         khat = influence_coefficients(self.n)
         idx = np.arange(self.n)
         return self._scale * khat[np.abs(idx[:, None] - idx[None, :])]
+
+
+class CirculantInverse:
+    """``y -> C^{-1} y`` for the Strang circulant C of ``K + shift I`` (see
+    :meth:`LogKernelOperator.circulant_inverse`); one FFT convolution per call, counted on the
+    operator. Thread-safe like :meth:`LogKernelOperator.apply`."""
+
+    __slots__ = ("_op", "_inv")
+
+    def __init__(self, op: LogKernelOperator, inv_spec: np.ndarray):
+        self._op = op
+        self._inv = inv_spec
+
+    def apply(self, y, out) -> np.ndarray:
+        """Write ``(C^{-1} y)[:m]`` into ``out`` (both of length ``m <= n``) and return it."""
+        m = y.shape[0]
+        op = self._op
+        head_in, cview, head_out, fwd, bwd, _, _ = _workspace(op.n)
+        head_in[:m] = y
+        head_in[m:] = 0.0
+        fwd()
+        np.multiply(cview, self._inv, out=cview)
+        bwd()
+        out[:] = head_out[:m]
+        op.convolutions += 1
+        op.circulant_solves += 1
+        return out

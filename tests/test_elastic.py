@@ -220,3 +220,39 @@ def test_hertz_displacement_is_parabolic(n):
     i = int(np.argmin(np.abs(x)))
     d2 = (u[i + 1] - 2.0 * u[i] + u[i - 1]) / dx**2
     assert d2 == pytest.approx(-1.0 / RADIUS, rel=RTOL_CONTINUUM)
+
+
+# ---- the preconditioner's circulant inverse ------------------------------------------------
+def _strang_dense(n, dx, shift):
+    """Dense Strang circulant of size 2n (from khat_0..khat_n), K + shift I, with its
+    zero-frequency eigenvalue moved to the largest other one (as documented)."""
+    kh = influence_coefficients(n + 1) * (dx / E_STAR)
+    col = np.concatenate([kh, kh[-2:0:-1]])
+    size = 2 * n
+    C = scipy.linalg.circulant(col) + shift * np.eye(size)
+    lam = np.fft.rfft(col).real
+    return C + (lam[1:].max() - lam[0]) * np.ones((size, size)) / size
+
+
+@pytest.mark.parametrize("n,m", [(16, 16), (33, 20), (64, 1)])
+def test_circulant_inverse_matches_dense_solve(n, m):
+    dx, shift = 2e-6, 3e-15
+    op = LogKernelOperator(n, dx=dx, E_star=E_STAR)
+    y = _rng(n + m).standard_normal(m)
+    want = np.linalg.solve(_strang_dense(n, dx, shift), np.concatenate([y, np.zeros(2 * n - m)]))
+    got = op.circulant_inverse(shift).apply(y, np.empty(m))
+    np.testing.assert_allclose(got, want[:m], rtol=0.0, atol=RTOL_EXACT * np.abs(want).max())
+    # the block the vector sees is K's own block (Toeplitz): C agrees with K there
+    C = _strang_dense(n, dx, 0.0)
+    np.testing.assert_allclose(C[:m, :m] - C[0, 0] + op.diagonal, op.dense()[:m, :m])
+    assert op.convolutions == 1 and op.circulant_solves == 1
+
+
+def test_circulant_inverse_is_positive_definite():
+    op = LogKernelOperator(200, dx=1e-6, E_star=E_STAR)
+    inv = op.circulant_inverse(0.0)
+    M = np.column_stack([inv.apply(e, np.empty(120)) for e in np.eye(120)])
+    np.testing.assert_allclose(M, M.T, rtol=0.0, atol=RTOL_EXACT * np.abs(M).max())
+    assert np.linalg.eigvalsh(0.5 * (M + M.T)).min() > 0.0
+    with pytest.raises(ValueError, match="shift"):
+        op.circulant_inverse(-1.0)

@@ -18,6 +18,7 @@ RTOL_SYMMETRY = 1e-9  # p(x) = p(-x), relative to p0
 RTOL_REFERENCE = 1e-5  # against the dense SciPy solve at equal n
 RTOL_HERTZ = 5e-3  # p0 and a against Hertz at default n (issue: 0.5 %)
 RTOL_GAUSS = 1e-2  # eq. 14 and w/s of the Gaussian limit at alpha >= 100 (issue: 1 %)
+CONVOLUTION_BUDGET = 100  # FFT convolutions per solve at alpha >= 1e-3, default settings (issue 3)
 
 E_STAR, RADIUS = 1.33e9, 0.01
 SURFACES = {
@@ -137,6 +138,19 @@ def test_hard_cases_converge(name):
         assert res.residual < 1e-8
         assert np.all(np.isfinite(res.pressure)) and np.all(np.isfinite(res.separation))
         assert math.isfinite(res.w_over_s) and math.isfinite(res.p0_ratio)
+
+
+@pytest.mark.parametrize("name", list(HARD))
+def test_convolution_budget(name):
+    """A count, not a timing: every FFT convolution (K products and the preconditioner's
+    circulant solves) is counted on the operator, so this holds on any machine."""
+    counts = []
+    for alpha in [a for a in ALPHAS if a >= 1e-3]:
+        res = solve(HARD[name], alpha, warn=False)
+        d = res.diagnostics
+        assert d["k_applications"] + d["circulant_solves"] == res.convolutions
+        counts.append(res.convolutions)
+    assert max(counts) <= CONVOLUTION_BUDGET, counts
 
 
 def test_non_converged_says_so():
