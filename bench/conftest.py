@@ -11,7 +11,7 @@ import fastline as fl
 
 E_STAR = 1.33e9  # Pa
 RADIUS = 0.01  # m
-ALPHAS = (1e-4, 1e-3, 1e-2, 0.1, 1.0, 10.0, 100.0)
+ALPHAS = (1e-4, 1e-3, 1e-2, 0.1, 1.0, 10.0, 100.0, 1e3)
 PICARD_CAP = 2000
 SWEEP_LOADS = np.geomspace(1e3, 1.5e6, 25)  # N/m
 

@@ -18,7 +18,7 @@ import math
 
 import numpy as np
 
-from fastline.persson import PerssonTheory, _pressure_kernel, _separation_and_slope
+from fastline.persson import PerssonTheory, _pressure_from_table, _separation_and_slope
 
 __all__ = ["PerssonModel", "ExponentialModel"]
 
@@ -39,9 +39,7 @@ class PerssonModel:
         return u, d
 
     def pressure(self, u: np.ndarray) -> np.ndarray:
-        out = np.empty_like(u)
-        _pressure_kernel(np.maximum(u, 1e-300), *self.theory._t2, out)
-        return out
+        return _pressure_from_table(np.maximum(u, 1e-300), self.theory._t2)
 
     def real_area(self, p: np.ndarray) -> np.ndarray:
         return self.theory.contact_area(p)

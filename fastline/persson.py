@@ -218,6 +218,7 @@ def _build_inverse(e0, logm, ncell, v0, h, L, L1, L2, u0, kappa, V, V1):
     n = L.shape[0]
     m = 1 << logm
     k = n - 1  # T1 cell [k-1, k] brackets ln u
+    lu_prev = d_prev = math.nan
     for j in range(ncell + 1):
         un = math.ldexp(1.0 + (j % m) / m, e0 + j // m)
         lu_t = math.log(un)
@@ -227,16 +228,20 @@ def _build_inverse(e0, logm, ncell, v0, h, L, L1, L2, u0, kappa, V, V1):
             continue
         while k > 1 and L[k - 1] < lu_t:
             k -= 1
-        vk = v0 + (k - 0.5) * h
+        lo, hi = v0 + (k - 1) * h, v0 + k * h
+        if math.isnan(d_prev):
+            vk = 0.5 * (lo + hi)
+        else:  # predictor: tangent from the previous node (error ~ (ln 2 / 2^m)^2)
+            vk = min(max(V[j - 1] + (lu_t - lu_prev) / d_prev, lo), hi)
         for _ in range(30):
             lu, d = _lnu_table(vk, v0, h, L, L1, L2, u0, kappa)
             step = (lu - lu_t) / d
-            vk = min(max(vk - step, v0 + (k - 1) * h), v0 + k * h)
-            if abs(step) < 1e-14:
+            vk = min(max(vk - step, lo), hi)
+            if abs(step) < 1e-12:  # d is then exact to ~1e-12 as well
                 break
-        lu, d = _lnu_table(vk, v0, h, L, L1, L2, u0, kappa)
         V[j] = vk
         V1[j] = 1.0 / (un * d)
+        lu_prev, d_prev = lu_t, d
 
 
 @numba.njit(**JIT)
@@ -254,9 +259,13 @@ def _invert_t1(lu_target, v_start, t1):
 
 
 @numba.njit(**JIT)
-def _pressure_kernel(u, Cf, base, logm, inv_u0, u_lo, v_lo, v_first, t1, out):
-    """p(u) for u > 0 (contiguous float64): table T2 (cubic per cell, Horner), T1 near full
+def _log_pressure_kernel(u, Cf, base, logm, inv_u0, u_lo, v_lo, v_first, t1, out):
+    """ln p(u) for u > 0 (contiguous float64): table T2 (cubic per cell, Horner), T1 near full
     contact, and the shared exponential-law extension at large u.
+
+    It returns ln p, not p: NumPy's vectorised (SIMD) ``exp`` over the whole array afterwards
+    is several times faster than a scalar ``exp`` per point in this loop (0.08 vs 0.44 ms on
+    1e5 points on the 2-core development machine).
 
     A positive float64 ``u = 2^e (1 + f)`` has the bits ``(e + 1023) << 52 | f 2^52``, so the
     top ``52 - logm`` bits shifted down count the cells ``(e, floor(f 2^m))`` in order; ``base``
@@ -271,12 +280,19 @@ def _pressure_kernel(u, Cf, base, logm, inv_u0, u_lo, v_lo, v_first, t1, out):
         b = bits[i]
         k = (b >> shift) - base
         if k >= ncell:
-            out[i] = math.exp(v_lo - (u[i] - u_lo) * inv_u0)
+            out[i] = v_lo - (u[i] - u_lo) * inv_u0
         elif k < 0:  # near full contact: invert T1 and its continuation
-            out[i] = math.exp(_invert_t1(math.log(u[i]), v_first, t1))
+            out[i] = _invert_t1(math.log(u[i]), v_first, t1)
         else:
             t = (b & mask) * scale
-            out[i] = math.exp(Cf[k, 0] + t * (Cf[k, 1] + t * (Cf[k, 2] + t * Cf[k, 3])))
+            out[i] = Cf[k, 0] + t * (Cf[k, 1] + t * (Cf[k, 2] + t * Cf[k, 3]))
+
+
+def _pressure_from_table(u: np.ndarray, t2) -> np.ndarray:
+    """p(u) for a contiguous float64 array of u > 0 (no checks)."""
+    out = np.empty_like(u)
+    _log_pressure_kernel(u, *t2, out)
+    return np.exp(out, out=out)
 
 
 @numba.njit(**JIT)
@@ -471,9 +487,7 @@ class PerssonTheory:
         """
         u = positive_array("u", u)
         flat = np.ascontiguousarray(u.ravel())
-        out = np.empty_like(flat)
-        _pressure_kernel(flat, *self._t2, out)
-        return out.reshape(u.shape)
+        return _pressure_from_table(flat, self._t2).reshape(u.shape)
 
     def separation_table(self, p):
         """u(p) in m and du/dv (v = ln p) from the table T1 (what the solver uses)."""
