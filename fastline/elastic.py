@@ -136,28 +136,42 @@ _strang: dict[int, np.ndarray] = {}
 _local = threading.local()
 
 
+def _cached(store: dict, n: int, build) -> np.ndarray:
+    """``store[n]``, built once (under the lock) by ``build(n)`` and made read-only."""
+    spec = store.get(n)
+    if spec is None:
+        with _spectrum_lock:
+            spec = store.get(n)
+            if spec is None:
+                spec = build(n)
+                spec.flags.writeable = False
+                store[n] = spec
+    return spec
+
+
+def _build_kernel_spectrum(n: int) -> np.ndarray:
+    khat = influence_coefficients(n)
+    circ = np.zeros(2 * n, dtype=np.float64)
+    circ[:n] = khat
+    circ[n + 1 :] = khat[:0:-1]
+    # symmetric embedding -> real spectrum (imaginary part is round-off only)
+    return np.repeat(np.fft.rfft(circ).real / (2 * n), 2)
+
+
 def _kernel_spectrum(n: int) -> np.ndarray:
     """Read-only rfft of the circulant embedding of ``khat``, pre-divided by ``2n``.
 
     Stored as float64 of length ``2(n+1)`` with every value repeated twice, so that it multiplies
     the float64 view of the complex spectrum (real and imaginary parts) in one real product.
     """
-    spec = _spectra.get(n)
-    if spec is not None:
-        return spec
-    with _spectrum_lock:
-        spec = _spectra.get(n)
-        if spec is None:
-            khat = influence_coefficients(n)
-            circ = np.zeros(2 * n, dtype=np.float64)
-            circ[:n] = khat
-            circ[n + 1 :] = khat[:0:-1]
-            full = np.fft.rfft(circ)
-            # symmetric embedding -> real spectrum (imaginary part is round-off only)
-            spec = np.repeat(full.real / (2 * n), 2)
-            spec.flags.writeable = False
-            _spectra[n] = spec
-    return spec
+    return _cached(_spectra, n, _build_kernel_spectrum)
+
+
+def _build_strang_spectrum(n: int) -> np.ndarray:
+    khat = influence_coefficients(n + 1)
+    lam = np.fft.rfft(np.concatenate([khat, khat[-2:0:-1]])).real
+    lam[0] = lam[1:].max()
+    return lam
 
 
 def _strang_spectrum(n: int) -> np.ndarray:
@@ -167,22 +181,11 @@ def _strang_spectrum(n: int) -> np.ndarray:
     The log kernel's circulant has a large negative mean (``khat_m ~ -(2/pi) ln m``), i.e. a
     negative zero-frequency eigenvalue. Constants carry load, not shape, and the solver keeps
     the load fixed, so that eigenvalue is replaced by the largest of the others (``shift`` in
-    :meth:`LogKernelOperator.circulant_inverse` keeps every eigenvalue positive).
+    :meth:`LogKernelOperator.circulant_inverse` keeps every eigenvalue positive). Unlike the
+    zero-padded embedding used by :meth:`LogKernelOperator.apply` (whose spectrum alternates in
+    sign at high frequency), this circulant is positive definite, so it can precondition CG.
     """
-    spec = _strang.get(n)
-    if spec is not None:
-        return spec
-    with _spectrum_lock:
-        spec = _strang.get(n)
-        if spec is None:
-            khat = influence_coefficients(n + 1)
-            circ = np.concatenate([khat, khat[-2:0:-1]])
-            lam = np.fft.rfft(circ).real
-            lam[0] = lam[1:].max()
-            spec = lam
-            spec.flags.writeable = False
-            _strang[n] = spec
-    return spec
+    return _cached(_strang, n, _build_strang_spectrum)
 
 
 def _workspace(n: int):
