@@ -57,12 +57,12 @@ _TWO_OVER_SQRT_PI = 2.0 / _SQRT_PI
 class TableSettings:
     """Grid sizes of the quadrature and tables (chosen from ``rtol``; see :meth:`for_rtol`)."""
 
-    panels_per_decade: int
-    order: int
-    grading_levels: int
-    graded_order: int
-    h_v: float
-    log2_cells_per_binade: int
+    panels_per_decade: int  # Gauss-Legendre panels per decade of q
+    order: int  # points per panel
+    grading_levels: int  # geometric sub-panels towards q0
+    graded_order: int  # points per graded sub-panel
+    h_v: float  # T1 spacing in v = ln p
+    log2_cells_per_binade: int  # T2: m, with 2^m cells in each binade [2^e, 2^(e+1)) of u
 
     @classmethod
     def for_rtol(cls, rtol: float) -> TableSettings:
