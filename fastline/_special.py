@@ -33,6 +33,8 @@ import numpy as np
 from numpy.polynomial import chebyshev as _cheb
 from scipy.special import erf, exp1, roots_laguerre, roots_legendre
 
+from fastline._jit import JIT
+
 __all__ = ["universal_F", "f_coefficients", "G0"]
 
 EULER_GAMMA = 0.5772156649015329
@@ -43,11 +45,6 @@ _X2 = 6.0  # end of region 2
 _N2 = 10  # panels in region 2
 _H2 = (_X2 - _X1) / _N2
 _DEG1, _DEG2, _DEG3 = 18, 15, 14
-
-#: shared JIT options for every compiled kernel of the package: cached on disk, GIL released
-#: (so threads can solve scenes in parallel), and one conservative fastmath set: FMA
-#: contraction, reciprocal and signed-zero freedom; never ``nnan``/``ninf`` (NaN checks work).
-JIT = dict(cache=True, nogil=True, fastmath={"contract", "arcp", "nsz"})
 
 
 def _g_integral(x: np.ndarray) -> np.ndarray:
