@@ -10,7 +10,7 @@ import time
 
 SCRIPT = (
     "import fastline as fl\n"
-    "from fastline.solver import solve_line_contact\n"
+    "from fastline.line_contact import solve_line_contact\n"
     "psd = fl.SelfAffinePSD(10e-6, 0.8, 1e3, 1e4, 1e9)\n"
     "r = solve_line_contact(psd, 1.33e9, 0.01, 1.0e4)\n"
     "print(r.p0_ratio)\n"

@@ -16,7 +16,7 @@ import time
 
 import fastline as fl
 from fastline.cli import PAPER_E_STAR, PAPER_Q0, PAPER_QR, PAPER_RADIUS, PAPER_SURFACES, main
-from fastline.solver import solve_line_contact
+from fastline.line_contact import solve_line_contact
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 IMG = os.path.join(HERE, "img")

@@ -6,6 +6,7 @@ Full Persson contact theory (compiled with Numba) and a fast line-contact solver
 
 from fastline.diagnostics import ValidityWarning, assess
 from fastline.elastic import LogKernelOperator, influence_coefficients
+from fastline.laws import ExponentialLaw, PerssonLaw, PressureLaw, TabulatedLaw
 from fastline.limits import (
     WS_GAUSSIAN,
     WS_HERTZ,
@@ -15,14 +16,21 @@ from fastline.limits import (
     p0_ratio_gaussian,
     penetration,
 )
-from fastline.persson import ExponentialFit, PerssonTheory
-from fastline.solver import (
+from fastline.line_contact import (
     ConvergenceWarning,
+    LineContact,
     LineContactResult,
     p0_ratio,
     profile,
     solve_line_contact,
     w_over_s,
+)
+from fastline.persson import (
+    ExponentialFit,
+    PerssonTables,
+    PerssonTheory,
+    pressure_at,
+    separation_at,
 )
 from fastline.spectra import PSD, SelfAffinePSD, SumPSD, TabulatedPSD, effective_modulus
 
@@ -36,6 +44,13 @@ __all__ = [
     "effective_modulus",
     "PerssonTheory",
     "ExponentialFit",
+    "PerssonTables",
+    "pressure_at",
+    "separation_at",
+    "PressureLaw",
+    "PerssonLaw",
+    "ExponentialLaw",
+    "TabulatedLaw",
     "LogKernelOperator",
     "influence_coefficients",
     "hertz_line_contact",
@@ -45,6 +60,7 @@ __all__ = [
     "alpha",
     "WS_HERTZ",
     "WS_GAUSSIAN",
+    "LineContact",
     "solve_line_contact",
     "profile",
     "w_over_s",

@@ -377,7 +377,7 @@ def _save(fig, path: str) -> None:
 
 
 def _solve(psd, E_star, radius, load, theory, model, n):
-    from fastline.solver import solve_line_contact
+    from fastline.line_contact import solve_line_contact
 
     return solve_line_contact(
         psd, E_star, radius, load, model=model, n=n, theory=theory, warn=False

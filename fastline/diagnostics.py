@@ -1,6 +1,6 @@
 """Validity diagnostics of a solved line contact (THEORY.md sections 5 and 7).
 
-:func:`assess` looks at a :class:`~fastline.solver.LineContactResult` and tells the user which
+:func:`assess` looks at a :class:`~fastline.line_contact.LineContactResult` and tells the user which
 regime the scene is in and whether the model assumptions hold:
 
 * **regime** from ``alpha = h_rms / delta``: ``"Hertz-like"`` for alpha < 0.01,
@@ -93,7 +93,7 @@ def assess(result, theory=None, hardness=None, *, psd=None, warn=True) -> dict:
     Parameters
     ----------
     result : LineContactResult
-        A solve from :func:`fastline.solver.solve_line_contact`.
+        A solve from :func:`fastline.line_contact.solve_line_contact`.
     theory : PerssonTheory, optional
         The theory the scene was solved with (needed for the rms slope, the real contact area
         and the exponential-law check). If omitted and ``psd`` is given, one is built.

@@ -35,17 +35,26 @@ Numerics
 from __future__ import annotations
 
 import math
+from collections import namedtuple
 from dataclasses import dataclass
 
 import numba
 import numpy as np
 from scipy.special import roots_legendre
 
-from fastline._special import _F, EULER_GAMMA, G0, JIT, f_coefficients
+from fastline._jit import JIT
+from fastline._special import _F, EULER_GAMMA, G0, f_coefficients
 from fastline._validate import finite_array, in_range, positive, positive_array
 from fastline.spectra import PSD
 
-__all__ = ["PerssonTheory", "ExponentialFit", "TableSettings"]
+__all__ = [
+    "PerssonTheory",
+    "ExponentialFit",
+    "TableSettings",
+    "PerssonTables",
+    "pressure_at",
+    "separation_at",
+]
 
 _SQRT_PI = math.sqrt(math.pi)
 #: graded sub-panels towards q1; the integrand's pile-up there is ~1/(0.4 x^2) wide in ln q
@@ -259,40 +268,111 @@ def _invert_t1(lu_target, v_start, t1):
 
 
 @numba.njit(**JIT)
+def _t2_lookup(b, u, Cf, base, shift, inv_u0, u_lo, v_lo):
+    """ln p(u) from table T2 (cubic per cell, Horner) or the exponential-law extension at large
+    u, for one u > 0 whose float64 bits are ``b``; NaN where u lies below the table (near full
+    contact), where the caller inverts T1 (:func:`_invert_t1`).
+
+    A positive float64 ``u = 2^e (1 + f)`` has the bits ``(e + 1023) << 52 | f 2^52``, so the
+    top bits shifted down by ``shift = 52 - m`` count the cells ``(e, floor(f 2^m))`` in order;
+    ``base`` is the count of the first cell, and the remaining bits give t = frac(f 2^m).
+    (The rare T1 branch is kept out of this function: inside it, it slowed the loop 20x.)
+    """
+    k = (b >> shift) - base
+    if k >= Cf.shape[0]:
+        return v_lo - (u - u_lo) * inv_u0
+    if k < 0:
+        return math.nan
+    t = (b & ((np.int64(1) << shift) - 1)) * (1.0 / float(np.int64(1) << shift))
+    return Cf[k, 0] + t * (Cf[k, 1] + t * (Cf[k, 2] + t * Cf[k, 3]))
+
+
+@numba.njit(**JIT)
 def _log_pressure_kernel(u, Cf, base, logm, inv_u0, u_lo, v_lo, v_first, t1, out):
-    """ln p(u) for u > 0 (contiguous float64): table T2 (cubic per cell, Horner), T1 near full
-    contact, and the shared exponential-law extension at large u.
+    """ln p(u) for a contiguous float64 array of u > 0: T2 (:func:`_t2_lookup`), T1 below it.
 
     It returns ln p, not p: NumPy's vectorised (SIMD) ``exp`` over the whole array afterwards
     is several times faster than a scalar ``exp`` per point in this loop (0.08 vs 0.44 ms on
     1e5 points on the 2-core development machine).
-
-    A positive float64 ``u = 2^e (1 + f)`` has the bits ``(e + 1023) << 52 | f 2^52``, so the
-    top ``52 - logm`` bits shifted down count the cells ``(e, floor(f 2^m))`` in order; ``base``
-    is the count of the first cell, and the remaining bits give t = frac(f 2^m).
     """
     bits = u.view(np.int64)
-    ncell = Cf.shape[0]
     shift = 52 - logm
-    mask = (np.int64(1) << shift) - 1
-    scale = 1.0 / float(np.int64(1) << shift)
     for i in range(u.shape[0]):
-        b = bits[i]
-        k = (b >> shift) - base
-        if k >= ncell:
-            out[i] = v_lo - (u[i] - u_lo) * inv_u0
-        elif k < 0:  # near full contact: invert T1 and its continuation
-            out[i] = _invert_t1(math.log(u[i]), v_first, t1)
-        else:
-            t = (b & mask) * scale
-            out[i] = Cf[k, 0] + t * (Cf[k, 1] + t * (Cf[k, 2] + t * Cf[k, 3]))
+        lp = _t2_lookup(bits[i], u[i], Cf, base, shift, inv_u0, u_lo, v_lo)
+        if lp != lp:
+            lp = _invert_t1(math.log(u[i]), v_first, t1)
+        out[i] = lp
+
+
+def _log_pressure_from_table(u: np.ndarray, t2) -> np.ndarray:
+    """ln p(u) for a contiguous float64 array of u > 0 (no checks)."""
+    out = np.empty_like(u)
+    _log_pressure_kernel(u, *t2, out)
+    return out
 
 
 def _pressure_from_table(u: np.ndarray, t2) -> np.ndarray:
     """p(u) for a contiguous float64 array of u > 0 (no checks)."""
-    out = np.empty_like(u)
-    _log_pressure_kernel(u, *t2, out)
+    out = _log_pressure_from_table(u, t2)
     return np.exp(out, out=out)
+
+
+# ----------------------------------------------------------------------------------------------
+# the tables as a namedtuple, for users' own @njit code (theory.jit())
+# ----------------------------------------------------------------------------------------------
+#: Tables of a :class:`PerssonTheory` for compiled code (see :meth:`PerssonTheory.jit`).
+PerssonTables = namedtuple(
+    "PerssonTables",
+    "v0 h L L1 L2 u0 kappa Cf base logm inv_u0 u_lo v_lo v_first",
+)
+
+
+@numba.njit(**JIT)
+def _float_bits(u):
+    """The IEEE-754 bits of a normal float64 u > 0 as int64 (those of subnormals come out
+    negative, which sends them to the T1 branch as in the array kernel)."""
+    m, e = math.frexp(u)  # u = m 2^e, m in [0.5, 1)
+    return (np.int64(e + 1022) << 52) | np.int64((2.0 * m - 1.0) * 4503599627370496.0)
+
+
+@numba.njit(inline="always", **JIT)
+def pressure_at(tables, u):
+    """Nominal pressure p(u) in Pa for one separation u in m, callable from ``@njit`` code.
+
+    ``tables`` is ``theory.jit()``. Same tables and arithmetic as
+    :meth:`PerssonTheory.pressure` (relative accuracy ``rtol``). Returns ``inf`` for
+    ``u <= 0`` (the full-contact limit) and NaN for NaN.
+    """
+    if not u > 0.0:
+        return math.inf if u <= 0.0 else math.nan
+    t = tables
+    lp = _t2_lookup(_float_bits(u), u, t.Cf, t.base, 52 - t.logm, t.inv_u0, t.u_lo, t.v_lo)
+    if lp != lp:
+        lp = _log_pressure_near_contact(tables, u)
+    return math.exp(lp)
+
+
+@numba.njit(**JIT)
+def _log_pressure_near_contact(tables, u):
+    """ln p below table T2 (near full contact) by inverting T1; the rare branch of
+    :func:`pressure_at`, a function of its own so that the common path stays small and fast."""
+    t = tables
+    return _invert_t1(math.log(u), t.v_first, (t.v0, t.h, t.L, t.L1, t.L2, t.u0, t.kappa))
+
+
+@numba.njit(inline="always", **JIT)
+def separation_at(tables, p):
+    """Mean separation u(p) in m for one nominal pressure p in Pa, callable from ``@njit`` code.
+
+    ``tables`` is ``theory.jit()``. From table T1 (as :meth:`PerssonTheory.separation_table`);
+    relative accuracy ``rtol`` against the direct quadrature :meth:`PerssonTheory.separation`.
+    Returns ``inf`` for ``p <= 0`` and NaN for NaN.
+    """
+    if not p > 0.0:
+        return math.inf if p <= 0.0 else math.nan
+    t = tables
+    lu, _ = _lnu_table(math.log(p), t.v0, t.h, t.L, t.L1, t.L2, t.u0, t.kappa)
+    return math.exp(lu)
 
 
 @numba.njit(**JIT)
@@ -537,6 +617,48 @@ class PerssonTheory:
         ``q^2 C w``). The full u(p) approaches this law as p -> 0.
         """
         return self._fit
+
+    def jit(self) -> PerssonTables:
+        """The tables as a :data:`PerssonTables` namedtuple for users' own ``@njit`` code.
+
+        Pass it to :func:`fastline.pressure_at` and :func:`fastline.separation_at` inside
+        compiled loops (docs/embedding.md)::
+
+            tables = theory.jit()
+
+            @numba.njit
+            def pressures(u, tables):
+                out = np.empty_like(u)
+                for i in range(u.size):
+                    out[i] = fastline.pressure_at(tables, u[i])
+                return out
+
+        The arrays are read-only views of the theory's own tables (no copy).
+        """
+        v0, h, L, L1, L2, u0, kappa = self._t1
+        Cf, base, logm, inv_u0, u_lo, v_lo, v_first, _ = self._t2
+        views = []
+        for a in (L, L1, L2, kappa, Cf):
+            a = a.view()
+            a.flags.writeable = False
+            views.append(a)
+        L, L1, L2, kappa, Cf = views
+        return PerssonTables(
+            float(v0),
+            float(h),
+            L,
+            L1,
+            L2,
+            float(u0),
+            kappa,
+            Cf,
+            np.int64(base),
+            np.int64(logm),
+            float(inv_u0),
+            float(u_lo),
+            float(v_lo),
+            float(v_first),
+        )
 
     @property
     def rms_slope(self) -> float:

@@ -10,7 +10,7 @@ import pytest
 
 import fastline as fl
 from fastline.cli import main
-from fastline.solver import solve_line_contact
+from fastline.line_contact import solve_line_contact
 
 pytest.importorskip("matplotlib")
 

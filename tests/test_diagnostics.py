@@ -7,7 +7,7 @@ import pytest
 
 import fastline as fl
 from fastline.diagnostics import ValidityWarning, assess, regime
-from fastline.solver import solve_line_contact
+from fastline.line_contact import solve_line_contact
 
 E_STAR = 1.33e9  # Pa
 H_RMS = 1e-6  # m

@@ -1,0 +1,560 @@
+"""Line contact: the nominal pressure p(x) under a cylinder on a rough half-space.
+
+Equations (paper eqs. 3-4; docs/theory.md, "Line contact"): unknown pressure ``p(x) > 0`` and
+rigid approach ``u1`` with
+
+    u(x) = u1 + x^2/(2R) + (K p)(x),     u(x) = u_law(p(x)),     int p dx = f_N,
+
+``K`` the plane-strain log kernel (:mod:`fastline.elastic`), ``u_law`` the pressure law
+(:mod:`fastline.laws`). What is cylinder-specific lives here: the grid and its sizing, the gap
+``x^2/2R``, the Hertz reference, alpha, the initial guess and the profile measures (p0, s, FWHM).
+The Newton-Krylov core that solves the discrete equations is shared with other geometries
+(:mod:`fastline._core`).
+
+:class:`LineContact` is the reusable model (theory tables, law and settings built once, many
+loads solved); :func:`solve_line_contact` is a one-call wrapper around it.
+"""
+
+from __future__ import annotations
+
+import math
+import threading
+import warnings
+import weakref
+from collections.abc import Iterable, Sequence
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from fastline import _core
+from fastline._core import ConvergenceWarning, Discretisation, normalise
+from fastline._validate import finite_scalar, integer, positive
+from fastline.diagnostics import assess
+from fastline.elastic import LogKernelOperator, log_reference_shift
+from fastline.laws import ExponentialLaw, PerssonLaw, PressureLaw, check_law
+from fastline.limits import HertzLineContact, gaussian_line_contact, hertz_line_contact
+from fastline.persson import PerssonTheory
+from fastline.spectra import PSD
+
+__all__ = [
+    "ConvergenceWarning",
+    "LineContact",
+    "LineContactResult",
+    "solve_line_contact",
+    "profile",
+    "w_over_s",
+    "p0_ratio",
+]
+
+MODELS = ("persson", "exponential", "hertz")
+METHODS = ("newton", "picard")
+DEFAULT_N = 1024
+_MAX_NEWTON = 100
+_MAX_PICARD_SWEEPS = 20000
+
+
+@dataclass
+class LineContactResult:
+    """The solution of one line-contact scene and what follows from it.
+
+    Arrays are on the solver grid (cell centres). Units: m, Pa, N/m.
+
+    Attributes
+    ----------
+    x : ndarray
+        Grid coordinates in m (symmetric about 0).
+    pressure : ndarray
+        Nominal contact pressure p(x) in Pa.
+    separation : ndarray
+        Mean interfacial separation u(x) in m (the gap for ``model="hertz"``).
+    real_area : ndarray or None
+        Real contact area fraction P(q1, p(x)) from the Persson theory (1 inside and 0 outside
+        the contact for ``model="hertz"``; None for a law that does not know it).
+    p0 : float
+        Peak pressure in Pa.
+    s : float
+        Standard deviation of p(x) about its centroid in m.
+    fwhm : float
+        Full width at half maximum in m.
+    w_over_s, p0_ratio : float
+        ``fwhm / s`` and ``p0 / p0_Hertz``.
+    alpha, delta : float
+        ``alpha = h_rms / delta`` and the Hertz penetration ``delta = 4 f_N / (pi E*)`` in m.
+    u1 : float
+        Rigid approach in m, with the logarithm's reference length R (a constant offset).
+    converged : bool
+        Whether the residual fell below ``tol``.
+    iterations, convolutions : int
+        Outer iterations (Newton steps, sweeps) and FFT convolutions of length 2n: applications
+        of K plus the preconditioner's circulant solves (``diagnostics`` splits the two as
+        ``k_applications`` and ``circulant_solves``).
+    residual : float
+        Final residual: max |u_law(p) - u1 - x^2/2R - K p| / u0 (for hertz: the
+        complementarity error relative to delta).
+    message : str
+        What happened.
+    model, method : str
+        The law's name (``"persson"``, ``"exponential"``, ``"tabulated"``, a user law's
+        ``name``, or ``"hertz"``) and the method.
+    load, radius, E_star, dx : float
+        The scene (N/m, m, Pa) and the cell width (m).
+    force_error : float
+        ``|sum p dx - f_N| / f_N``.
+    edge_pressure : float
+        Pressure at the domain edge relative to p0.
+    diagnostics : dict
+        Solver counts and the validity checks of :func:`fastline.diagnostics.assess`.
+    theory : PerssonTheory or None
+        The theory the scene was solved with (None for hertz and for user laws), for
+        post-processing such as leak rates.
+    """
+
+    x: np.ndarray
+    pressure: np.ndarray
+    separation: np.ndarray
+    real_area: np.ndarray | None
+    p0: float
+    s: float
+    fwhm: float
+    w_over_s: float
+    p0_ratio: float
+    alpha: float
+    delta: float
+    u1: float
+    converged: bool
+    iterations: int
+    convolutions: int
+    residual: float
+    message: str
+    model: str
+    method: str
+    load: float
+    radius: float
+    E_star: float
+    dx: float
+    force_error: float
+    edge_pressure: float
+    diagnostics: dict = field(default_factory=dict)
+    theory: PerssonTheory | None = field(default=None, repr=False, compare=False)
+
+    def __repr__(self):
+        return (
+            f"LineContactResult(model={self.model!r}, alpha={self.alpha:.4g}, p0={self.p0:.6g} Pa,"
+            f" w_over_s={self.w_over_s:.5g}, p0_ratio={self.p0_ratio:.5g}, "
+            f"converged={self.converged}, convolutions={self.convolutions})"
+        )
+
+
+# ----------------------------------------------------------------------------------------------
+# theories shared by the one-call functions: seal codes call them thousands of times with the
+# same spectrum. Weak keys (a spectrum that is dropped takes its theories with it), one lock.
+# ----------------------------------------------------------------------------------------------
+_shared_lock = threading.Lock()
+_shared: weakref.WeakKeyDictionary = weakref.WeakKeyDictionary()
+
+
+def shared_theory(psd: PSD, E_star: float, gamma: float) -> PerssonTheory:
+    """The :class:`PerssonTheory` of ``(psd, E_star, gamma)``, built once per live spectrum.
+
+    Thread-safe; a theory lives as long as its spectrum object does.
+    """
+    key = (float(E_star), float(gamma))
+    with _shared_lock:
+        hit = _shared.get(psd, {}).get(key)
+    if hit is not None:
+        return hit
+    theory = PerssonTheory(psd, E_star, gamma=gamma)  # outside the lock (milliseconds)
+    with _shared_lock:
+        return _shared.setdefault(psd, {}).setdefault(key, theory)
+
+
+# ----------------------------------------------------------------------------------------------
+# profile measures
+# ----------------------------------------------------------------------------------------------
+def _peak(p: np.ndarray) -> float:
+    """Peak value by a parabola through the three points around the discrete maximum."""
+    i = int(np.argmax(p))
+    if 0 < i < p.size - 1:
+        a, b, c = p[i - 1], p[i], p[i + 1]
+        den = a - 2.0 * b + c
+        if den < 0.0:
+            t = 0.5 * (a - c) / den
+            return float(b - 0.25 * (a - c) * t)
+    return float(p[i])
+
+
+def _fwhm(x: np.ndarray, p: np.ndarray, p0: float) -> float:
+    """Width between the outermost half-maximum crossings (linear interpolation)."""
+    half = 0.5 * p0
+    above = np.nonzero(p >= half)[0]
+    i, j = above[0], above[-1]
+    if i == 0 or j == p.size - 1:
+        return float("nan")
+    xl = x[i - 1] + (half - p[i - 1]) * (x[i] - x[i - 1]) / (p[i] - p[i - 1])
+    xr = x[j] + (half - p[j]) * (x[j + 1] - x[j]) / (p[j + 1] - p[j])
+    return float(xr - xl)
+
+
+def _std(x: np.ndarray, p: np.ndarray, dx: float) -> float:
+    """Standard deviation of piecewise-constant p about its centroid (cell-exact)."""
+    m0 = p.sum()
+    xc = np.dot(x, p) / m0
+    var = np.dot((x - xc) ** 2, p) / m0 + dx * dx / 12.0
+    return math.sqrt(var)
+
+
+# ----------------------------------------------------------------------------------------------
+# the grid of one load
+# ----------------------------------------------------------------------------------------------
+@dataclass(frozen=True)
+class _LineGrid:
+    """Cells of one solve: coordinates, width, the Hertz reference and the discretisation."""
+
+    x: np.ndarray
+    dx: float
+    half_width: float
+    hertz: HertzLineContact
+    disc: Discretisation
+
+
+def _build_grid(n: int, half_width: float, radius: float, E_star: float, hz) -> _LineGrid:
+    dx = 2.0 * half_width / n
+    x = (np.arange(n) - 0.5 * (n - 1)) * dx
+    op = LogKernelOperator(n, dx, E_star)  # fresh counters per solve (threads share nothing)
+    disc = Discretisation(x * x / (2.0 * radius), np.full(n, dx), op, hz.load)
+    return _LineGrid(x, dx, half_width, hz, disc)
+
+
+class LineContact:
+    """A reusable line-contact model: one spectrum, material, cylinder and law, many loads.
+
+    It owns what every solve reuses: the Persson theory and its tables, the pressure law, the
+    grid policy and the solver settings. FFT plans and kernel spectra are shared per grid size
+    by all models (:mod:`fastline.elastic`). An instance is safe to share between threads
+    (``solve`` changes no state of the model) and pickles (the theory's tables travel with it).
+
+    Parameters
+    ----------
+    psd : PSD or None
+        Combined roughness spectrum (m^4 vs 1/m). None only with ``model="hertz"`` or a user
+        law (then alpha is not defined and reported as NaN).
+    E_star : float
+        Effective modulus in Pa (paper eq. 1).
+    radius : float
+        Cylinder radius R in m.
+    model : {"persson", "exponential", "hertz"} or PressureLaw
+        p(u) relation: full Persson theory (default), the exponential law (paper eq. 5, u0 and
+        beta from the theory unless given), hard contact of smooth surfaces, or a pressure law
+        object (:mod:`fastline.laws`: :class:`~fastline.laws.TabulatedLaw`, your own).
+    method : {"newton", "picard"}
+        Newton-Krylov (default) or the plain damped fixed point (for comparison).
+    gamma : float
+        Yang-Persson parameter of the theory, in (0, 1] (default 0.45).
+    n : int
+        Grid points (>= 16; default 1024).
+    half_width : float, optional
+        Half-width of the domain in m, the same for every load; default per load
+        ``1.25 a + 8 sqrt(R u0)`` with the Hertz half-width ``a``.
+    tol : float
+        Residual tolerance (separation mismatch in units of u0; hertz: relative pressure
+        change), in (0, 1e-2].
+    max_iter : int, optional
+        Newton steps / fixed-point sweeps allowed (defaults 100 / 20000).
+    u0, beta : float, optional
+        Exponential-law parameters for ``model="exponential"`` (m, dimensionless).
+    theory : PerssonTheory, optional
+        A prebuilt theory for ``psd`` and ``E_star`` (its gamma is used).
+    hardness : float, optional
+        Indentation hardness of the softer solid in Pa, for the plasticity diagnostic.
+    warn : bool
+        Emit a ``ConvergenceWarning`` when a solve does not converge and the diagnostics'
+        ``ValidityWarning`` s.
+
+    Examples
+    --------
+    >>> import fastline as fl
+    >>> psd = fl.SelfAffinePSD(10e-6, 0.8, 1e3, 1e4, 1e9)
+    >>> lc = fl.LineContact(psd, E_star=1.33e9, radius=0.01)
+    >>> res = lc.solve(1e4)
+    >>> res2 = lc.solve(1.2e4, initial=res)  # warm start
+    >>> results = lc.sweep([1e3, 1e4, 1e5])  # continuation along the loads
+    """
+
+    def __init__(
+        self,
+        psd: PSD | None,
+        E_star: float,
+        radius: float,
+        *,
+        model: str | PressureLaw = "persson",
+        method: str = "newton",
+        gamma: float = 0.45,
+        n: int = DEFAULT_N,
+        half_width: float | None = None,
+        tol: float = 1e-8,
+        max_iter: int | None = None,
+        u0: float | None = None,
+        beta: float | None = None,
+        theory: PerssonTheory | None = None,
+        hardness: float | None = None,
+        warn: bool = True,
+    ):
+        self.E_star = positive("E_star", E_star, "Pa")
+        self.radius = positive("radius", radius, "m")
+        if method not in METHODS:
+            raise ValueError(f"method must be one of {METHODS}, got {method!r}")
+        self.method = method
+        self.n = integer("n", n, 16)
+        self.half_width = None if half_width is None else positive("half_width", half_width, "m")
+        self.tol = finite_scalar("tol", tol)
+        if not 0.0 < self.tol <= 1e-2:
+            raise ValueError(f"tol must lie in (0, 1e-2], got {tol!r}")
+        self.max_iter = None if max_iter is None else integer("max_iter", max_iter, 1)
+        self.hardness = None if hardness is None else positive("hardness", hardness, "Pa")
+        self.warn = bool(warn)
+        if psd is not None and not isinstance(psd, PSD):
+            raise TypeError(f"psd must be a fastline PSD or None, got {type(psd).__name__}")
+        if theory is not None and not isinstance(theory, PerssonTheory):
+            raise TypeError(f"theory must be a PerssonTheory or None, got {type(theory).__name__}")
+        self.psd = psd
+        self._theory, self._law = self._resolve_model(model, psd, theory, gamma, u0, beta)
+        self.model = "hertz" if self._law is None else self._law.name
+
+    # -- construction stages ----------------------------------------------------------------
+    def _resolve_model(self, model, psd, theory, gamma, u0, beta):
+        """(theory or None, law or None for hertz) from the ``model`` argument."""
+        if isinstance(model, str):
+            if model not in MODELS:
+                raise ValueError(f"model must be one of {MODELS} or a pressure law, got {model!r}")
+            if model == "hertz":
+                return None, None
+            if psd is None:
+                raise ValueError(f"psd must be a PSD for model={model!r} (None only for 'hertz')")
+            if theory is None:
+                theory = shared_theory(psd, self.E_star, finite_scalar("gamma", gamma))
+            elif theory.psd is not psd or theory.E_star != self.E_star:
+                raise ValueError("theory must be built for the same psd and E_star")
+            if model == "persson":
+                return theory, PerssonLaw(theory)
+            return theory, ExponentialLaw.from_theory(theory, u0, beta)
+        law = check_law(model)
+        if theory is None and isinstance(law, PerssonLaw | ExponentialLaw):
+            theory = law.theory
+        return theory, law
+
+    # -- public attributes --------------------------------------------------------------------
+    @property
+    def theory(self) -> PerssonTheory | None:
+        """The Persson theory (None for ``model="hertz"`` and user laws without one)."""
+        return self._theory
+
+    @property
+    def law(self) -> PressureLaw | None:
+        """The pressure law the solver uses (None for ``model="hertz"``)."""
+        return self._law
+
+    def __repr__(self):
+        return (
+            f"LineContact({self.psd!r}, E_star={self.E_star!r}, radius={self.radius!r}, "
+            f"model={self.model!r}, method={self.method!r}, n={self.n})"
+        )
+
+    # -- solving ------------------------------------------------------------------------------
+    def solve(self, load: float, initial: LineContactResult | None = None) -> LineContactResult:
+        """Solve one load (N/m); ``initial`` is a neighbouring solution to start from.
+
+        Stages: check the load, size the grid, make the initial guess, run the core method,
+        measure the profile, run the diagnostics.
+        """
+        load = positive("load", load, "N/m")
+        if initial is not None and not isinstance(initial, LineContactResult):
+            raise TypeError(
+                f"initial must be a LineContactResult or None, got {type(initial).__name__}"
+            )
+        grid = self._grid(load)
+        outcome = self._run(grid, initial)
+        result = self._result(grid, outcome)
+        if not result.converged and self.warn:
+            warnings.warn(f"fastline: {result.message}", ConvergenceWarning, stacklevel=2)
+        result.diagnostics.update(assess(result, self._theory, self.hardness, warn=self.warn))
+        return result
+
+    def sweep(self, loads: Iterable[float]) -> list[LineContactResult]:
+        """Solve a series of loads (N/m) by continuation; results in the order given.
+
+        The loads are solved in increasing order, each starting from the solution of the
+        previous one (rescaled to the new load and grid), which costs fewer FFT convolutions
+        than independent solves.
+        """
+        loads = np.asarray(list(loads) if not isinstance(loads, np.ndarray) else loads, float)
+        if loads.ndim != 1 or loads.size == 0:
+            raise ValueError("loads must be a non-empty 1-D sequence of loads in N/m")
+        for f in loads:
+            positive("loads", f, "N/m")
+        out: list[LineContactResult | None] = [None] * loads.size
+        prev = None
+        for i in np.argsort(loads, kind="stable"):
+            prev = self.solve(float(loads[i]), initial=prev)
+            out[i] = prev
+        return out  # type: ignore[return-value]
+
+    # -- solve stages -------------------------------------------------------------------------
+    def _u0(self) -> float:
+        return 0.0 if self._law is None else self._law.u0
+
+    def _grid(self, load: float) -> _LineGrid:
+        hz = hertz_line_contact(self.E_star, self.radius, load)
+        half = self.half_width
+        if half is None:
+            half = 1.25 * hz.a + 8.0 * math.sqrt(self.radius * self._u0())
+        return _build_grid(self.n, half, self.radius, self.E_star, hz)
+
+    def _alpha(self, delta: float) -> float:
+        """h_rms / delta; 0 for smooth surfaces (hertz without a spectrum), NaN when unknown."""
+        if self.psd is None:
+            return 0.0 if self._law is None else float("nan")
+        return self.psd.h_rms / delta
+
+    def _initial_v(self, grid: _LineGrid, initial: LineContactResult | None) -> np.ndarray:
+        """ln p to start from: a neighbouring solution, or Hertz and Gaussian blended."""
+        x, load, hz = grid.x, grid.hertz.load, grid.hertz
+        if initial is not None:
+            # same relative position in the domain: the default domain scales with the contact
+            xi = initial.x / (0.5 * initial.x.size * initial.dx)
+            vi = np.log(np.maximum(initial.pressure, 1e-300))
+            return normalise(np.interp(x / grid.half_width, xi, vi), load, grid.disc.weights)
+        alpha = self._alpha(hz.delta)
+        if not math.isfinite(alpha):
+            alpha = 2.0 * self._u0() / hz.delta
+        gs = gaussian_line_contact(self._u0(), self.radius, load)
+        wg = alpha / (alpha + 0.3)
+        with np.errstate(divide="ignore"):
+            lh = (
+                math.log1p(-wg) + math.log(hz.p0) + 0.5 * np.log(np.maximum(1 - (x / hz.a) ** 2, 0))
+            )
+        lg = math.log(wg) + math.log(gs.p0) - x * x / (2.0 * gs.s**2)
+        return normalise(np.logaddexp(lh, lg), load, grid.disc.weights)
+
+    def _run(self, grid: _LineGrid, initial: LineContactResult | None) -> _core.Outcome:
+        if self._law is None:
+            if initial is not None:
+                p = np.interp(
+                    grid.x / grid.half_width,
+                    initial.x / (0.5 * initial.x.size * initial.dx),
+                    initial.pressure,
+                )
+            else:  # uniform pressure on the central third of the domain (inside the contact)
+                p = np.where(np.abs(grid.x) <= grid.half_width / 3.0, 1.0, 0.0)
+            max_iter = self.max_iter or 10 * self.n
+            return _core.hard_contact(grid.disc, p, grid.hertz.delta, self.tol, max_iter)
+        v = self._initial_v(grid, initial)
+        if self.method == "newton":
+            return _core.newton(grid.disc, self._law, v, self.tol, self.max_iter or _MAX_NEWTON)
+        return _core.picard(grid.disc, self._law, v, self.tol, self.max_iter or _MAX_PICARD_SWEEPS)
+
+    def _result(self, grid: _LineGrid, out: _core.Outcome) -> LineContactResult:
+        x, dx, hz = grid.x, grid.dx, grid.hertz
+        p = out.pressure
+        if self._law is None:
+            separation, real = out.separation, (p > 0.0).astype(float)
+        else:
+            separation = self._law.separation_and_slope(out.v)[0]
+            real = self._law.real_area(p)
+        p0 = _peak(p)
+        s = _std(x, p, dx)
+        w = _fwhm(x, p, p0)
+        op = grid.disc.op
+        return LineContactResult(
+            x=x,
+            pressure=p,
+            separation=separation,
+            real_area=real,
+            p0=p0,
+            s=s,
+            fwhm=w,
+            w_over_s=w / s,
+            p0_ratio=p0 / hz.p0,
+            alpha=self._alpha(hz.delta),
+            delta=hz.delta,
+            u1=out.u1 + log_reference_shift(hz.load, dx, self.E_star, self.radius),
+            converged=bool(out.converged),
+            iterations=int(out.iterations),
+            convolutions=int(op.convolutions),
+            residual=float(out.residual),
+            message=out.message,
+            model=self.model,
+            method=self.method,
+            load=hz.load,
+            radius=self.radius,
+            E_star=self.E_star,
+            dx=dx,
+            force_error=abs(p.sum() * dx - hz.load) / hz.load,
+            edge_pressure=float(max(p[0], p[-1]) / p0),
+            diagnostics={
+                "n": self.n,
+                "domain_half_width": grid.half_width,
+                "k_applications": op.convolutions - op.circulant_solves,
+                "circulant_solves": op.circulant_solves,
+                **out.info,
+            },
+            theory=self._theory,
+        )
+
+
+# ----------------------------------------------------------------------------------------------
+# one-call functions
+# ----------------------------------------------------------------------------------------------
+def solve_line_contact(
+    psd: PSD | None, E_star: float, radius: float, load: float, **options
+) -> LineContactResult:
+    """Solve for the nominal pressure under a rigid cylinder on a rough elastic half-space.
+
+    ``solve_line_contact(psd, E_star, radius, load, **options)`` is
+    ``LineContact(psd, E_star, radius, **options).solve(load)``; the theory of a spectrum is
+    built once and shared between calls while the spectrum object lives. For many loads of one
+    scene, keep a :class:`LineContact` (and use its ``sweep``).
+
+    Parameters
+    ----------
+    psd : PSD or None
+        Combined roughness spectrum; None only with ``model="hertz"``.
+    E_star : float
+        Effective modulus in Pa (paper eq. 1).
+    radius : float
+        Cylinder radius R in m.
+    load : float
+        Normal load per unit length f_N in N/m.
+    **options
+        Keyword options of :class:`LineContact` (model, method, gamma, n, half_width, tol,
+        max_iter, u0, beta, theory, hardness, warn).
+
+    Returns
+    -------
+    LineContactResult
+    """
+    return LineContact(psd, E_star, radius, **options).solve(load)
+
+
+def profile(psd, E_star, radius, load, **options) -> tuple[np.ndarray, np.ndarray]:
+    """Pressure profile ``(x [m], p [Pa])`` of one scene (see :func:`solve_line_contact`)."""
+    res = solve_line_contact(psd, E_star, radius, load, **options)
+    return res.x, res.pressure
+
+
+def _per_load(attr: str, psd, E_star, radius, load, options) -> float | np.ndarray:
+    loads = np.asarray(load, dtype=np.float64)
+    lc = LineContact(psd, E_star, radius, **options)
+    if loads.ndim == 0:
+        return float(getattr(lc.solve(float(loads)), attr))
+    results = lc.sweep(loads.ravel())
+    return np.array([getattr(r, attr) for r in results]).reshape(loads.shape)
+
+
+def w_over_s(psd, E_star, radius, load: float | Sequence[float], **options):
+    """FWHM-to-standard-deviation ratio w/s; a float, or an array for an array of loads."""
+    return _per_load("w_over_s", psd, E_star, radius, load, options)
+
+
+def p0_ratio(psd, E_star, radius, load: float | Sequence[float], **options):
+    """Peak-pressure ratio p0(rough)/p0(Hertz); a float, or an array for an array of loads."""
+    return _per_load("p0_ratio", psd, E_star, radius, load, options)
