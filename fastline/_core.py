@@ -200,6 +200,7 @@ def newton(disc: Discretisation, law, v: np.ndarray, tol: float, max_iter: int) 
     it = 0
     cg_total = 0
     res_prev = eta = math.nan
+    history: list[tuple[float, int, float]] = []  # (residual, CG iterations, step length)
     while True:
         res = float(np.max(np.abs(r))) / u_ref
         if res < tol or it >= max_iter:
@@ -209,7 +210,8 @@ def newton(disc: Discretisation, law, v: np.ndarray, tol: float, max_iter: int) 
                 f"{'converged' if ok else 'not converged'}: {state} after {it} Newton steps"
                 + ("" if ok else " (max_iter)")
             )
-            return Outcome(v, u1, res, ok, it, message, {"cg_iterations": cg_total}, p)
+            info = {"cg_iterations": cg_total, "newton_history": history}
+            return Outcome(v, u1, res, ok, it, message, info, p)
         it += 1
         psafe = np.maximum(p, 1e-300)
         D = np.minimum(np.maximum(-dU, 1e-300 * u_ref) / psafe, 1e300)
@@ -232,6 +234,7 @@ def newton(disc: Discretisation, law, v: np.ndarray, tol: float, max_iter: int) 
             if phi_new < (1.0 - 1e-4 * t) * phi or t < 1e-6:
                 break
             t *= 0.5
+        history.append((res, cg_its, t))
         v, p, U, dU, Kp, u1, r, phi = v_new, p_new, U_new, dU_new, Kp_new, u1_new, r_new, phi_new
 
 

@@ -60,6 +60,20 @@ class PSD:
         """Wavenumbers (1/m) where C(q) is not smooth, including q0 and q1."""
         raise NotImplementedError
 
+    @property
+    def _theories(self) -> dict:
+        """Persson theories built for this spectrum by the one-call solvers, keyed by
+        (E*, gamma) (:func:`fastline.line_contact.shared_theory`); not pickled."""
+        cache = self.__dict__.get("_theory_cache")
+        if cache is None:
+            cache = self.__dict__.setdefault("_theory_cache", {})
+        return cache
+
+    def __getstate__(self):
+        state = self.__dict__.copy()
+        state.pop("_theory_cache", None)
+        return state
+
     # -- derived quantities (shared) ------------------------------------------------------------
     def cumulative(self, q) -> np.ndarray:
         """``A(q) = pi int_0^q q'^3 C(q') dq'`` (dimensionless), THEORY.md section 3."""

@@ -1,0 +1,184 @@
+"""Pressure laws: the protocol, the shipped laws and user laws inside the solver."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+
+import fastline as fl
+from fastline.laws import check_law
+
+# tiered tolerances
+RTOL_EXACT = 1e-13  # a law against its own inverse, identical arithmetic
+RTOL_ROUND_TRIP = 1e-10  # a law reading the table through exp(ln p) vs the table itself
+RTOL_INVERSE = 1e-12  # TabulatedLaw: pressure(separation(v)) vs p
+# TabulatedLaw from 20 points per decade of the Persson curve vs the theory (third order in the
+# spacing: 5/10/20/40 points per decade measured 1.3e-3/1.6e-4/2.0e-5/2.5e-6 in |du|/u0)
+ATOL_TABLE_LAW = 4e-5  # max |du| / u0 over the whole table (the solver's unit)
+RTOL_TABLE_LAW = 3e-4  # relative in u below p = 0.1 E* (near full contact u falls by decades)
+RTOL_TABLE_SOLVE = 1e-4  # p0 ratio and w/s solved with that TabulatedLaw vs the Persson law
+
+E_STAR, RADIUS = 1.33e9, 0.01
+PSD = fl.SelfAffinePSD(10e-6, 0.8, 1e3, 1e4, 1e9)
+
+
+@pytest.fixture(scope="module")
+def theory():
+    return fl.PerssonTheory(PSD, E_STAR)
+
+
+def load_for(alpha):
+    return math.pi / 4.0 * PSD.h_rms * E_STAR / alpha
+
+
+def persson_curve(theory, per_decade=20):
+    p = np.logspace(-1, 9.5, int(10.5 * per_decade) + 1)
+    return theory.separation(p), p
+
+
+# ---- the shipped laws -----------------------------------------------------------------------
+def test_persson_law_is_the_theory(theory):
+    law = fl.PerssonLaw(theory)
+    p = np.logspace(2, 9, 30)
+    u, dudv = law.separation_and_slope(np.log(p))
+    u_ref, d_ref = theory.separation_table(p)
+    assert np.array_equal(u, u_ref) and np.array_equal(dudv, d_ref)
+    assert np.allclose(law.pressure(u), theory.pressure(u), rtol=RTOL_EXACT, atol=0)
+    assert np.allclose(np.exp(law.log_pressure(u)), law.pressure(u), rtol=RTOL_EXACT)
+    assert law.u0 == theory.exponential_fit().u0
+    assert np.array_equal(law.real_area(p), theory.contact_area(p))
+
+
+def test_exponential_law_closed_form(theory):
+    law = fl.ExponentialLaw.from_theory(theory)
+    fit = theory.exponential_fit()
+    u = np.array([0.0, fit.u0, 10 * fit.u0, -3 * fit.u0])
+    assert np.allclose(law.pressure(u), fit.beta * E_STAR * np.exp(-u / fit.u0), rtol=RTOL_EXACT)
+    v = np.log(np.array([1e3, 1e6]))
+    uu, d = law.separation_and_slope(v)
+    assert np.allclose(uu, fit.u0 * np.log(fit.beta * E_STAR / np.exp(v)), rtol=RTOL_EXACT)
+    assert np.all(d == -fit.u0)
+    # a huge negative u (deep inside the contact) does not overflow ln p
+    assert np.isfinite(law.log_pressure(np.array([-1e3]))).all()
+
+
+def test_tabulated_law_interpolates_monotonically(theory):
+    u, p = persson_curve(theory)
+    law = fl.TabulatedLaw(u, p)
+    # through the points, exact inverse, monotone between the points
+    assert np.allclose(law.separation_and_slope(np.log(p))[0], u, rtol=RTOL_EXACT, atol=0)
+    v = np.linspace(np.log(p[0]) - 5, np.log(p[-1]) + 5, 4001)
+    uu, d = law.separation_and_slope(v)
+    assert np.all(d < 0.0) and np.all(np.diff(uu) < 0.0)
+    assert np.allclose(law.log_pressure(uu), v, rtol=0, atol=RTOL_INVERSE * np.abs(v).max())
+    # against the theory between the points (stated accuracy at 20 points per decade)
+    inner = (v > np.log(p[0])) & (v < np.log(p[-1]))
+    ref = theory.separation(np.exp(v[inner]))
+    assert np.max(np.abs(uu[inner] - ref)) < ATOL_TABLE_LAW * law.u0
+    low = np.exp(v[inner]) < 0.1 * E_STAR
+    assert np.max(np.abs(uu[inner][low] / ref[low] - 1.0)) < RTOL_TABLE_LAW
+    # exponential extensions with the end slopes
+    lo, hi = np.log(p[0]), np.log(p[-1])
+    assert law.separation_and_slope(np.array([lo - 1.0]))[0][0] == pytest.approx(
+        u[0] + law.u0, rel=RTOL_EXACT
+    )
+    assert law.u0 > 0 and law.separation_and_slope(np.array([hi + 1.0]))[1][0] < 0
+
+
+def test_tabulated_law_any_order_and_area(theory):
+    u, p = persson_curve(theory, per_decade=5)
+    perm = np.random.default_rng(1).permutation(p.size)
+    area = theory.contact_area(p)
+    a = fl.TabulatedLaw(u, p, real_area=area)
+    b = fl.TabulatedLaw(u[perm], p[perm], real_area=area[perm])
+    v = np.log(np.logspace(0, 9, 50))
+    assert np.array_equal(a.separation_and_slope(v)[0], b.separation_and_slope(v)[0])
+    assert np.allclose(a.real_area(p), area, rtol=RTOL_EXACT)
+
+
+@pytest.mark.parametrize(
+    "u, p, match",
+    [
+        ([1e-6, 2e-6], [1e5, 1e4], "at least 3"),
+        ([3e-6, 2e-6, 1e-6], [1e4, 1e5], "same length"),
+        ([3e-6, 2e-6, 1e-6], [1e4, 0.0, 1e6], "p must be > 0"),
+        ([3e-6, 2e-6, 2.5e-6], [1e4, 1e5, 1e6], "strictly decrease"),
+        ([3e-6, 2e-6, 1e-6], [1e4, 1e4, 1e6], "repeated"),
+        ([3e-6, np.nan, 1e-6], [1e4, 1e5, 1e6], "finite"),
+    ],
+)
+def test_tabulated_law_bad_input(u, p, match):
+    with pytest.raises(ValueError, match=match):
+        fl.TabulatedLaw(u, p)
+
+
+# ---- user laws in the solver ----------------------------------------------------------------
+class TableOnlyLaw(fl.PressureLaw):
+    """A user's law: only u0 and separation_and_slope, through the public theory methods."""
+
+    name = "user"
+
+    def __init__(self, theory):
+        self.theory = theory
+        self.u0 = theory.exponential_fit().u0
+
+    def separation_and_slope(self, v):
+        return self.theory.separation_table(np.exp(v))
+
+
+@pytest.mark.parametrize("alpha", [0.01, 1.0])
+def test_user_law_reproduces_persson(theory, alpha):
+    ref = fl.solve_line_contact(PSD, E_STAR, RADIUS, load_for(alpha), theory=theory)
+    mine = fl.solve_line_contact(PSD, E_STAR, RADIUS, load_for(alpha), model=TableOnlyLaw(theory))
+    # the Newton solver only uses separation_and_slope, the same table up to an exp/log round
+    # trip of ln p
+    assert np.allclose(mine.pressure, ref.pressure, rtol=RTOL_ROUND_TRIP, atol=0)
+    assert mine.model == "user" and mine.real_area is None
+    # the base class inverts the law for pressure(u)
+    u = ref.separation[::64]
+    law = TableOnlyLaw(theory)
+    assert np.allclose(law.pressure(u), theory.pressure(u), rtol=1e-7)
+
+
+@pytest.mark.parametrize("alpha", [0.01, 1.0, 30.0])
+def test_tabulated_law_reproduces_persson(theory, alpha):
+    u, p = persson_curve(theory)
+    ref = fl.solve_line_contact(PSD, E_STAR, RADIUS, load_for(alpha), theory=theory)
+    tab = fl.solve_line_contact(PSD, E_STAR, RADIUS, load_for(alpha), model=fl.TabulatedLaw(u, p))
+    assert tab.converged and tab.model == "tabulated"
+    assert tab.p0_ratio == pytest.approx(ref.p0_ratio, rel=RTOL_TABLE_SOLVE)
+    assert tab.w_over_s == pytest.approx(ref.w_over_s, rel=RTOL_TABLE_SOLVE)
+
+
+def test_exponential_instance_equals_name(theory):
+    f = load_for(3.0)
+    a = fl.solve_line_contact(PSD, E_STAR, RADIUS, f, model="exponential", theory=theory)
+    b = fl.solve_line_contact(PSD, E_STAR, RADIUS, f, model=fl.ExponentialLaw.from_theory(theory))
+    assert np.array_equal(a.pressure, b.pressure)
+
+
+class NoSlope:
+    u0 = 1e-6
+
+
+class Increasing:
+    u0 = 1e-6
+
+    def separation_and_slope(self, v):
+        return 1e-6 * v, np.full_like(v, 1e-6)
+
+    def pressure(self, u):
+        return np.exp(u / 1e-6)
+
+
+@pytest.mark.parametrize(
+    "law, exc, match",
+    [(NoSlope(), TypeError, "separation_and_slope"), (Increasing(), ValueError, "< 0")],
+)
+def test_bad_user_law(law, exc, match):
+    with pytest.raises(exc, match=match):
+        check_law(law)
+    with pytest.raises(exc, match=match):
+        fl.LineContact(PSD, E_STAR, RADIUS, model=law)
