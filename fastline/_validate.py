@@ -12,9 +12,18 @@ import operator
 
 import numpy as np
 
+#: physical ranges fastline accepts (SI). Wide enough for every scene we know of, narrow enough
+#: that no intermediate quantity over- or underflows in float64.
+E_STAR_RANGE = (1.0, 1e13)  # Pa: from soft gels to diamond
+LENGTH_RANGE = (1e-12, 0.1)  # m: rms roughness amplitudes
+WAVENUMBER_RANGE = (1e-3, 1e13)  # 1/m: wavelengths from 6 km down to 0.6 pm
+RADIUS_RANGE = (1e-9, 1e3)  # m
+
 
 def finite_scalar(name: str, value) -> float:
-    """Return ``value`` as a float, rejecting NaN, inf and non-numbers."""
+    """Return ``value`` as a float, rejecting NaN, inf, bools and non-numbers."""
+    if isinstance(value, bool | np.bool_):
+        raise TypeError(f"{name} must be a real number, not a bool ({value!r})")
     try:
         out = float(value)
     except (TypeError, ValueError):
@@ -66,13 +75,24 @@ def positive_array(name: str, value) -> np.ndarray:
     return arr
 
 
-def integer(name: str, value, minimum: int) -> int:
-    """An integer >= ``minimum`` (bools and non-integral floats rejected)."""
-    if not isinstance(value, bool):
+def integer(name: str, value, minimum: int, maximum: int | None = None, why: str = "") -> int:
+    """An integer in ``[minimum, maximum]`` (bools and non-integral floats rejected);
+    ``why`` explains the maximum in the message."""
+    if not isinstance(value, bool | np.bool_):
         try:
             out = operator.index(value)
         except TypeError:
             out = None
-        if out is not None and out >= minimum:
+        if out is not None and out >= minimum and (maximum is None or out <= maximum):
             return out
-    raise ValueError(f"{name} must be an integer >= {minimum}, got {value!r}")
+    bound = f">= {minimum}" if maximum is None else f"in [{minimum}, {maximum}]"
+    raise ValueError(f"{name} must be an integer {bound}{why}, got {value!r}")
+
+
+def in_span(name: str, value, span: tuple[float, float], unit: str) -> float:
+    """A finite scalar inside the closed interval ``span`` (with its unit in the message)."""
+    out = finite_scalar(name, value)
+    lo, hi = span
+    if not lo <= out <= hi:
+        raise ValueError(f"{name} must lie in [{lo:g}, {hi:g}] {unit}, got {out!r}")
+    return out

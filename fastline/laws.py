@@ -45,7 +45,7 @@ import numba
 import numpy as np
 
 from fastline._jit import JIT
-from fastline._validate import finite_array, positive
+from fastline._validate import E_STAR_RANGE, finite_array, in_span, positive
 from fastline.persson import (
     PerssonTheory,
     _log_pressure_from_table,
@@ -54,6 +54,10 @@ from fastline.persson import (
 )
 
 __all__ = ["PressureLaw", "PerssonLaw", "ExponentialLaw", "TabulatedLaw", "check_law"]
+
+#: ranges of user-given exponential-law parameters
+U0_RANGE = (1e-15, 1.0)  # m
+BETA_RANGE = (1e-12, 1e12)  # dimensionless
 
 
 class PressureLaw(abc.ABC):
@@ -164,11 +168,11 @@ class ExponentialLaw(PressureLaw):
     Parameters
     ----------
     u0 : float
-        Decay length in m (> 0).
+        Decay length in m, in [1e-15, 1].
     beta : float
         Dimensionless prefactor, in [1e-12, 1e12].
     E_star : float
-        Effective modulus in Pa (> 0).
+        Effective modulus in Pa, in [1, 1e13].
     theory : PerssonTheory, optional
         Only used to report the real contact area.
 
@@ -180,26 +184,35 @@ class ExponentialLaw(PressureLaw):
     name = "exponential"
 
     def __init__(self, u0, beta, E_star, theory: PerssonTheory | None = None):
-        from fastline._validate import in_range
-
-        self.u0 = positive("u0", u0, "m")
-        self.beta = in_range("beta", beta, 1e-12, 1e12, lo_open=False)
-        self.E_star = positive("E_star", E_star, "Pa")
         if theory is not None and not isinstance(theory, PerssonTheory):
             raise TypeError(f"theory must be a PerssonTheory or None, got {type(theory).__name__}")
-        self.theory = theory
-        self._lnpb = math.log(self.beta) + math.log(self.E_star)
+        self._set(
+            in_span("u0", u0, U0_RANGE, "m"),
+            in_span("beta", beta, BETA_RANGE, "(dimensionless)"),
+            in_span("E_star", E_star, E_STAR_RANGE, "Pa"),
+            theory,
+        )
+
+    def _set(self, u0: float, beta: float, E_star: float, theory) -> None:
+        self.u0, self.beta, self.E_star, self.theory = u0, beta, E_star, theory
+        self._lnpb = math.log(beta) + math.log(E_star)
 
     @classmethod
     def from_theory(cls, theory: PerssonTheory, u0=None, beta=None) -> ExponentialLaw:
-        """The law of ``theory.exponential_fit()`` (u0 and/or beta overridable)."""
+        """The law of ``theory.exponential_fit()``; u0 and/or beta may be overridden (then
+        checked against the ranges of the constructor). The theory's own values are used as
+        they are: for extreme spectra its beta can lie outside the range a user may give."""
+        if not isinstance(theory, PerssonTheory):
+            raise TypeError(f"theory must be a PerssonTheory, got {type(theory).__name__}")
         fit = theory.exponential_fit()
-        return cls(
-            fit.u0 if u0 is None else u0,
-            fit.beta if beta is None else beta,
+        law = cls.__new__(cls)
+        law._set(
+            fit.u0 if u0 is None else in_span("u0", u0, U0_RANGE, "m"),
+            fit.beta if beta is None else in_span("beta", beta, BETA_RANGE, "(dimensionless)"),
             theory.E_star,
             theory,
         )
+        return law
 
     def __repr__(self):
         return f"ExponentialLaw(u0={self.u0!r}, beta={self.beta!r}, E_star={self.E_star!r})"

@@ -27,7 +27,14 @@ import numpy as np
 
 from fastline import _core
 from fastline._core import ConvergenceWarning, Discretisation, normalise
-from fastline._validate import finite_scalar, integer, positive
+from fastline._validate import (
+    E_STAR_RANGE,
+    RADIUS_RANGE,
+    finite_scalar,
+    in_span,
+    integer,
+    positive,
+)
 from fastline.diagnostics import assess
 from fastline.elastic import LogKernelOperator, log_reference_shift
 from fastline.laws import ExponentialLaw, PerssonLaw, PressureLaw, check_law
@@ -48,8 +55,12 @@ __all__ = [
 MODELS = ("persson", "exponential", "hertz")
 METHODS = ("newton", "picard")
 DEFAULT_N = 1024
+#: largest grid (about 2 GB of working arrays)
+MAX_N = 2**22
+#: loads per unit length accepted, in units of E* R
+LOAD_RANGE = (1e-12, 1e4)
 _MAX_NEWTON = 100
-_MAX_PICARD_SWEEPS = 20000
+_MAX_PICARD_SWEEPS = 5000
 
 
 @dataclass
@@ -255,9 +266,9 @@ class LineContact:
         Combined roughness spectrum (m^4 vs 1/m). None only with ``model="hertz"`` or a user
         law (then alpha is not defined and reported as NaN).
     E_star : float
-        Effective modulus in Pa (paper eq. 1).
+        Effective modulus in Pa (paper eq. 1), in [1, 1e13].
     radius : float
-        Cylinder radius R in m.
+        Cylinder radius R in m, in [1e-9, 1e3].
     model : {"persson", "exponential", "hertz"} or PressureLaw
         p(u) relation: full Persson theory (default), the exponential law (paper eq. 5, u0 and
         beta from the theory unless given), hard contact of smooth surfaces, or a pressure law
@@ -267,15 +278,16 @@ class LineContact:
     gamma : float
         Yang-Persson parameter of the theory, in (0, 1] (default 0.45).
     n : int
-        Grid points (>= 16; default 1024).
+        Grid points, in [16, 2^22] (default 1024).
     half_width : float, optional
-        Half-width of the domain in m, the same for every load; default per load
-        ``1.25 a + 8 sqrt(R u0)`` with the Hertz half-width ``a``.
+        Half-width of the domain in m, the same for every load, at most 1e3 R and at least the
+        Hertz half-width ``a`` of each load solved; default per load ``1.25 a + 8 sqrt(R u0)``.
     tol : float
         Residual tolerance (separation mismatch in units of u0; hertz: relative pressure
         change), in (0, 1e-2].
     max_iter : int, optional
-        Newton steps / fixed-point sweeps allowed (defaults 100 / 20000).
+        Newton steps / fixed-point sweeps allowed (defaults 100 / 5000; the fixed point also
+        stops when it stagnates, see :func:`fastline._core.picard`).
     u0, beta : float, optional
         Exponential-law parameters for ``model="exponential"`` (m, dimensionless).
     theory : PerssonTheory, optional
@@ -315,13 +327,15 @@ class LineContact:
         hardness: float | None = None,
         warn: bool = True,
     ):
-        self.E_star = positive("E_star", E_star, "Pa")
-        self.radius = positive("radius", radius, "m")
+        self.E_star = in_span("E_star", E_star, E_STAR_RANGE, "Pa")
+        self.radius = in_span("radius", radius, RADIUS_RANGE, "m")
         if method not in METHODS:
             raise ValueError(f"method must be one of {METHODS}, got {method!r}")
         self.method = method
-        self.n = integer("n", n, 16)
-        self.half_width = None if half_width is None else positive("half_width", half_width, "m")
+        self.n = integer("n", n, 16, MAX_N, " (a solve needs about 500 bytes per cell)")
+        self.half_width = None
+        if half_width is not None:
+            self.half_width = in_span("half_width", half_width, (0.0, 1e3 * self.radius), "m")
         self.tol = finite_scalar("tol", tol)
         if not 0.0 < self.tol <= 1e-2:
             raise ValueError(f"tol must lie in (0, 1e-2], got {tol!r}")
@@ -382,7 +396,7 @@ class LineContact:
         Stages: check the load, size the grid, make the initial guess, run the core method,
         measure the profile, run the diagnostics.
         """
-        load = positive("load", load, "N/m")
+        load = self._check_load("load", load)
         if initial is not None and not isinstance(initial, LineContactResult):
             raise TypeError(
                 f"initial must be a LineContactResult or None, got {type(initial).__name__}"
@@ -420,13 +434,19 @@ class LineContact:
             out[i] = result
         return out  # type: ignore[return-value]
 
-    @staticmethod
-    def _check_loads(loads) -> np.ndarray:
+    def _check_load(self, name: str, load) -> float:
+        """A load per unit length in [1e-12, 1e4] E* R (N/m): the Hertz half-width stays
+        between 1e-6 R and ~100 R, where every quantity of the solve is representable."""
+        lo, hi = LOAD_RANGE
+        scale = self.E_star * self.radius
+        return in_span(name, load, (lo * scale, hi * scale), f"N/m ([{lo:g}, {hi:g}] E* R)")
+
+    def _check_loads(self, loads) -> np.ndarray:
         arr = np.asarray(loads if isinstance(loads, np.ndarray) else list(loads), dtype=float)
         if arr.ndim != 1 or arr.size == 0:
             raise ValueError("loads must be a non-empty 1-D sequence of loads in N/m")
         for f in arr:
-            positive("loads", f, "N/m")
+            self._check_load("loads", f)
         return arr
 
     # -- solve stages -------------------------------------------------------------------------
@@ -438,6 +458,12 @@ class LineContact:
         half = self.half_width
         if half is None:
             half = 1.25 * hz.a + 8.0 * math.sqrt(self.radius * self._u0())
+        elif half < hz.a:
+            raise ValueError(
+                f"half_width = {half:.6g} m cuts the contact: at load {load:.6g} N/m the Hertz "
+                f"half-width alone is a = {hz.a:.6g} m; give half_width >= a (the default, "
+                "None, sizes the domain as 1.25 a + 8 sqrt(R u0))"
+            )
         return _build_grid(self.n, half, self.radius, self.E_star, hz)
 
     def _alpha(self, delta: float) -> float:
@@ -455,12 +481,12 @@ class LineContact:
         if not math.isfinite(alpha):
             alpha = 2.0 * self._u0() / hz.delta
         gs = gaussian_line_contact(self._u0(), self.radius, load)
-        wg = alpha / (alpha + 0.3)
+        # weights alpha/(alpha + 0.3) and 0.3/(alpha + 0.3), in logarithms (no 1 - 1 at huge alpha)
+        ln_wh = math.log(0.3) - math.log(alpha + 0.3)
+        ln_wg = math.log(alpha) - math.log(alpha + 0.3)
         with np.errstate(divide="ignore"):
-            lh = (
-                math.log1p(-wg) + math.log(hz.p0) + 0.5 * np.log(np.maximum(1 - (x / hz.a) ** 2, 0))
-            )
-        lg = math.log(wg) + math.log(gs.p0) - x * x / (2.0 * gs.s**2)
+            lh = ln_wh + math.log(hz.p0) + 0.5 * np.log(np.maximum(1 - (x / hz.a) ** 2, 0))
+        lg = ln_wg + math.log(gs.p0) - x * x / (2.0 * gs.s**2)
         return normalise(np.logaddexp(lh, lg), load, grid.disc.weights)
 
     def _predict(self, grid: _LineGrid, history: list[tuple[float, np.ndarray]]):

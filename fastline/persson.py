@@ -44,7 +44,7 @@ from scipy.special import roots_legendre
 
 from fastline._jit import JIT
 from fastline._special import _F, EULER_GAMMA, G0, f_coefficients
-from fastline._validate import finite_array, in_range, positive, positive_array
+from fastline._validate import E_STAR_RANGE, finite_array, in_range, in_span, positive_array
 from fastline.spectra import PSD
 
 __all__ = [
@@ -57,6 +57,8 @@ __all__ = [
 ]
 
 _SQRT_PI = math.sqrt(math.pi)
+#: allowed range of the Yang-Persson parameter gamma
+GAMMA_RANGE = (0.05, 1.0)
 #: graded sub-panels towards q1; the integrand's pile-up there is ~1/(0.4 x^2) wide in ln q
 _TOP_LEVELS = 5
 _TWO_OVER_SQRT_PI = 2.0 / _SQRT_PI
@@ -454,7 +456,8 @@ class PerssonTheory:
     E_star : float
         Effective modulus E* in Pa (paper eq. 1), > 0.
     gamma : float, optional
-        The energy-correction parameter of Yang & Persson, in (0, 1] (default 0.45).
+        The energy-correction parameter of Yang & Persson, in [0.05, 1] (default 0.45; below
+        0.05 the exponential law's beta ~ exp(3 (1 - gamma) G(0) / gamma) overflows).
     rtol : float, optional
         Wanted relative accuracy of the tables (default 1e-6), in [1e-9, 1e-2]; it sizes the
         quadrature and the table grids.
@@ -469,8 +472,8 @@ class PerssonTheory:
         if not isinstance(psd, PSD):
             raise ValueError(f"psd must be a fastline PSD, got {type(psd).__name__}")
         self.psd = psd
-        self.E_star = positive("E_star", E_star, "Pa")
-        self.gamma = in_range("gamma", gamma, 0.0, 1.0)
+        self.E_star = in_span("E_star", E_star, E_STAR_RANGE, "Pa")
+        self.gamma = in_span("gamma", gamma, GAMMA_RANGE, "(dimensionless)")
         self.rtol = in_range("rtol", rtol, 1e-9, 1e-2, lo_open=False)
         self.settings = TableSettings.for_rtol(self.rtol)
         self._coef = f_coefficients(self.gamma)

@@ -24,7 +24,14 @@ import math
 
 import numpy as np
 
-from fastline._validate import finite_array, finite_scalar, in_range, positive
+from fastline._validate import (
+    LENGTH_RANGE,
+    WAVENUMBER_RANGE,
+    finite_array,
+    in_range,
+    in_span,
+    positive,
+)
 
 __all__ = ["PSD", "SelfAffinePSD", "TabulatedPSD", "SumPSD", "effective_modulus"]
 
@@ -105,21 +112,23 @@ class SelfAffinePSD(PSD):
     Parameters
     ----------
     h_rms : float
-        Root-mean-square roughness in m (> 0). ``C0`` is derived from it in closed form.
+        Root-mean-square roughness in m, in [1e-12, 0.1]. ``C0`` is derived from it in closed
+        form.
     hurst : float
         Hurst exponent H in (0, 1]; H = 1 is handled exactly (logarithms).
     q0, qr, q1 : float
-        Lowest wavenumber, roll-off wavenumber and cut-off in 1/m, ``0 < q0 <= qr < q1``.
+        Lowest wavenumber, roll-off wavenumber and cut-off in 1/m, ``q0 <= qr < q1``, each in
+        [1e-3, 1e13].
     """
 
     def __init__(self, h_rms, hurst, q0, qr, q1):
-        self._h_rms = positive("h_rms", h_rms, "m")
+        self._h_rms = in_span("h_rms", h_rms, LENGTH_RANGE, "m")
         self.hurst = in_range("hurst", hurst, 0.0, 1.0)
-        self.q0 = positive("q0", q0, "1/m")
-        self.qr = finite_scalar("qr", qr)
+        self.q0 = in_span("q0", q0, WAVENUMBER_RANGE, "1/m")
+        self.qr = in_span("qr", qr, WAVENUMBER_RANGE, "1/m")
         if self.qr < self.q0:
             raise ValueError(f"qr must satisfy qr >= q0 = {self.q0:g} 1/m, got {self.qr!r}")
-        self.q1 = finite_scalar("q1", q1)
+        self.q1 = in_span("q1", q1, WAVENUMBER_RANGE, "1/m")
         if self.q1 <= self.qr:
             raise ValueError(f"q1 must satisfy q1 > qr = {self.qr:g} 1/m, got {self.q1!r}")
         H = self.hurst
@@ -200,9 +209,25 @@ class TabulatedPSD(PSD):
         self.q1 = float(q[last + 1])
         # exact moments of each whole interval, cumulated, for k = 1 and 3
         whole = np.arange(q.size - 1)
-        self._cum = {
-            k: np.concatenate([[0.0], np.cumsum(self._partial(k, whole, q[1:]))]) for k in (1, 3)
-        }
+        with np.errstate(over="ignore", invalid="ignore"):  # absurd tables: checked just below
+            self._cum = {
+                k: np.concatenate([[0.0], np.cumsum(self._partial(k, whole, q[1:]))])
+                for k in (1, 3)
+            }
+            self._check_plausible()
+
+    def _check_plausible(self):
+        """Wavenumbers and the h_rms the table implies inside fastline's ranges."""
+        lo, hi = WAVENUMBER_RANGE
+        if not (lo <= self.q[0] and self.q[-1] <= hi):
+            raise ValueError(f"q must lie in [{lo:g}, {hi:g}] 1/m (check the units: 1/m)")
+        h = self.h_rms
+        if not (LENGTH_RANGE[0] <= h <= LENGTH_RANGE[1]) or not math.isfinite(self.rms_slope):
+            raise ValueError(
+                f"C gives h_rms = {h:.3g} m, outside [{LENGTH_RANGE[0]:g}, {LENGTH_RANGE[1]:g}] m "
+                "(check the units: C in m^4, q in 1/m, Persson's convention h_rms^2 = "
+                "2 pi int q C dq)"
+            )
 
     def __repr__(self):
         return f"TabulatedPSD(<{self.q.size} points, q from {self.q[0]:g} to {self.q[-1]:g} 1/m>)"

@@ -244,3 +244,121 @@ def test_bad_input(kwargs, name):
     args.update(kwargs)
     with pytest.raises(ValueError, match=name):
         fl.solve_line_contact(args.pop("psd"), **args)
+
+
+# ---- defects found by the random campaign (issue 9, section 6) -------------------------------
+S = fl.SelfAffinePSD
+#: two campaign scenes whose centres reach full contact; Newton stalled at n = 4096
+FULL_CONTACT_SCENES = {
+    "alpha81": (
+        S(4.0219591928945736e-08, 1.0, 232.4997741925926, 232.4997741925926, 71888266.82459533),
+        402830.3189795967,
+        0.002352259458219232,
+        0.00015701517536695204,
+    ),
+    "alpha0.13": (
+        S(
+            9.526078467501709e-08,
+            0.9703866975808269,
+            155.8631579725119,
+            155.8631579725119,
+            23500321.58034335,
+        ),
+        4153888.1460892116,
+        3.803658388558846e-05,
+        2.365798043586059,
+    ),
+}
+RTOL_ACROSS_N = 2e-3  # p0 ratio at n = 4096 vs n = 8192 (discretisation error)
+
+
+@pytest.mark.parametrize("name", FULL_CONTACT_SCENES)
+def test_full_contact_centre_converges_at_every_n(name):
+    scene = FULL_CONTACT_SCENES[name]
+    fine = fl.solve_line_contact(*scene, n=8192)
+    for n in (1024, 4096):
+        res = fl.solve_line_contact(*scene, n=n)
+        assert res.converged, res.message
+        assert np.all(np.isfinite(res.pressure))
+    assert res.p0_ratio == pytest.approx(fine.p0_ratio, rel=RTOL_ACROSS_N)
+
+
+def test_residual_floor_at_tiny_alpha():
+    """At alpha = 1e-6 the terms of the residual are 1e6 u0: the tolerance is raised to their
+    round-off floor (and says so) instead of Newton stalling just above tol."""
+    psd = SURFACES["surface1"]
+    for n in (4096, 65536):
+        res = solve(psd, 1e-6, n=n)
+        assert res.converged and res.residual < res.diagnostics["tol_effective"]
+        assert res.diagnostics["tol_effective"] > 1e-8
+        assert "round-off floor" in res.message
+
+
+def test_picard_stops_and_never_nan():
+    psd = SURFACES["surface1"]
+    for model in ("persson", "exponential"):
+        with pytest.warns(fl.ConvergenceWarning):
+            res = solve(psd, 1e-3, method="picard", model=model)
+        assert not res.converged and "stagnated" in res.message
+        assert res.iterations < 1000 and np.all(np.isfinite(res.pressure))
+
+
+@pytest.mark.parametrize("h_rms", [1e-12, 1e-6, 0.1])
+@pytest.mark.parametrize("radius", [1e-9, 1e3])
+@pytest.mark.parametrize("load_over_ER", [1e-12, 1e4])
+def test_corners_of_the_allowed_ranges(h_rms, radius, load_over_ER):
+    """Every corner of the documented input box solves to a finite, converged answer."""
+    for E in (1.0, 1e13):
+        psd = fl.SelfAffinePSD(h_rms, 1.0, 1e3, 1e3, 1e9)
+        for model in ("persson", "exponential"):
+            res = fl.solve_line_contact(
+                psd, E, radius, load_over_ER * E * radius, n=64, model=model, warn=False
+            )
+            assert res.converged, res.message
+            assert np.all(np.isfinite(res.pressure)) and np.isfinite(res.w_over_s)
+
+
+@pytest.mark.parametrize(
+    "kwargs, exc, name",
+    [
+        ({"half_width": 1e-4}, ValueError, "half_width"),  # narrower than the contact
+        ({"half_width": 1e-300}, ValueError, "half_width"),
+        ({"half_width": 1e3}, ValueError, "half_width"),  # > 1e3 R
+        ({"gamma": 1e-300}, ValueError, "gamma"),
+        ({"E_star": 1e-300}, ValueError, "E_star"),
+        ({"E_star": 1e300}, ValueError, "E_star"),
+        ({"radius": 1e-300}, ValueError, "radius"),
+        ({"radius": 1e300}, ValueError, "radius"),
+        ({"load": 1e-300}, ValueError, "load"),
+        ({"load": 1e300}, ValueError, "load"),
+        ({"n": 10**18}, ValueError, "n must be an integer in"),
+        ({"theory": "x"}, TypeError, "theory"),
+        ({"hardness": "abc"}, ValueError, "hardness"),
+        ({"hardness": [1, 2]}, ValueError, "hardness"),
+        ({"model": "exponential", "beta": 1e300}, ValueError, "beta"),
+        ({"model": "exponential", "u0": 1e300}, ValueError, "u0"),
+        ({"E_star": True}, TypeError, "E_star"),
+        ({"load": True}, TypeError, "load"),
+    ],
+)
+def test_bad_input_named_before_work(kwargs, exc, name):
+    args = {"psd": SURFACES["surface1"], "E_star": E_STAR, "radius": RADIUS, "load": 1e4}
+    args.update(kwargs)
+    with pytest.raises(exc, match=name):
+        fl.solve_line_contact(args.pop("psd"), **args)
+
+
+@pytest.mark.parametrize(
+    "make, name",
+    [
+        (lambda: S(1e300, 0.8, 1e3, 1e4, 1e9), "h_rms"),
+        (lambda: S(1e-300, 0.8, 1e3, 1e4, 1e9), "h_rms"),
+        (lambda: S(10e-6, 0.8, 1e3, 1e4, 1e300), "q1"),
+        (lambda: S(10e-6, True, 1e3, 1e4, 1e9), "hurst"),
+        (lambda: fl.TabulatedPSD([1e3, 1e4, 1e5], [1e300, 1e290, 1e280]), "C gives h_rms"),
+        (lambda: fl.PerssonTheory(S(10e-6, 0.8, 1e3, 1e4, 1e9), 1.33e9, gamma=1e-300), "gamma"),
+    ],
+)
+def test_bad_spectrum_and_theory_input(make, name):
+    with pytest.raises((ValueError, TypeError), match=name):
+        make()

@@ -136,7 +136,7 @@ def test_hurst_one_is_continuous(qr):
 # TabulatedPSD
 # ------------------------------------------------------------------------------------------------
 def test_tabulated_power_law_is_exact():
-    c, s = 2.5e-30, -3.4
+    c, s = 2.5e-20, -3.4  # h_rms ~ 1e-11 m
     nodes = np.array([1e2, 4e2, 1e4, 3e6])
     psd = TabulatedPSD(nodes, c * nodes**s)
     rng = np.random.default_rng(7)
