@@ -9,13 +9,18 @@ f_N = (pi/4) h_rms E* / alpha (so that alpha = h_rms / delta, delta = 4 f_N / (p
 
 from __future__ import annotations
 
-import math
 import os
 import sys
 import time
 
 import fastline as fl
-from fastline.cli import PAPER_E_STAR, PAPER_Q0, PAPER_QR, PAPER_RADIUS, PAPER_SURFACES, main
+from fastline.cli import main
+from fastline.paper import E_STAR as PAPER_E_STAR
+from fastline.paper import Q0 as PAPER_Q0
+from fastline.paper import QR as PAPER_QR
+from fastline.paper import RADIUS as PAPER_RADIUS
+from fastline.paper import SURFACES as PAPER_SURFACES
+from fastline.paper import load_for_alpha
 from fastline.solver import solve_line_contact
 
 HERE = os.path.dirname(os.path.abspath(__file__))
@@ -31,7 +36,7 @@ def scene_values(h, H, q1):
     th = fl.PerssonTheory(psd, PAPER_E_STAR)
     out = {}
     for a in ALPHAS:
-        load = math.pi / 4.0 * h * PAPER_E_STAR / a
+        load = float(load_for_alpha(a, h))
         r = solve_line_contact(psd, PAPER_E_STAR, PAPER_RADIUS, load, theory=th, n=N)
         if not r.converged:
             raise RuntimeError(f"not converged: h={h}, H={H}, q1={q1}, alpha={a}")
