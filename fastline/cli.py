@@ -367,8 +367,8 @@ def _require_matplotlib() -> None:
 
     if sys.modules.get("matplotlib", 0) is None or importlib.util.find_spec("matplotlib") is None:
         raise CLIError(
-            "plotting needs matplotlib: pip install matplotlib (or install fastline with its "
-            '"plot" extra: pip install ".[plot]" in a checkout)'
+            'plotting needs matplotlib: pip install matplotlib (the "plot" extra of '
+            "fastline-contact)"
         )
 
 

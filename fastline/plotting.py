@@ -44,19 +44,19 @@ _PANEL = (5.6, 3.8)  # inches: one panel with a legend on its right
 def _figure(ax, size=_PANEL):
     """(figure, axes): the given axes' figure, or a new one with fixed margins."""
     if ax is not None:
-        return ax.figure, ax
+        return ax.figure, ax, False
     try:
         from matplotlib.figure import Figure
     except ImportError:
         raise ImportError(
-            "plotting needs matplotlib: pip install matplotlib (or install fastline with its "
-            '"plot" extra, pip install ".[plot]")'
+            'plotting needs matplotlib: pip install matplotlib (the "plot" extra of '
+            "fastline-contact)"
         ) from None
     fig = Figure(figsize=size)
     # fixed margins (no tight/constrained layout pass: each costs a full draw); the right
     # margin holds the legend
     fig.subplots_adjust(left=0.13, right=0.66, bottom=0.15, top=0.96)
-    return fig, fig.add_subplot()
+    return fig, fig.add_subplot(), True
 
 
 def _series(results) -> dict:
@@ -72,6 +72,13 @@ def _series(results) -> dict:
 def _legend(ax) -> None:
     """Legend outside the axes, on the right (never over the data)."""
     ax.legend(loc="upper left", bbox_to_anchor=(1.02, 1.0), fontsize=8, frameon=False)
+
+
+def _no_outside_legend(fig, ax, own: bool) -> None:
+    """Give the right margin back to the axes of a figure made here without an outer legend."""
+    if own and len(fig.axes) == 1:
+        fig.subplots_adjust(left=0.19, right=0.96)
+        fig.set_size_inches(4.6, fig.get_size_inches()[1])
 
 
 def _sorted(results):
@@ -91,7 +98,7 @@ def plot_psd(psds, *, q=None, ax=None):
     """
     if not isinstance(psds, Mapping):
         psds = {None: psds}
-    fig, ax = _figure(ax)
+    fig, ax, own = _figure(ax)
     if q is None:
         lo = min(p.q0 for p in psds.values())
         hi = max(p.q1 for p in psds.values())
@@ -104,7 +111,9 @@ def plot_psd(psds, *, q=None, ax=None):
     ax.set_xlabel(r"wavenumber $q$ (1/m)")
     ax.set_ylabel(r"$C(q)$ (m$^4$)")
     if any(k is not None for k in psds):
-        _legend(ax)
+        # spectra fall from top left to bottom right: the lower left corner is free
+        ax.legend(loc="lower left", fontsize=8, frameon=False)
+    _no_outside_legend(fig, ax, own)
     return fig
 
 
@@ -122,7 +131,7 @@ def plot_profile(result, *, hertz: bool = True, label: str | None = None, ax=Non
     """
     from fastline.limits import hertz_line_contact
 
-    fig, ax = _figure(ax)
+    fig, ax, _ = _figure(ax)
     x_mm = result.x * 1e3
     if label is None:
         label = f"{result.model}, $\\alpha$ = {result.alpha:.3g}"
@@ -161,7 +170,7 @@ def plot_w_over_s(results, *, ax=None):
     from fastline.limits import WS_GAUSSIAN, WS_HERTZ
 
     series = _series(results)
-    fig, ax = _figure(ax)
+    fig, ax, own = _figure(ax)
     allv = []
     for label, rs in series.items():
         rs = _sorted(rs)
@@ -169,12 +178,24 @@ def plot_w_over_s(results, *, ax=None):
         ws = [r.w_over_s for r in rs]
         allv += ws
         ax.semilogx(a, ws, "o-", ms=3, lw=1.2, label=label)
-    ax.axhline(WS_HERTZ, ls="--", color="k", lw=0.8, label=r"Hertz: $2\sqrt{3}$")
-    ax.axhline(WS_GAUSSIAN, ls=":", color="k", lw=0.8, label=r"Gaussian: $2\sqrt{2\ln 2}$")
     ax.set_ylim(*_ws_limits(allv))
+    # reference lines labelled on the line, where the usual curve is far from it: Hertz on the
+    # right (large alpha), Gaussian on the left (small alpha)
+    for y, ls, text, x, ha in (
+        (WS_HERTZ, "--", r"Hertz: $2\sqrt{3}$ = 3.464", 0.98, "right"),
+        (WS_GAUSSIAN, ":", r"Gaussian: $2\sqrt{2\ln 2}$ = 2.355", 0.02, "left"),
+    ):
+        ax.axhline(y, ls=ls, color="k", lw=0.8)
+        ax.annotate(
+            text, (x, y), xycoords=("axes fraction", "data"), xytext=(0, 2),
+            textcoords="offset points", ha=ha, va="bottom", fontsize=8,
+        )  # fmt: skip
     ax.set_xlabel(_ALPHA_LABEL)
     ax.set_ylabel(_WS_LABEL)
-    _legend(ax)
+    if any(k is not None for k in series):
+        _legend(ax)
+    else:
+        _no_outside_legend(fig, ax, own)
     return fig
 
 
@@ -200,7 +221,7 @@ def plot_p0_ratio(results, *, gamma_u=None, ax=None):
     from fastline.limits import p0_ratio_gaussian
 
     series = _series(results)
-    fig, ax = _figure(ax)
+    fig, ax, _ = _figure(ax)
     top = 1.0
     for k, (label, rs) in enumerate(series.items()):
         rs = _sorted(rs)
@@ -241,13 +262,14 @@ def plot_sweep(results, *, gamma_u=None):
     -------
     matplotlib.figure.Figure
     """
-    fig, _ = _figure(None, size=(10.0, 3.8))
+    fig, _, _ = _figure(None, size=(10.0, 3.8))
     fig.clear()
     fig.subplots_adjust(left=0.07, right=0.83, bottom=0.15, top=0.96, wspace=0.28)
     ax1, ax2 = fig.subplots(1, 2)
     plot_w_over_s(results, ax=ax1)
     plot_p0_ratio(results, gamma_u=gamma_u, ax=ax2)
-    ax1.get_legend().remove()
+    if ax1.get_legend() is not None:  # one legend (the right panel's) is enough
+        ax1.get_legend().remove()
     return fig
 
 
