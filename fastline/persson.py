@@ -1,6 +1,6 @@
 """Persson contact theory for randomly rough surfaces: P(q, p), u(p) and its inverse p(u).
 
-Equations (THEORY.md section 3; Persson, J. Chem. Phys. 115, 3840 (2001); Yang & Persson,
+Equations (docs/theory.md section 3; Persson, J. Chem. Phys. 115, 3840 (2001); Yang & Persson,
 J. Phys.: Condens. Matter 20, 215214 (2008)), with ``A(q) = pi int_{q0}^q q'^3 C dq'`` and
 ``w(q) = A(q)^(-1/2)``:
 
@@ -404,7 +404,7 @@ class PerssonTheory:
         self._s = np.ascontiguousarray(w / self.E_star)  # x_j = s_j p
         self._w1 = 1.0 / math.sqrt(float(psd.cumulative(psd.q1)))
 
-        # exponential law from the small-x expansion of F (THEORY.md section 3)
+        # exponential law from the small-x expansion of F (docs/theory.md section 3)
         total = float(self._W.sum())
         u0 = self.gamma * total
         ln_w_mean = float(np.dot(self._W, np.log(w))) / total

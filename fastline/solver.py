@@ -1,4 +1,4 @@
-"""The line-contact solver: nominal pressure p(x) under a cylinder (THEORY.md section 4).
+"""The line-contact solver: nominal pressure p(x) under a cylinder (docs/theory.md section 4).
 
 Equations (paper eqs. 3-4): unknown pressure ``p(x) > 0`` and rigid approach ``u1`` with
 
@@ -13,7 +13,7 @@ Methods
     without underflow) in the u(p) form ``r = u_law(p) - (u1 + x^2/2R + K p)``. With
     ``dp = p dv`` each step solves ``(D + K) dp + du1 = r``, ``sum(dp) = 0`` (the load is
     restored exactly by a log-sum-exp normalisation of v after the step), ``D = |du_law/dp|``:
-    symmetric positive definite on zero-load increments (THEORY.md section 4), solved by
+    symmetric positive definite on zero-load increments (docs/theory.md section 4), solved by
     projected preconditioned conjugate gradients with K applied by FFT, to a
     relative accuracy that tightens as Newton converges (inexact Newton, Eisenstat-Walker
     forcing). The preconditioner inverts a circulant of K on the loaded core (where K
@@ -512,7 +512,7 @@ def solve_line_contact(
         mean asperity pressure h' E*/2 exceeds it (plastic flow of asperities likely).
     warn : bool
         Emit a ``ConvergenceWarning`` when the solve does not converge, and the diagnostics'
-        ``ValidityWarning`` s (regime, exponential-law range, plasticity, half-space).
+        ``ValidityWarning`` s, one per cause (see :func:`fastline.diagnostics.assess`).
 
     Returns
     -------
