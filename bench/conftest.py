@@ -1,33 +1,21 @@
-"""Shared scene and fixtures for the fastline benchmarks (paper section 3 scene)."""
+"""Shared scene and fixtures for the fastline benchmarks (paper section 3 scene).
+
+The scene itself (surfaces, E*, R, ``load_for_alpha``) is defined once, in :mod:`fastline.paper`.
+"""
 
 from __future__ import annotations
-
-import math
 
 import numpy as np
 import pytest
 
 import fastline as fl
+from fastline.paper import E_STAR, RADIUS, load_for_alpha, surfaces
 
-E_STAR = 1.33e9  # Pa
-RADIUS = 0.01  # m
+__all__ = ["ALPHAS", "E_STAR", "PICARD_CAP", "RADIUS", "SWEEP_LOADS", "load_for_alpha", "surfaces"]
+
 ALPHAS = (1e-4, 1e-3, 1e-2, 0.1, 1.0, 10.0, 100.0, 1e3)
 PICARD_CAP = 2000
 SWEEP_LOADS = np.geomspace(1e3, 1.5e6, 25)  # N/m
-
-
-def surfaces():
-    """The paper's three surfaces (q1 = 1e9 1/m)."""
-    return (
-        fl.SelfAffinePSD(10e-6, 0.8, 1e3, 1e4, 1e9),
-        fl.SelfAffinePSD(10e-6, 1.0, 1e3, 1e4, 1e9),
-        fl.SelfAffinePSD(1e-6, 0.8, 1e3, 1e4, 1e9),
-    )
-
-
-def load_for_alpha(alpha, h_rms=10e-6, E_star=E_STAR):
-    """f_N with h_rms / delta = alpha, delta = 4 f_N / (pi E*)."""
-    return math.pi / 4.0 * h_rms * E_star / alpha
 
 
 @pytest.fixture(scope="session")

@@ -9,16 +9,25 @@ f_N = (pi/4) h_rms E* / alpha (so that alpha = h_rms / delta, delta = 4 f_N / (p
 
 from __future__ import annotations
 
-import math
 import os
 import sys
 import time
 
 import fastline as fl
-from fastline.cli import PAPER_E_STAR, PAPER_Q0, PAPER_QR, PAPER_RADIUS, PAPER_SURFACES, main
+from fastline.cli import main
+from fastline.io import write_csv
 from fastline.line_contact import solve_line_contact
+from fastline.paper import E_STAR as PAPER_E_STAR
+from fastline.paper import Q0 as PAPER_Q0
+from fastline.paper import QR as PAPER_QR
+from fastline.paper import RADIUS as PAPER_RADIUS
+from fastline.paper import SURFACES as PAPER_SURFACES
+from fastline.paper import load_for_alpha
 
 HERE = os.path.dirname(os.path.abspath(__file__))
+sys.path.insert(0, HERE)
+import beyond_exponential as be  # noqa: E402  (docs/beyond_exponential.py)
+
 IMG = os.path.join(HERE, "img")
 ALPHAS = (0.001, 0.01, 0.1, 1.0, 10.0)
 Q1S = (1e7, 1e9, 1e10)
@@ -31,12 +40,46 @@ def scene_values(h, H, q1):
     th = fl.PerssonTheory(psd, PAPER_E_STAR)
     out = {}
     for a in ALPHAS:
-        load = math.pi / 4.0 * h * PAPER_E_STAR / a
-        r = solve_line_contact(psd, PAPER_E_STAR, PAPER_RADIUS, load, theory=th, n=N)
+        load = float(load_for_alpha(a, h))
+        r = solve_line_contact(psd, PAPER_E_STAR, PAPER_RADIUS, load, theory=th, n=N, warn=False)
         if not r.converged:
             raise RuntimeError(f"not converged: h={h}, H={H}, q1={q1}, alpha={a}")
         out[a] = (load, r.p0_ratio, r.w_over_s)
     return th.exponential_fit().gamma_u, out
+
+
+def beyond_exponential_section() -> list[str]:
+    """Figure, CSV and table of docs/theory.md section 6 (w/s below the Gaussian value)."""
+    data = be.study()
+    be.figure(data, os.path.join(IMG, "ws_beyond_exponential.png"))
+    cols = ["alpha", "load", "p0_over_beta_E", "ws", "ws_n4", "ws_exponential", "ws_rigid"]
+    cols += ["fwhm", "converged"]
+    write_csv(
+        os.path.join(IMG, "ws_beyond_exponential.csv"),
+        cols,
+        [[r[c] for c in cols] for r in data["rows"]],
+        {"scene": be.__doc__.splitlines()[0], "h_rms_m": be.H_RMS, "hurst": be.HURST,
+         "q0_qr_1_per_m": be.Q0, "q1_1_per_m": be.Q1, "E_star_Pa": be.E_STAR,
+         "radius_m": be.RADIUS, "beta": data["fit"].beta, "u0_m": data["fit"].u0},
+    )  # fmt: skip
+    L = ["", "## Beyond the exponential law: w/s below the Gaussian value", ""]
+    L.append(
+        f"The scene of [theory, section 6](theory.md#6-beyond-the-exponential-law-ws-below-the-"
+        f"gaussian-value): h_rms = {be.H_RMS:g} m, H = {be.HURST:g}, no roll-off (q0 = qr = "
+        f"{be.Q0:g} 1/m), q1 = {be.Q1:g} 1/m, E* = {be.E_STAR:g} Pa, R = {be.RADIUS:g} m; "
+        f"beta = {data['fit'].beta:.4g}, u0 = {data['fit'].u0:.4g} m. 'rigid' is the w/s of "
+        "p(x) = p_law(u1 + x^2/2R), the full law without any elastic deformation."
+    )
+    L += ["", "| alpha | f_N (N/m) | p0/(beta E*) | w/s, n = 1024 | w/s, n = 4096 | "
+          "w/s, exponential law | w/s, rigid | FWHM (µm) |", "|" + "---:|" * 8]  # fmt: skip
+    for r in data["rows"]:
+        L.append(
+            f"| {r['alpha']:g} | {r['load']:.4g} | {r['p0_over_beta_E']:.3g} | {r['ws']:.4f} | "
+            f"{r['ws_n4']:.4f} | {r['ws_exponential']:.4f} | {r['ws_rigid']:.4f} | "
+            f"{1e6 * r['fwhm']:.1f} |"
+        )
+    L.append("")
+    return L
 
 
 def main_script() -> int:
@@ -85,6 +128,8 @@ def main_script() -> int:
     w("")
     w("![C(q) of surfaces 1-3](img/fig2_psd.png)")
     w("")
+    w("*Fig. 2. Power spectra C(q) of the paper's surfaces 1-3 (log-log).*")
+    w("")
     w("## Fig. 3: pressure profile, rough vs smooth")
     w("")
     w(
@@ -94,6 +139,11 @@ def main_script() -> int:
     w("")
     w("![p(x), rough vs Hertz](img/fig3_profile.png)")
     w("")
+    w(
+        "*Fig. 3. Nominal pressure p(x) of surface 1 at f_N = 10 kN/m (solid) and the Hertz "
+        "profile at the same load (dashed).*"
+    )
+    w("")
     w("## Fig. 4: w/s versus alpha")
     w("")
     w(
@@ -102,7 +152,9 @@ def main_script() -> int:
         "plotted against alpha = h_rms/delta, as the paper finds."
     )
     w("")
-    w("![w/s vs log10 alpha](img/fig4_ws.png)")
+    w("![w/s vs alpha](img/fig4_ws.png)")
+    w("")
+    w("*Fig. 4. w/s against alpha = h_rms/delta for surfaces 1-3 (40 loads each).*")
     w("")
     w("## Fig. 5: peak-pressure ratio versus alpha")
     w("")
@@ -117,7 +169,12 @@ def main_script() -> int:
     for label, _h, _H in PAPER_SURFACES:
         w(f"| {label} | " + " | ".join(f"γ_u = {data[(label, q)][0]:.4f}" for q in Q1S) + " |")
     w("")
-    w("![p0 ratio vs log10 alpha](img/fig5_p0ratio.png)")
+    w("![p0 ratio vs alpha](img/fig5_p0ratio.png)")
+    w("")
+    w(
+        "*Fig. 5. p0(rough)/p0(Hertz) against alpha (points) and the Gaussian-limit asymptote, "
+        "eq. 14, with each surface's own γ_u (dashed; it exceeds the axis at small alpha).*"
+    )
     w("")
     w("## Numbers at fixed alpha")
     w("")
@@ -187,6 +244,7 @@ def main_script() -> int:
         "on h_rms alone."
     )
     w("")
+    L += beyond_exponential_section()
     with open(os.path.join(HERE, "reproduction.md"), "w", encoding="utf-8") as fh:
         fh.write("\n".join(L))
     print(f"wrote {os.path.join(HERE, 'reproduction.md')}")

@@ -4,7 +4,8 @@ Full Persson contact theory (compiled with Numba) and a fast line-contact solver
 (log-kernel convolution by zero-padded FFT). See README.md and docs/.
 """
 
-from fastline.diagnostics import ValidityWarning, assess
+from fastline import io, paper, plotting  # light: matplotlib loads on first plot
+from fastline.diagnostics import ValidityWarning, assess, warn_once
 from fastline.elastic import LogKernelOperator, influence_coefficients
 from fastline.laws import ExponentialLaw, PerssonLaw, PressureLaw, TabulatedLaw
 from fastline.limits import (
@@ -69,4 +70,8 @@ __all__ = [
     "ConvergenceWarning",
     "ValidityWarning",
     "assess",
+    "warn_once",
+    "io",
+    "paper",
+    "plotting",
 ]

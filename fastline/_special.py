@@ -1,4 +1,4 @@
-"""The universal function F(x0) of the Persson separation integral (THEORY.md section 3).
+"""The universal function F(x0) of the Persson separation integral (docs/theory.md section 3).
 
     F(x0) = int_{x0}^inf (1/x) [gamma + 3 (1 - gamma) erf(x)^2] exp(-x^2) dx
           = gamma * E1(x0^2) / 2 + 3 (1 - gamma) * G(x0),
@@ -151,7 +151,7 @@ def _F_vec(x, gamma, c1, c2, c3, out):
 
 
 def universal_F(x0, gamma: float = 0.45) -> np.ndarray:
-    """Evaluate F(x0) (THEORY.md section 3) for x0 > 0, vectorised.
+    """Evaluate F(x0) (docs/theory.md section 3) for x0 > 0, vectorised.
 
     Parameters
     ----------

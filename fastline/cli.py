@@ -1,5 +1,12 @@
 """Command-line interface: ``fastline paper | profile | sweep`` (also ``python -m fastline``).
 
+Argument parsing and printing only: the scenes of the paper live in :mod:`fastline.paper`,
+files in :mod:`fastline.io`, figures in :mod:`fastline.plotting`, validity checks in
+:mod:`fastline.diagnostics`.
+
+Exit status: 0 done; 1 a solve did not converge (results are still printed and written);
+2 bad usage or input (one ``fastline: error: ...`` line on stderr, nothing solved).
+
 SI units throughout: lengths in m, wavenumbers in 1/m, spectra C(q) in m^4, pressures and
 moduli in Pa, loads per unit cylinder length in N/m.
 """
@@ -8,24 +15,9 @@ from __future__ import annotations
 
 import argparse
 import math
-import os
+import re
 import sys
 import time
-import warnings
-
-import numpy as np
-
-PAPER_E_STAR = 1.33e9  # Pa
-PAPER_RADIUS = 0.01  # m
-PAPER_FIG3_LOAD = 1e4  # N/m
-PAPER_LOADS = (1e3, 1.5e6)  # N/m
-PAPER_Q0, PAPER_QR = 1e3, 1e4  # 1/m
-#: (label, h_rms [m], Hurst exponent) of the paper's three surfaces
-PAPER_SURFACES = (
-    ("surface 1", 10e-6, 0.8),
-    ("surface 2", 10e-6, 1.0),
-    ("surface 3", 1e-6, 0.8),
-)
 
 DESCRIPTION = """\
 fastline: nominal contact pressure of a rigid cylinder (radius R) pressed onto a randomly rough
@@ -35,14 +27,22 @@ result is the pressure profile p(x) across the contact line, its peak p0, width 
 deviation s, full width at half maximum w) and how far it is from the smooth Hertz solution,
 measured by alpha = h_rms / delta (delta = 4 f_N / (pi E*), the Hertz penetration).
 
-SI units everywhere: m, 1/m, m^4, Pa, N/m (load per unit cylinder length)."""
+SI units everywhere: m, 1/m, m^4, Pa, N/m (load per unit cylinder length).
+Exit status: 0 done, 1 a solve did not converge, 2 bad usage or input."""
 
 EPILOG = """\
 examples:
   fastline profile --h-rms 10e-6 --hurst 0.8 --load 1e4 --csv p.csv --plot p.png
-  fastline profile --psd measured.txt --E1 2.1e11 --nu1 0.3 --E2 5e6 --nu2 0.49 --load 500
+  fastline profile --psd examples/psd_example.txt --E1 2.1e11 --nu1 0.3 --E2 5e6 --nu2 0.49 \\
+                   --load 500
   fastline sweep --h-rms 1e-6 --loads-from 1e3 --loads-to 1e6 --loads-num 30 --csv sweep.csv
-  fastline paper --out figs/"""
+  fastline paper --out figs/ --format pdf"""
+
+#: defaults of the self-affine spectrum options (the paper's surface 1)
+SPECTRUM_DEFAULTS = {"h_rms": 10e-6, "hurst": 0.8, "q0": 1e3, "qr": 1e4, "q1": 1e9}
+_SPECTRUM_FLAGS = {"h_rms": "--h-rms", "hurst": "--hurst", "q0": "--q0", "qr": "--qr", "q1": "--q1"}
+# a negative number as an option value ("--load -1e4"): argparse would take it for an option
+_NEGATIVE_NUMBER = re.compile(r"^-(\d+\.?\d*|\.\d+)([eE][-+]?\d+)?$|^-(inf|nan)$", re.IGNORECASE)
 
 
 class CLIError(Exception):
@@ -86,58 +86,63 @@ def _count(text: str) -> int:
     return v
 
 
+def _gamma(text: str) -> float:
+    v = _number(text)
+    if not 0.0 < v <= 1.0:
+        raise argparse.ArgumentTypeError(f"must lie in (0, 1], got {text!r}")
+    return v
+
+
+def _join_negative_values(argv: list[str]) -> list[str]:
+    """``["--load", "-1e4"]`` -> ``["--load=-1e4"]`` so the option's own check reports it."""
+    out: list[str] = []
+    for tok in argv:
+        prev = out[-1] if out else ""
+        if _NEGATIVE_NUMBER.match(tok) and prev.startswith("--") and "=" not in prev:
+            out[-1] = f"{prev}={tok}"
+        else:
+            out.append(tok)
+    return out
+
+
 # ----------------------------------------------------------------------------------------------
 # parser
 # ----------------------------------------------------------------------------------------------
-def _scene_options(parser: argparse.ArgumentParser, load: bool) -> None:
+def _spectrum_options(parser: argparse.ArgumentParser) -> None:
     g = parser.add_argument_group(
         "roughness spectrum",
         "Self-affine spectrum with roll-off: C(q) = C0 for q0 <= q < qr, C0 (q/qr)^(-2(1+H)) for "
         "qr <= q <= q1, normalised so that h_rms^2 = 2 pi int q C(q) dq (Persson's isotropic "
-        "convention). Use the combined spectrum of both surfaces (C = C1 + C2). Defaults: the "
-        "paper's surface 1.",
+        "convention), or a measured spectrum (--psd, not combined with the others). Use the "
+        "combined spectrum of both surfaces (C = C1 + C2). Defaults: the paper's surface 1.",
     )
     g.add_argument(
-        "--h-rms",
-        type=_positive,
-        default=10e-6,
-        metavar="M",
-        help="rms roughness amplitude h_rms [m] (default 10e-6)",
+        "--h-rms", type=_positive, metavar="M", help="rms roughness h_rms [m] (default 10e-6)"
     )
     g.add_argument(
-        "--hurst",
-        type=_number,
-        default=0.8,
-        metavar="H",
-        help="Hurst exponent H [-], 0 < H <= 1 (default 0.8)",
+        "--hurst", type=_number, metavar="H", help="Hurst exponent H [-], 0 < H <= 1 (default 0.8)"
     )
     g.add_argument(
-        "--q0",
-        type=_positive,
-        default=PAPER_Q0,
-        metavar="1/M",
-        help="smallest wavenumber q0 [1/m] (default 1e3)",
+        "--q0", type=_positive, metavar="1/M", help="smallest wavenumber q0 [1/m] (default 1e3)"
     )
     g.add_argument(
-        "--qr",
-        type=_positive,
-        default=PAPER_QR,
-        metavar="1/M",
-        help="roll-off wavenumber qr [1/m] (default 1e4)",
+        "--qr", type=_positive, metavar="1/M", help="roll-off wavenumber qr [1/m] (default 1e4)"
     )
     g.add_argument(
         "--q1",
         type=_positive,
-        default=1e9,
         metavar="1/M",
         help="large-wavenumber cut-off q1 [1/m] (default 1e9)",
     )
     g.add_argument(
         "--psd",
         metavar="FILE",
-        help="measured isotropic spectrum instead: two columns q [1/m] and C(q) "
-        "[m^4], whitespace- or comma-separated, '#' starts a comment",
+        help="measured isotropic spectrum: two columns q [1/m] and C(q) [m^4], whitespace- or "
+        "comma-separated, '#' starts a comment (e.g. examples/psd_example.txt)",
     )
+
+
+def _material_options(parser: argparse.ArgumentParser, load: bool) -> None:
     m = parser.add_argument_group(
         "material and geometry",
         "Give the effective modulus directly or the two solids' elastic constants "
@@ -157,7 +162,7 @@ def _scene_options(parser: argparse.ArgumentParser, load: bool) -> None:
     m.add_argument(
         "--radius",
         type=_positive,
-        default=PAPER_RADIUS,
+        default=0.01,
         metavar="M",
         help="cylinder radius R [m] (default 0.01)",
     )
@@ -165,18 +170,28 @@ def _scene_options(parser: argparse.ArgumentParser, load: bool) -> None:
         m.add_argument(
             "--load",
             type=_positive,
-            default=PAPER_FIG3_LOAD,
+            default=1e4,
             metavar="N/M",
             help="normal load per unit cylinder length f_N [N/m] (default 1e4)",
         )
+
+
+def _numerics_options(parser: argparse.ArgumentParser, model: bool = True) -> None:
     s = parser.add_argument_group("model and numerics")
+    if model:
+        s.add_argument(
+            "--model",
+            choices=("persson", "exponential", "hertz"),
+            default="persson",
+            help="pressure-separation law: full Persson theory (default), its exponential "
+            "approximation p = beta E* exp(-u/u0), or smooth Hertz contact",
+        )
     s.add_argument(
-        "--model",
-        choices=("persson", "exponential", "hertz"),
-        default="persson",
-        help="pressure-separation law: full Persson theory (default), its "
-        "exponential approximation p = beta E* exp(-u/u0), or smooth Hertz "
-        "contact",
+        "--gamma",
+        type=_gamma,
+        default=0.45,
+        metavar="G",
+        help="Yang-Persson parameter gamma of the theory, in (0, 1] (default 0.45)",
     )
     s.add_argument(
         "--n",
@@ -186,29 +201,51 @@ def _scene_options(parser: argparse.ArgumentParser, load: bool) -> None:
         help="grid points across the contact (default 1024, at least 16)",
     )
     s.add_argument(
+        "--max-iter",
+        type=_count,
+        metavar="K",
+        help="Newton steps allowed per solve (default: the solver's, 100)",
+    )
+    s.add_argument(
         "--hardness",
         type=_positive,
         metavar="PA",
-        help="indentation hardness of the softer solid [Pa]: warns when the elastic "
-        "mean asperity pressure h' E*/2 exceeds it (plastic flow likely)",
+        help="indentation hardness of the softer solid [Pa]: warns when the elastic mean "
+        "asperity pressure h' E*/2 exceeds it (plastic flow likely)",
+    )
+
+
+def _figure_options(parser: argparse.ArgumentParser) -> None:
+    g = parser.add_argument_group("figures")
+    g.add_argument(
+        "--format",
+        choices=("png", "pdf", "svg"),
+        help="figure format (default: from the file name's extension, else png)",
+    )
+    g.add_argument(
+        "--dpi",
+        type=_positive,
+        metavar="DPI",
+        help="resolution of PNG figures in dots per inch (default 150)",
     )
 
 
 def build_parser() -> argparse.ArgumentParser:
-    fmt = argparse.RawDescriptionHelpFormatter
-    parser = _Parser(prog="fastline", description=DESCRIPTION, epilog=EPILOG, formatter_class=fmt)
+    """The ``fastline`` argument parser (commands ``paper``, ``profile``, ``sweep``)."""
     from fastline import __version__
 
+    fmt = argparse.RawDescriptionHelpFormatter
+    parser = _Parser(prog="fastline", description=DESCRIPTION, epilog=EPILOG, formatter_class=fmt)
     parser.add_argument("--version", action="version", version=f"fastline {__version__}")
     sub = parser.add_subparsers(dest="command", metavar="COMMAND")
 
     p = sub.add_parser(
         "paper",
-        help="reproduce the paper's Figs. 2-5 (PNG + CSV each)",
+        help="reproduce the paper's Figs. 2-5 (a figure + CSV each)",
         formatter_class=fmt,
         description="Reproduce Figs. 2-5 of Tiwari & Persson: C(q) of surfaces 1-3 (fig2_psd), "
-        "p(x) rough vs Hertz at f_N = 1e4 N/m (fig3_profile), w/s vs log10 alpha (fig4_ws) and "
-        "p0(rough)/p0(Hertz) vs log10 alpha with the Gaussian asymptote, eq. 14 (fig5_p0ratio). "
+        "p(x) rough vs Hertz at f_N = 1e4 N/m (fig3_profile), w/s vs alpha (fig4_ws) and "
+        "p0(rough)/p0(Hertz) vs alpha with the Gaussian asymptote, eq. 14 (fig5_p0ratio). "
         "E* = 1.33 GPa, R = 1 cm, q0 = 1e3 1/m, qr = 1e4 1/m.",
     )
     p.add_argument("--out", required=True, metavar="DIR", help="output directory (created)")
@@ -226,24 +263,22 @@ def build_parser() -> argparse.ArgumentParser:
         metavar="1/M",
         help="large-wavenumber cut-off q1 [1/m] (the paper does not state it; default 1e9)",
     )
-    p.add_argument(
-        "--n",
-        type=_count,
-        default=1024,
-        metavar="N",
-        help="grid points across the contact (default 1024)",
-    )
+    _numerics_options(p, model=False)
+    _figure_options(p)
 
     p = sub.add_parser(
         "profile",
         help="solve one scene: p(x), p0, widths, regime, diagnostics",
         formatter_class=fmt,
-        description="Solve one cylinder-on-flat scene and print the peak pressure, widths, "
-        "alpha, regime, validity diagnostics and solver convergence.",
+        description="Solve one cylinder-on-flat scene and print the spectrum, the peak pressure, "
+        "widths, alpha, regime, validity diagnostics and solver convergence.",
     )
-    _scene_options(p, load=True)
+    _spectrum_options(p)
+    _material_options(p, load=True)
+    _numerics_options(p)
     p.add_argument("--csv", metavar="FILE", help="write x [m], p [Pa], u [m] columns to FILE")
-    p.add_argument("--plot", metavar="FILE", help="write a PNG of p(x) with Hertz to FILE")
+    p.add_argument("--plot", metavar="FILE", help="write a figure of p(x) with Hertz to FILE")
+    _figure_options(p)
 
     p = sub.add_parser(
         "sweep",
@@ -252,7 +287,8 @@ def build_parser() -> argparse.ArgumentParser:
         description="Solve the scene for log-spaced loads and tabulate alpha, p0, p0 ratio, "
         "s, w and w/s.",
     )
-    _scene_options(p, load=False)
+    _spectrum_options(p)
+    _material_options(p, load=False)
     p.add_argument(
         "--loads-from",
         type=_positive,
@@ -270,59 +306,25 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument(
         "--loads-num", type=_count, default=20, metavar="N", help="number of loads (default 20)"
     )
+    _numerics_options(p)
     p.add_argument(
         "--csv",
         metavar="FILE",
         help="write the table (load [N/m], alpha, p0 [Pa], p0_ratio, s [m], w [m], "
         "w_over_s, converged) to FILE",
     )
-    p.add_argument("--plot", metavar="FILE", help="write a PNG of w/s and p0 ratio vs alpha")
+    p.add_argument("--plot", metavar="FILE", help="write a figure of w/s and p0 ratio vs alpha")
+    _figure_options(p)
     return parser
 
 
 # ----------------------------------------------------------------------------------------------
-# helpers
+# scene, outputs, printing
 # ----------------------------------------------------------------------------------------------
-def _pyplot():
-    try:
-        import matplotlib
-    except ImportError:
-        raise CLIError("plotting needs matplotlib: pip install fastline[plot]") from None
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-
-    return plt
-
-
-def read_psd_file(path: str):
-    """Read a two-column spectrum file (q [1/m], C [m^4]) into a TabulatedPSD."""
-    import fastline as fl
-
-    rows = []
-    try:
-        with open(path, encoding="utf-8") as fh:
-            for k, line in enumerate(fh, 1):
-                line = line.split("#", 1)[0].replace(",", " ").strip()
-                if not line:
-                    continue
-                parts = line.split()
-                if len(parts) != 2:
-                    raise CLIError(f"{path}:{k}: expected two columns q [1/m] and C [m^4]")
-                try:
-                    rows.append((float(parts[0]), float(parts[1])))
-                except ValueError:
-                    raise CLIError(f"{path}:{k}: not a number in {line!r}") from None
-    except OSError as e:
-        raise CLIError(f"cannot read spectrum file {path}: {e.strerror}") from None
-    if len(rows) < 2:
-        raise CLIError(f"{path}: need at least two (q, C) rows")
-    q, C = np.array(rows).T
-    return fl.TabulatedPSD(q, C)
-
-
 def _scene(args):
-    """(psd, E_star) from the scene options."""
+    """(psd, E_star, source file or None) from the scene options."""
     import fastline as fl
+    from fastline.io import read_spectrum
 
     elastic = [args.E1, args.nu1, args.E2, args.nu2]
     if any(v is not None for v in elastic):
@@ -332,291 +334,115 @@ def _scene(args):
             raise CLIError("--E1, --nu1, --E2 and --nu2 must be given together")
         E_star = fl.effective_modulus(args.E1, args.nu1, args.E2, args.nu2)
     else:
-        E_star = PAPER_E_STAR if args.E_star is None else args.E_star
+        E_star = 1.33e9 if args.E_star is None else args.E_star
+    given = [flag for key, flag in _SPECTRUM_FLAGS.items() if getattr(args, key) is not None]
     if args.psd is not None:
-        psd = read_psd_file(args.psd)
-    else:
-        psd = fl.SelfAffinePSD(args.h_rms, args.hurst, args.q0, args.qr, args.q1)
-    return psd, E_star
+        if given:
+            raise CLIError(
+                f"--psd cannot be combined with {', '.join(given)}: the file defines the spectrum"
+            )
+        return read_spectrum(args.psd), E_star, args.psd
+    spec = {
+        k: v if getattr(args, k) is None else getattr(args, k) for k, v in SPECTRUM_DEFAULTS.items()
+    }
+    return fl.SelfAffinePSD(**spec), E_star, None
 
 
-def _progress(i: int, n: int, label: str = "", width: int = 30) -> None:
-    done = int(width * i / n)
-    bar = "#" * done + "-" * (width - done)
-    sys.stderr.write(f"\r[{bar}] {i}/{n} {label:<12}")
-    if i == n:
-        sys.stderr.write("\n")
-    sys.stderr.flush()
+def _check_outputs(args) -> None:
+    """Check every output path before any solve."""
+    from fastline.io import check_output_dir, check_output_file
+
+    for name in ("csv", "plot"):
+        path = getattr(args, name, None)
+        if path is not None:
+            check_output_file(path)
+    if getattr(args, "plot", None) is not None or getattr(args, "out", None) is not None:
+        _require_matplotlib()
+    if getattr(args, "out", None) is not None:
+        check_output_dir(args.out)
 
 
-def _write_csv(path: str, header: list[str], rows, comment: str = "") -> None:
-    try:
-        with open(path, "w", encoding="utf-8") as fh:
-            for line in comment.splitlines():
-                fh.write(f"# {line}\n")
-            fh.write(",".join(header) + "\n")
-            for row in rows:
-                fh.write(",".join(_fmt(v) for v in row) + "\n")
-    except OSError as e:
-        raise CLIError(f"cannot write {path}: {e.strerror}") from None
+def _require_matplotlib() -> None:
+    import importlib.util
+
+    if sys.modules.get("matplotlib", 0) is None or importlib.util.find_spec("matplotlib") is None:
+        raise CLIError(
+            'plotting needs matplotlib: pip install matplotlib (the "plot" extra of '
+            "fastline-contact)"
+        )
 
 
-def _fmt(v) -> str:
-    if isinstance(v, (bool, np.bool_)):
-        return str(int(v))
-    if isinstance(v, str):
-        return v
-    return repr(float(v))
+def _spectrum_line(psd, source) -> str:
+    from fastline.io import spectrum_summary
 
-
-def _save(fig, path: str) -> None:
-    try:
-        fig.savefig(path, dpi=130)
-    except OSError as e:
-        raise CLIError(f"cannot write {path}: {e.strerror}") from None
-
-
-def _solve(psd, E_star, radius, load, theory, model, n):
-    from fastline.line_contact import solve_line_contact
-
-    return solve_line_contact(
-        psd, E_star, radius, load, model=model, n=n, theory=theory, warn=False
+    s = spectrum_summary(psd)
+    what = f"file {source}" if source else "self-affine"
+    return (
+        f"spectrum         {what}: h_rms {s['h_rms']:.4g} m, rms slope h' {s['rms_slope']:.4g}, "
+        f"q {s['q0']:.4g}-{s['q1']:.4g} 1/m (longest wavelength {s['longest_wavelength']:.3g} m)"
     )
 
 
-def _theory(psd, E_star, model):
+def _warn(msg: str) -> None:
+    print(f"fastline: warning: {msg}", file=sys.stderr)
+
+
+def _report_warnings(results) -> None:
+    """Print what the diagnostics found, once per cause, naming the loads."""
+    from fastline.diagnostics import summarise_warnings
+
+    for _cause, msg in summarise_warnings(results):
+        _warn(msg)
+
+
+def _convergence_status(results) -> int:
+    bad = [r for r in results if not r.converged]
+    if not bad:
+        return 0
+    loads = ", ".join(f"{r.load:.4g}" for r in bad[:5]) + (" ..." if len(bad) > 5 else "")
+    print(
+        f"fastline: error: {len(bad)} of {len(results)} solves did not converge (f_N = {loads} "
+        f"N/m): {bad[0].message}",
+        file=sys.stderr,
+    )
+    return 1
+
+
+def _progress(total: int, desc: str):
+    """A tqdm bar on stderr; silent when stderr is not a terminal (log files, pipes)."""
+    from tqdm import tqdm
+
+    return tqdm(total=total, desc=desc, unit="solve", file=sys.stderr, disable=None, leave=False)
+
+
+def _solve_kwargs(args, theory) -> dict:
+    return dict(
+        n=args.n,
+        gamma=args.gamma,
+        theory=theory,
+        max_iter=args.max_iter,
+        hardness=args.hardness,
+        warn=False,
+    )
+
+
+def _theory(psd, E_star, args):
+    if getattr(args, "model", "persson") == "hertz":
+        return None
     from fastline.persson import PerssonTheory
 
-    return PerssonTheory(psd, E_star)
+    return PerssonTheory(psd, E_star, gamma=args.gamma)
 
 
-def _print_warnings(msgs) -> None:
-    for m in msgs:
-        print(f"fastline: warning: {m}", file=sys.stderr)
+def _save(fig, path, args) -> None:
+    from fastline.plotting import save_figure
+
+    save_figure(fig, path, format=args.format, dpi=args.dpi)
 
 
 # ----------------------------------------------------------------------------------------------
 # commands
 # ----------------------------------------------------------------------------------------------
-def paper_data(q1: float = 1e9, loads: int = 40, n: int = 1024, progress: bool = True) -> dict:
-    """Compute the data behind the paper's Figs. 2-5 (no plotting, no files).
-
-    Returns a dict with ``surfaces`` (list of dicts: label, h_rms [m], hurst, psd, theory,
-    gamma_u, rows) where each row is (load [N/m], alpha, p0 [Pa], p0_ratio, s [m], w [m],
-    w_over_s, converged), plus ``fig3`` (x [m], p rough [Pa], p Hertz [Pa]) and ``loads``.
-    """
-    import fastline as fl
-
-    E, R = PAPER_E_STAR, PAPER_RADIUS
-    fN = np.logspace(math.log10(PAPER_LOADS[0]), math.log10(PAPER_LOADS[1]), loads)
-    surfaces = []
-    total, k = len(PAPER_SURFACES) * loads, 0
-    for label, h, H in PAPER_SURFACES:
-        psd = fl.SelfAffinePSD(h, H, PAPER_Q0, PAPER_QR, q1)
-        th = fl.PerssonTheory(psd, E)
-        rows = []
-        for f in fN:
-            r = _solve(psd, E, R, float(f), th, "persson", n)
-            rows.append((float(f), r.alpha, r.p0, r.p0_ratio, r.s, r.fwhm, r.w_over_s, r.converged))
-            k += 1
-            if progress:
-                _progress(k, total, label)
-        surfaces.append(
-            dict(
-                label=label,
-                h_rms=h,
-                hurst=H,
-                psd=psd,
-                theory=th,
-                gamma_u=th.exponential_fit().gamma_u,
-                rows=rows,
-            )
-        )
-    s1 = surfaces[0]
-    r = _solve(s1["psd"], E, R, PAPER_FIG3_LOAD, s1["theory"], "persson", n)
-    hz = fl.hertz_line_contact(E, R, PAPER_FIG3_LOAD)
-    fig3 = dict(x=r.x, p=r.pressure, p_hertz=hz.pressure(r.x), result=r, hertz=hz)
-    return dict(surfaces=surfaces, fig3=fig3, loads=fN, q1=q1, n=n)
-
-
-def cmd_paper(args) -> int:
-    plt = _pyplot()
-    import fastline as fl
-
-    try:
-        os.makedirs(args.out, exist_ok=True)
-    except OSError as e:
-        raise CLIError(f"cannot create {args.out}: {e.strerror}") from None
-    t0 = time.perf_counter()
-    data = paper_data(q1=args.q1, loads=args.loads, n=args.n, progress=True)
-    elapsed = time.perf_counter() - t0
-    out = args.out
-    surfs = data["surfaces"]
-    scene = (
-        f"E* = {PAPER_E_STAR:g} Pa, R = {PAPER_RADIUS:g} m, q0 = {PAPER_Q0:g} 1/m, "
-        f"qr = {PAPER_QR:g} 1/m, q1 = {args.q1:g} 1/m, n = {args.n}"
-    )
-    styles = ("C0", "C1", "C2")
-
-    # Fig. 2: spectra
-    q = np.logspace(math.log10(PAPER_Q0), math.log10(args.q1), 400)
-    Cs = [s["psd"](q) for s in surfs]
-    _write_csv(
-        os.path.join(out, "fig2_psd.csv"),
-        ["q_1_per_m", "C1_m4", "C2_m4", "C3_m4"],
-        zip(q, *Cs, strict=True),
-        "Fig. 2: C(q) of surfaces 1-3\n" + scene,
-    )
-    fig, ax = plt.subplots(figsize=(5.5, 4.2))
-    for s, C, c in zip(surfs, Cs, styles, strict=True):
-        ax.plot(
-            np.log10(q),
-            np.log10(C),
-            color=c,
-            label=f"{s['label']}: h_rms = {s['h_rms'] * 1e6:g} µm, H = {s['hurst']:g}",
-        )
-    ax.set_xlabel("log10 q (1/m)")
-    ax.set_ylabel("log10 C(q) (m$^4$)")
-    ax.legend(fontsize=8)
-    ax.set_title("Fig. 2: surface roughness power spectra", fontsize=10)
-    fig.tight_layout()
-    _save(fig, os.path.join(out, "fig2_psd.png"))
-    plt.close(fig)
-
-    # Fig. 3: profile
-    f3 = data["fig3"]
-    r3 = f3["result"]
-    _write_csv(
-        os.path.join(out, "fig3_profile.csv"),
-        ["x_m", "p_rough_Pa", "p_hertz_Pa"],
-        zip(f3["x"], f3["p"], f3["p_hertz"], strict=True),
-        f"Fig. 3: surface 1, f_N = {PAPER_FIG3_LOAD:g} N/m, alpha = {r3.alpha:.6g}\n" + scene,
-    )
-    fig, ax = plt.subplots(figsize=(5.5, 4.2))
-    ax.plot(f3["x"] * 1e3, f3["p"] / 1e6, "-", color="C0", label="rough (surface 1)")
-    ax.plot(f3["x"] * 1e3, f3["p_hertz"] / 1e6, "--", color="k", label="Hertz (smooth)")
-    lim = 1.3 * max(f3["hertz"].a, 2.5 * r3.s) * 1e3
-    ax.set_xlim(-lim, lim)
-    ax.set_xlabel("x (mm)")
-    ax.set_ylabel("nominal pressure p (MPa)")
-    ax.set_title(f"Fig. 3: f_N = {PAPER_FIG3_LOAD:g} N/m, alpha = {r3.alpha:.3g}", fontsize=10)
-    ax.legend(fontsize=8)
-    fig.tight_layout()
-    _save(fig, os.path.join(out, "fig3_profile.png"))
-    plt.close(fig)
-
-    # Figs. 4-5: sweeps
-    header = [
-        "surface",
-        "h_rms_m",
-        "hurst",
-        "load_N_per_m",
-        "alpha",
-        "log10_alpha",
-        "p0_Pa",
-        "p0_ratio",
-        "s_m",
-        "w_m",
-        "w_over_s",
-        "converged",
-        "gamma_u",
-        "p0_ratio_eq14",
-    ]
-    rows = []
-    for i, s in enumerate(surfs):
-        for f, a, p0, pr, sd, w, ws, ok in s["rows"]:
-            eq14 = float(fl.p0_ratio_gaussian(a, s["gamma_u"]))
-            rows.append(
-                (
-                    str(i + 1),
-                    s["h_rms"],
-                    s["hurst"],
-                    f,
-                    a,
-                    math.log10(a),
-                    p0,
-                    pr,
-                    sd,
-                    w,
-                    ws,
-                    ok,
-                    s["gamma_u"],
-                    eq14,
-                )
-            )
-    comment = "Figs. 4-5: load sweeps 1e3..1.5e6 N/m (log-spaced)\n" + scene
-    _write_csv(os.path.join(out, "fig4_ws.csv"), header, rows, comment)
-    _write_csv(os.path.join(out, "fig5_p0ratio.csv"), header, rows, comment)
-
-    fig, ax = plt.subplots(figsize=(5.5, 4.2))
-    for s, c in zip(surfs, styles, strict=True):
-        a = np.array([r[1] for r in s["rows"]])
-        ax.plot(np.log10(a), [r[6] for r in s["rows"]], "o-", ms=3, color=c, label=s["label"])
-    ax.axhline(fl.WS_HERTZ, ls="--", color="k", lw=1)
-    ax.axhline(fl.WS_GAUSSIAN, ls=":", color="k", lw=1)
-    ax.set_ylim(2.25, 3.55)
-    xl = ax.get_xlim()
-    xm = 0.5 * (xl[0] + xl[1])
-    ax.text(xm, fl.WS_HERTZ - 0.015, "Hertz: 2√3 = 3.464", fontsize=8, va="top", ha="center")
-    ax.text(
-        xm,
-        fl.WS_GAUSSIAN - 0.015,
-        "Gaussian: 2√(2 ln 2) = 2.355",
-        fontsize=8,
-        va="top",
-        ha="center",
-    )
-    ax.set_xlabel("log10 alpha")
-    ax.set_ylabel("w/s (FWHM / standard deviation)")
-    ax.set_title("Fig. 4: width ratio vs alpha = h_rms/delta", fontsize=10)
-    ax.legend(fontsize=8, loc="center left")
-    fig.tight_layout()
-    _save(fig, os.path.join(out, "fig4_ws.png"))
-    plt.close(fig)
-
-    fig, ax = plt.subplots(figsize=(5.5, 4.2))
-    for s, c in zip(surfs, styles, strict=True):
-        a = np.array([r[1] for r in s["rows"]])
-        ax.plot(np.log10(a), [r[3] for r in s["rows"]], "o-", ms=3, color=c, label=s["label"])
-        aa = np.logspace(math.log10(a.min()), math.log10(a.max()), 100)
-        ax.plot(
-            np.log10(aa),
-            fl.p0_ratio_gaussian(aa, s["gamma_u"]),
-            "--",
-            color=c,
-            lw=1,
-            label=f"eq. 14, gamma_u = {s['gamma_u']:.3f}",
-        )
-    ax.axhline(1.0, color="k", lw=0.6)
-    ax.set_ylim(0.0, 1.3)
-    ax.set_xlabel("log10 alpha")
-    ax.set_ylabel("p0(rough) / p0(Hertz)")
-    ax.set_title("Fig. 5: peak pressure ratio vs alpha", fontsize=10)
-    ax.legend(fontsize=7)
-    fig.tight_layout()
-    _save(fig, os.path.join(out, "fig5_p0ratio.png"))
-    plt.close(fig)
-
-    # summary
-    print(f"fastline paper: {scene}; {args.loads} loads per surface, {elapsed:.2f} s")
-    print(
-        f"{'surface':<10}{'h_rms [m]':>11}{'H':>5}{'gamma_u':>9}{'alpha range':>22}"
-        f"{'w/s range':>17}{'p0 ratio range':>18}{'not conv.':>10}"
-    )
-    for s in surfs:
-        a = [r[1] for r in s["rows"]]
-        ws = [r[6] for r in s["rows"]]
-        pr = [r[3] for r in s["rows"]]
-        bad = sum(not r[7] for r in s["rows"])
-        print(
-            f"{s['label']:<10}{s['h_rms']:>11.3g}{s['hurst']:>5.2g}{s['gamma_u']:>9.4f}"
-            f"{min(a):>11.3g}-{max(a):<10.3g}{min(ws):>8.4f}-{max(ws):<8.4f}"
-            f"{min(pr):>9.4f}-{max(pr):<8.4f}{bad:>10d}"
-        )
-    print(f"wrote fig2_psd, fig3_profile, fig4_ws, fig5_p0ratio (.png, .csv) to {out}")
-    return 0
-
-
 def _result_lines(r, diag) -> list[str]:
     lines = [
         f"model            {r.model} (method {r.method}, n = {r.diagnostics.get('n', '?')})",
@@ -627,18 +453,27 @@ def _result_lines(r, diag) -> list[str]:
         f"peak pressure p0 {r.p0:.6g} Pa",
         f"p0 / p0(Hertz)   {r.p0_ratio:.6g}",
         f"std. dev. s      {r.s:.6g} m",
-        f"FWHM w           {r.fwhm:.6g} m",
+        f"FWHM w           {r.fwhm:.6g} m ({diag['fwhm_cells']:.3g} grid cells)",
         f"w/s              {r.w_over_s:.6g}   (Hertz 3.464, Gaussian 2.355)",
     ]
     if diag.get("rms_slope") is not None:
         lines += [
-            f"rms slope h'     {diag['rms_slope']:.6g}",
             f"h' E*/2          {diag['asperity_pressure']:.6g} Pa (elastic mean asperity pressure)",
             f"real area P(p0)  {diag['real_area_at_peak']:.6g} (fraction at the peak)",
         ]
     if diag.get("plastic_likely") is not None:
         lines.append(f"plastic likely   {'yes' if diag['plastic_likely'] else 'no'}")
     lines.append(f"half-width / R   {diag['half_width_over_radius']:.4g}")
+    if diag.get("longest_wavelength") is not None:
+        lines.append(
+            f"width / (2pi/q0) {diag['contact_width'] / diag['longest_wavelength']:.3g} "
+            "(contact width over the longest roughness wavelength; the theory wants >= 1)"
+        )
+    if "p0_over_beta_E_star" in diag:
+        note = ""
+        if diag.get("beyond_exponential_law"):
+            note = " (peak beyond the exponential law's range: w/s may fall below 2.355)"
+        lines.append(f"p0 / (beta E*)   {diag['p0_over_beta_E_star']:.4g}{note}")
     if "exponential_valid" in diag:
         lo, hi = diag["pressure_range_met"]
         vr = diag["exponential_valid_range"]
@@ -656,120 +491,226 @@ def _result_lines(r, diag) -> list[str]:
     return lines
 
 
-def cmd_profile(args) -> int:
-    import fastline as fl
-    from fastline.diagnostics import assess
+def _meta(psd, E_star, args, source):
+    from fastline.io import scene_metadata
 
-    psd, E = _scene(args)
-    th = _theory(psd, E, args.model) if args.model != "hertz" else None
-    r = _solve(psd, E, args.radius, args.load, th, args.model, args.n)
-    with warnings.catch_warnings(record=True) as caught:
-        warnings.simplefilter("always")
-        theory = th if th is not None else _theory(psd, E, args.model)
-        diag = assess(r, theory=theory, hardness=args.hardness)
-    print("\n".join(_result_lines(r, diag)))
-    _print_warnings(str(w.message).removeprefix("fastline: ") for w in caught)
-    if not r.converged:
-        _print_warnings([f"the solve did not converge: {r.message}"])
+    return scene_metadata(
+        psd, E_star, args.radius, model=args.model, gamma=args.gamma, n=args.n, source=source
+    )
+
+
+def cmd_profile(args) -> int:
+    from fastline.line_contact import solve_line_contact
+
+    psd, E, source = _scene(args)
+    _check_outputs(args)
+    th = _theory(psd, E, args)
+    r = solve_line_contact(
+        psd, E, args.radius, args.load, model=args.model, **_solve_kwargs(args, th)
+    )
+    print(_spectrum_line(psd, source))
+    print("\n".join(_result_lines(r, r.diagnostics)))
+    _report_warnings([r])
     if args.csv:
-        _write_csv(
-            args.csv,
-            ["x_m", "p_Pa", "u_m"],
-            zip(r.x, r.pressure, r.separation, strict=True),
-            f"fastline profile: model {r.model}, f_N = {r.load:g} N/m, E* = {E:g} Pa, "
-            f"R = {args.radius:g} m, alpha = {r.alpha:.6g}",
-        )
+        from fastline.io import write_profile_csv
+
+        write_profile_csv(args.csv, r, _meta(psd, E, args, source))
     if args.plot:
-        plt = _pyplot()
-        hz = fl.hertz_line_contact(E, args.radius, args.load)
-        fig, ax = plt.subplots(figsize=(5.5, 4.2))
-        ax.plot(r.x * 1e3, r.pressure / 1e6, "-", label=f"rough ({r.model})")
-        ax.plot(r.x * 1e3, hz.pressure(r.x) / 1e6, "--", color="k", label="Hertz (smooth)")
-        ax.set_xlabel("x (mm)")
-        ax.set_ylabel("nominal pressure p (MPa)")
-        ax.set_title(f"f_N = {r.load:g} N/m, alpha = {r.alpha:.3g}", fontsize=10)
-        ax.legend(fontsize=8)
-        fig.tight_layout()
-        _save(fig, args.plot)
-        plt.close(fig)
-    return 0
+        from fastline.plotting import plot_profile
+
+        _save(plot_profile(r), args.plot, args)
+    return _convergence_status([r])
 
 
 def cmd_sweep(args) -> int:
-    psd, E = _scene(args)
+    import numpy as np
+
+    from fastline.line_contact import solve_line_contact
+
+    psd, E, source = _scene(args)
     if args.loads_to < args.loads_from:
         raise CLIError("--loads-to must be >= --loads-from")
-    loads = np.logspace(math.log10(args.loads_from), math.log10(args.loads_to), args.loads_num)
-    th = _theory(psd, E, args.model) if args.model != "hertz" else None
-    rows = []
-    for i, f in enumerate(loads):
-        r = _solve(psd, E, args.radius, float(f), th, args.model, args.n)
-        rows.append((float(f), r.alpha, r.p0, r.p0_ratio, r.s, r.fwhm, r.w_over_s, r.converged))
-        _progress(i + 1, len(loads), "sweep")
-    header = ["load_N_per_m", "alpha", "p0_Pa", "p0_ratio", "s_m", "w_m", "w_over_s", "converged"]
+    _check_outputs(args)
+    loads = np.geomspace(args.loads_from, args.loads_to, args.loads_num)
+    th = _theory(psd, E, args)
+    kw = _solve_kwargs(args, th)
+    results = []
+    with _progress(len(loads), "sweep") as bar:
+        for f in loads:
+            results.append(
+                solve_line_contact(psd, E, args.radius, float(f), model=args.model, **kw)
+            )
+            bar.update()
+    print(_spectrum_line(psd, source))
     print(
         f"{'load [N/m]':>12}{'alpha':>12}{'p0 [Pa]':>13}{'p0 ratio':>10}{'s [m]':>12}"
         f"{'w [m]':>12}{'w/s':>8}{'conv':>6}"
     )
-    for f, a, p0, pr, sd, w, ws, ok in rows:
+    for r in results:
         print(
-            f"{f:>12.4g}{a:>12.4g}{p0:>13.5g}{pr:>10.5f}{sd:>12.4g}{w:>12.4g}{ws:>8.4f}"
-            f"{'yes' if ok else 'NO':>6}"
+            f"{r.load:>12.4g}{r.alpha:>12.4g}{r.p0:>13.5g}{r.p0_ratio:>10.5f}{r.s:>12.4g}"
+            f"{r.fwhm:>12.4g}{r.w_over_s:>8.4f}{'yes' if r.converged else 'NO':>6}"
         )
+    _report_warnings(results)
     if args.csv:
-        _write_csv(
-            args.csv,
-            header,
-            rows,
-            f"fastline sweep: model {args.model}, E* = {E:g} Pa, R = {args.radius:g} m",
-        )
-    if args.plot:
-        plt = _pyplot()
-        import fastline as fl
+        from fastline.io import write_sweep_csv
 
-        a = np.log10([r[1] for r in rows])
-        fig, (ax1, ax2) = plt.subplots(1, 2, figsize=(9, 3.8))
-        ax1.plot(a, [r[6] for r in rows], "o-", ms=3)
-        ax1.axhline(fl.WS_HERTZ, ls="--", color="k", lw=1)
-        ax1.axhline(fl.WS_GAUSSIAN, ls=":", color="k", lw=1)
-        ax1.set_xlabel("log10 alpha")
-        ax1.set_ylabel("w/s")
-        ax2.plot(a, [r[3] for r in rows], "o-", ms=3)
-        if th is not None:
-            aa = np.logspace(a.min(), a.max(), 100)
-            ax2.plot(
-                np.log10(aa),
-                fl.p0_ratio_gaussian(aa, th.exponential_fit().gamma_u),
-                "--",
-                color="k",
-                lw=1,
-                label="eq. 14",
-            )
-            ax2.legend(fontsize=8)
-        ax2.set_xlabel("log10 alpha")
-        ax2.set_ylabel("p0(rough) / p0(Hertz)")
-        fig.tight_layout()
-        _save(fig, args.plot)
-        plt.close(fig)
-    return 0
+        write_sweep_csv(args.csv, results, _meta(psd, E, args, source))
+    if args.plot:
+        from fastline.plotting import plot_sweep
+
+        gu = th.exponential_fit().gamma_u if th is not None else None
+        _save(plot_sweep(results, gamma_u=gu), args.plot, args)
+    return _convergence_status(results)
+
+
+def _paper_files(data, args) -> list[str]:
+    """Write the four figures and their CSVs; returns the file names."""
+    import os
+
+    import numpy as np
+
+    from fastline import paper, plotting
+    from fastline.io import scene_metadata, sweep_rows, write_csv
+    from fastline.limits import p0_ratio_gaussian
+
+    out, ext = args.out, args.format or "png"
+    surfs = data.surfaces
+    meta = scene_metadata(
+        None, paper.E_STAR, paper.RADIUS, model="persson", gamma=args.gamma, n=args.n
+    )
+    meta.pop("spectrum")
+    meta.update(q0_1_per_m=paper.Q0, qr_1_per_m=paper.QR, q1_1_per_m=args.q1)
+    for s in surfs:
+        meta[s.label.replace(" ", "_")] = f"h_rms {s.h_rms:g} m, H {s.hurst:g}"
+    written = []
+
+    def path(name, suffix):
+        written.append(f"{name}.{suffix}")
+        return os.path.join(out, f"{name}.{suffix}")
+
+    q = np.geomspace(paper.Q0, args.q1, 400)
+    cols = [s.psd(q) for s in surfs]
+    write_csv(
+        path("fig2_psd", "csv"),
+        ["q_1_per_m", "C1_m4", "C2_m4", "C3_m4"],
+        zip(q, *cols, strict=True),
+        meta,
+        title="Fig. 2: C(q) of surfaces 1-3",
+    )
+    fig = plotting.plot_psd({_surface_label(s): s.psd for s in surfs})
+    _save(fig, path("fig2_psd", ext), args)
+
+    r3 = data.fig3
+    from fastline.limits import hertz_line_contact
+
+    hz = hertz_line_contact(paper.E_STAR, paper.RADIUS, paper.FIG3_LOAD)
+    write_csv(
+        path("fig3_profile", "csv"),
+        ["x_m", "p_rough_Pa", "p_hertz_Pa"],
+        zip(r3.x, r3.pressure, hz.pressure(r3.x), strict=True),
+        {**meta, "load_N_per_m": paper.FIG3_LOAD, "alpha": r3.alpha},
+        title="Fig. 3: p(x) of surface 1, rough and smooth (Hertz)",
+    )
+    _save(plotting.plot_profile(r3, label="rough (surface 1)"), path("fig3_profile", ext), args)
+
+    header = [
+        "surface",
+        "h_rms_m",
+        "hurst",
+        "load_N_per_m",
+        "alpha",
+        "p0_Pa",
+        "p0_ratio",
+        "s_m",
+        "w_m",
+        "w_over_s",
+        "converged",
+        "gamma_u",
+        "p0_ratio_eq14",
+    ]
+    rows = []
+    for i, s in enumerate(surfs):
+        for row in sweep_rows(s.results):
+            eq14 = float(p0_ratio_gaussian(row[1], s.gamma_u))
+            rows.append((str(i + 1), s.h_rms, s.hurst, *row[:7], row[7], s.gamma_u, eq14))
+    title = "Figs. 4-5: load sweeps 1e3..1.5e6 N/m (log-spaced)"
+    write_csv(path("fig4_ws", "csv"), header, rows, meta, title=title)
+    write_csv(path("fig5_p0ratio", "csv"), header, rows, meta, title=title)
+    series = {s.label: s.results for s in surfs}
+    _save(plotting.plot_w_over_s(series), path("fig4_ws", ext), args)
+    fig = plotting.plot_p0_ratio(series, gamma_u={s.label: s.gamma_u for s in surfs})
+    _save(fig, path("fig5_p0ratio", ext), args)
+    return written
+
+
+def _surface_label(s) -> str:
+    return f"{s.label}: $h_\\mathrm{{rms}}$ = {s.h_rms * 1e6:g} µm, $H$ = {s.hurst:g}"
+
+
+def cmd_paper(args) -> int:
+    from fastline import paper
+    from fastline.io import spectrum_summary
+
+    _check_outputs(args)
+    t0 = time.perf_counter()
+    with _progress(len(paper.SURFACES) * args.loads, "paper") as bar:
+        data = paper.paper_data(
+            q1=args.q1,
+            loads=args.loads,
+            n=args.n,
+            gamma=args.gamma,
+            max_iter=args.max_iter,
+            hardness=args.hardness,
+            progress=lambda _label: bar.update(),
+        )
+    elapsed = time.perf_counter() - t0
+    t1 = time.perf_counter()
+    written = _paper_files(data, args)
+    t_files = time.perf_counter() - t1
+    print(
+        f"fastline paper: E* = {paper.E_STAR:g} Pa, R = {paper.RADIUS:g} m, q0 = {paper.Q0:g} "
+        f"1/m, qr = {paper.QR:g} 1/m, q1 = {args.q1:g} 1/m, gamma = {args.gamma:g}, "
+        f"n = {args.n}; {args.loads} loads per surface; solved in {elapsed:.2f} s, files in "
+        f"{t_files:.2f} s"
+    )
+    print(
+        f"{'surface':<10}{'h_rms [m]':>10}{'H':>5}{'rms slope':>10}{'gamma_u':>9}"
+        f"{'alpha range':>20}{'w/s range':>17}{'p0 ratio range':>17}{'not conv.':>10}"
+    )
+    for s in data.surfaces:
+        rs = s.results
+        a, ws, pr = ([getattr(r, k) for r in rs] for k in ("alpha", "w_over_s", "p0_ratio"))
+        bad = sum(not r.converged for r in rs)
+        slope = spectrum_summary(s.psd)["rms_slope"]
+        print(
+            f"{s.label:<10}{s.h_rms:>10.3g}{s.hurst:>5.2g}{slope:>10.4g}{s.gamma_u:>9.4f}"
+            f"{min(a):>10.3g}-{max(a):<9.3g}{min(ws):>8.4f}-{max(ws):<8.4f}"
+            f"{min(pr):>8.4f}-{max(pr):<8.4f}{bad:>10d}"
+        )
+    print(
+        f"spectra          q {paper.Q0:g}-{args.q1:g} 1/m (longest wavelength "
+        f"{spectrum_summary(data.surfaces[0].psd)['longest_wavelength']:.3g} m)"
+    )
+    _report_warnings(data.results)
+    print(f"wrote {', '.join(written)} to {args.out}")
+    return _convergence_status(data.results)
 
 
 COMMANDS = {"paper": cmd_paper, "profile": cmd_profile, "sweep": cmd_sweep}
 
 
-def main(argv=None) -> int:
-    """Run the command line; returns the exit status (0 ok, 2 usage or input error)."""
+def main(argv: list[str] | None = None) -> int:
+    """Run the command line; returns the exit status (0 done, 1 not converged, 2 bad input)."""
+    argv = list(sys.argv[1:] if argv is None else argv)
     parser = build_parser()
     try:
-        args = parser.parse_args(argv)
+        args = parser.parse_args(_join_negative_values(argv))
         if args.command is None:
             parser.print_help()
             return 2
         return COMMANDS[args.command](args)
-    except CLIError as e:
-        print(f"fastline: error: {e}", file=sys.stderr)
-        return 2
-    except ValueError as e:
+    except (CLIError, ValueError) as e:
         msg = " ".join(str(e).split())
         print(f"fastline: error: {msg}", file=sys.stderr)
         return 2

@@ -1,31 +1,53 @@
-"""Validity diagnostics of a solved line contact (THEORY.md sections 5 and 7).
+"""Validity diagnostics of a solved line contact (docs/theory.md sections 6 and 7).
 
-:func:`assess` looks at a :class:`~fastline.line_contact.LineContactResult` and tells the user which
-regime the scene is in and whether the model assumptions hold:
+:func:`assess` looks at a :class:`~fastline.line_contact.LineContactResult` and reports which regime
+the scene is in (information) and which model assumptions fail (warnings):
 
 * **regime** from ``alpha = h_rms / delta``: ``"Hertz-like"`` for alpha < 0.01,
   ``"Gaussian-like"`` for alpha > 10, ``"transition"`` in between (paper, section 3);
-* for ``model="exponential"``: whether the nominal pressures met in the contact (from the peak
-  ``p0`` down to ``1e-3 p0``) stay inside the range where the exponential law
-  ``u = u0 ln(beta E* / p)`` (paper eq. 5) matches the full Persson ``u(p)`` to within 5 %;
-* **elastic mean asperity pressure** ``h' E*/2`` (h' the rms slope, dimensionless; result in Pa)
-  and the real contact area fraction at the peak pressure, ``P(q1, p0)``;
-* a :class:`ValidityWarning` when a hardness is given and ``h' E*/2`` exceeds it (asperities
-  likely flow plastically; the theory is purely elastic), and when the contact half-width
-  exceeds 10 % of the cylinder radius (the half-space/small-strain assumption is strained).
+* **exponential-law range**: the range of pressures where ``u = u0 ln(beta E* / p)`` (paper
+  eq. 5) is within 5 % of the full Persson ``u(p)``; with ``model="exponential"`` a scene whose
+  pressures (``1e-3 p0`` to ``p0``) leave it is warned about (cause ``"exponential_range"``);
+  for the full theory ``p0 / (beta E*)`` and whether the peak lies beyond that range are
+  reported (information: there the profile is more peaked than a Gaussian and w/s can fall
+  below 2.355, docs/theory.md section 6);
+* **elastic mean asperity pressure** ``h' E*/2`` (h' the rms slope) and the real contact area
+  fraction at the peak, ``P(q1, p0)``; with a hardness given, a warning when ``h' E*/2``
+  exceeds it (cause ``"plastic"``);
+* **half-space**: a warning when the contact half-width exceeds 10 % of R (``"half_space"``);
+* **mean field**: a warning when the contact (the larger of the FWHM and the Hertz width 2a)
+  is narrower than the longest roughness wavelength ``2 pi / q0`` (``"narrow_contact"``): the
+  theory assumes the nominal pressure varies slowly on that scale;
+* **resolution**: a warning when the FWHM spans fewer than :data:`RESOLUTION_CELLS` grid cells
+  (``"resolution"``): p0 and w/s are then limited by the grid, converged or not.
+
+Warnings reach the user once: :func:`assess` lists them (``warning_causes``,
+``warning_messages``) and emits them when ``warn=True``; for many results (a sweep)
+:func:`warn_once` emits one :class:`ValidityWarning` per cause naming the loads concerned,
+and :func:`summarise_warnings` returns those messages without emitting them.
 
 SI units throughout: Pa, m, N/m.
 """
 
 from __future__ import annotations
 
-import functools
 import math
 import warnings
+from collections.abc import Iterable
 
 import numpy as np
 
-__all__ = ["ValidityWarning", "assess", "regime", "HERTZ_LIKE_ALPHA", "GAUSSIAN_LIKE_ALPHA"]
+__all__ = [
+    "ValidityWarning",
+    "assess",
+    "regime",
+    "summarise_warnings",
+    "warn_once",
+    "CAUSES",
+    "HERTZ_LIKE_ALPHA",
+    "GAUSSIAN_LIKE_ALPHA",
+    "RESOLUTION_CELLS",
+]
 
 #: alpha below which the contact is Hertz-like (paper section 3).
 HERTZ_LIKE_ALPHA = 0.01
@@ -37,10 +59,24 @@ EXPONENTIAL_RTOL = 0.05
 PRESSURE_FLOOR = 1e-3
 #: contact half-width / radius above which the half-space assumption is strained.
 HALF_WIDTH_LIMIT = 0.1
+#: fewest grid cells across the FWHM for a result not to be resolution-limited. Measured on a
+#: fixed domain against n = 16384 (four scenes: the paper's surface 1 at alpha 0.01, 1 and 30,
+#: and the needle-peaked scene of issue 9): at 7-8 cells p0 is within 0.08 % and w/s within
+#: 0.4 % for the paper's scenes; the needle scene has p0 off by 4 % at 2.8 cells, 0.5 % at
+#: 5.9 and 0.07 % at 11.9.
+RESOLUTION_CELLS = 8.0
+#: causes whose worst case is the smallest load of a sweep (the narrowest contact)
+_WORST_AT_SMALL_LOAD = frozenset({"narrow_contact"})
+#: warning causes, in the order they are reported
+CAUSES = ("half_space", "plastic", "exponential_range", "narrow_contact", "resolution")
+
+
+_REAL = (int, float, np.floating, np.integer)
 
 
 class ValidityWarning(UserWarning):
-    """A scene is outside the assumptions of the model (elasticity, half-space)."""
+    """A scene is outside the assumptions of the model (elasticity, half-space, mean field,
+    exponential law) or its result is limited by the grid."""
 
 
 def regime(alpha: float) -> str:
@@ -52,39 +88,105 @@ def regime(alpha: float) -> str:
     return "transition"
 
 
-@functools.lru_cache(maxsize=32)
-def _law_valid_range(theory) -> tuple[float, float]:
-    """(0, p_top) in Pa: where u0 ln(beta E*/p) is within 5 % of the full u(p).
-
-    Depends on the theory only, so it is computed once per theory (400 direct evaluations over
-    the table range; below it the law holds by construction, above it u -> 0 and it fails).
-    """
-    fit = theory.exponential_fit()
-    lo, hi = theory.p_range
-    p = np.logspace(math.log10(lo), math.log10(hi), 400)
-    u_full = theory.separation(p)
-    ok = np.abs(fit.u0 * np.log(fit.beta * theory.E_star / p) - u_full) <= (
-        EXPONENTIAL_RTOL * u_full
-    )
-    # the law is the small-p asymptote: the valid range starts at the bottom of the grid and
-    # ends at the first pressure where the mismatch exceeds the tolerance
-    if not ok[0]:
-        return (float("nan"), float("nan"))
-    bad = np.nonzero(~ok)[0]
-    return (0.0, float(p[bad[0] - 1] if bad.size else p[-1]))
-
-
 def _exponential_validity(theory, fit, p_lo_met: float, p_hi_met: float) -> dict:
     """The law's valid range and a direct check on the pressures the contact meets."""
     pm = np.logspace(math.log10(p_lo_met), math.log10(p_hi_met), 60)
-    um = theory.separation(pm)
-    err = np.abs(fit.u0 * np.log(fit.beta * theory.E_star / pm) - um) / um
+    with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
+        um = theory.separation(pm)
+        err = np.abs(fit.u0 * np.log(fit.beta * theory.E_star / pm) - um) / um
+    err = np.where(np.isnan(err), np.inf, err)  # u = 0 (full contact): the law is off
     return {
         "exponential_valid": bool(np.all(err <= EXPONENTIAL_RTOL)),
-        "exponential_valid_range": _law_valid_range(theory),
+        "exponential_valid_range": theory.exponential_valid_range(EXPONENTIAL_RTOL),
         "exponential_max_error": float(err.max()),
         "pressure_range_met": (float(p_lo_met), float(p_hi_met)),
     }
+
+
+def _half_space(out, result, msgs) -> None:
+    from fastline.limits import hertz_line_contact
+
+    a_hertz = hertz_line_contact(result.E_star, result.radius, result.load).a
+    half = a_hertz
+    if math.isfinite(result.fwhm):
+        half = max(half, 0.5 * result.fwhm)
+    out["half_width"] = float(half)
+    out["half_width_over_radius"] = float(half / result.radius)
+    out["half_space_ok"] = bool(half <= HALF_WIDTH_LIMIT * result.radius)
+    if not out["half_space_ok"]:
+        msgs["half_space"] = (
+            f"contact half-width {half:.3g} m is {100 * half / result.radius:.3g}% of the radius "
+            f"R = {result.radius:.3g} m (> {100 * HALF_WIDTH_LIMIT:g}%): the elastic half-space "
+            "assumption is strained"
+        )
+    out["contact_width"] = float(2.0 * half)
+
+
+def _mean_field(out, result, psd, msgs) -> None:
+    if psd is None:
+        out["longest_wavelength"] = out["mean_field_ok"] = None
+        return
+    lam = 2.0 * math.pi / float(psd.q0)
+    width = out["contact_width"]
+    out["longest_wavelength"] = lam
+    out["mean_field_ok"] = bool(width >= lam)
+    if width < lam:
+        msgs["narrow_contact"] = (
+            f"the contact ({width:.3g} m wide, max of FWHM and the Hertz width 2a) is narrower "
+            f"than the longest roughness wavelength 2 pi/q0 = {lam:.3g} m: the theory's "
+            "mean-field assumption (pressure varying slowly on that scale) is not met"
+        )
+
+
+def _resolution(out, result, msgs) -> None:
+    cells = result.fwhm / result.dx if result.dx > 0 else float("nan")
+    out["fwhm_cells"] = float(cells)
+    out["resolution_ok"] = bool(cells >= RESOLUTION_CELLS)
+    if not out["resolution_ok"]:
+        msgs["resolution"] = (
+            f"the FWHM spans {cells:.3g} grid cells (< {RESOLUTION_CELLS:g}): p0 and w/s are "
+            "limited by the grid (errors of percents); raise n or narrow half_width"
+        )
+
+
+def _asperities(out, result, theory, hardness, msgs) -> None:
+    if theory is None:
+        out["rms_slope"] = out["asperity_pressure"] = out["real_area_at_peak"] = None
+        out["plastic_likely"] = None
+        return
+    slope = float(theory.psd.rms_slope)
+    p_asp = 0.5 * slope * result.E_star
+    out["rms_slope"] = slope
+    out["asperity_pressure"] = p_asp
+    with np.errstate(all="ignore"):
+        out["real_area_at_peak"] = float(np.ravel(theory.contact_area([result.p0]))[0])
+    out["plastic_likely"] = None if hardness is None else bool(p_asp > hardness)
+    if out["plastic_likely"]:
+        msgs["plastic"] = (
+            f"elastic mean asperity pressure h'E*/2 = {p_asp:.3g} Pa exceeds the hardness "
+            f"{hardness:.3g} Pa: asperities likely deform plastically (the theory is elastic)"
+        )
+
+
+def _exponential(out, result, theory, msgs) -> None:
+    if theory is None or not (math.isfinite(result.p0) and result.p0 > 0.0):
+        return
+    fit = theory.exponential_fit()
+    out["p0_over_beta_E_star"] = float(result.p0 / (fit.beta * result.E_star))
+    if result.model == "persson":
+        top = theory.exponential_valid_range(EXPONENTIAL_RTOL)[1]
+        out["beyond_exponential_law"] = bool(not result.p0 <= top)
+    if result.model != "exponential":
+        return
+    out.update(_exponential_validity(theory, fit, PRESSURE_FLOOR * result.p0, result.p0))
+    if not out["exponential_valid"]:
+        hi = out["exponential_valid_range"][1]
+        msgs["exponential_range"] = (
+            f"model='exponential' is used outside its range: over the pressures met "
+            f"({PRESSURE_FLOOR * result.p0:.3g}-{result.p0:.3g} Pa) its u(p) is off by up to "
+            f"{out['exponential_max_error']:.3g} (relative; within 5% only below {hi:.3g} Pa): "
+            "use model='persson'"
+        )
 
 
 def assess(result, theory=None, hardness=None, *, psd=None, warn=True) -> dict:
@@ -95,32 +197,39 @@ def assess(result, theory=None, hardness=None, *, psd=None, warn=True) -> dict:
     result : LineContactResult
         A solve from :func:`fastline.line_contact.solve_line_contact`.
     theory : PerssonTheory, optional
-        The theory the scene was solved with (needed for the rms slope, the real contact area
-        and the exponential-law check). If omitted and ``psd`` is given, one is built.
+        The theory the scene was solved with (needed for the rms slope, the real contact area,
+        the exponential-law checks and the roughness wavelength). If omitted and ``psd`` is
+        given, one is built.
     hardness : float, optional
         Indentation hardness of the softer solid in Pa. When the elastic mean asperity pressure
         ``h' E*/2`` exceeds it a :class:`ValidityWarning` is emitted.
     psd : PSD, optional
         The roughness spectrum, used only when ``theory`` is not given.
     warn : bool
-        Emit the :class:`ValidityWarning` s (they are listed in the result either way).
+        Emit one :class:`ValidityWarning` per cause found (they are listed in the result
+        either way). The regime is information, never a warning.
 
     Returns
     -------
     dict
         ``regime`` (str), ``alpha`` (-), ``half_width`` (m; max of FWHM/2 and the Hertz a),
-        ``half_width_over_radius`` (-), ``rms_slope`` (-), ``asperity_pressure`` (Pa,
-        ``h' E*/2``), ``real_area_at_peak`` (-, ``P(q1, p0)``), ``plastic_likely`` (bool or
-        None), ``half_space_ok`` (bool), and for ``model="exponential"``
-        ``exponential_valid`` (bool), ``exponential_valid_range`` ((p_min, p_max) in Pa where the
-        law is within 5 % in u; p_min is 0 since the law is the low-pressure asymptote),
-        ``exponential_max_error`` (relative, over the pressures met) and ``pressure_range_met``
-        ((1e-3 p0, p0) in Pa). Quantities that cannot be computed (no theory, Hertz model) are
-        None. ``warnings`` lists the warning messages issued.
+        ``contact_width`` (m, twice that), ``half_width_over_radius`` (-), ``half_space_ok``
+        (bool), ``longest_wavelength`` (m, ``2 pi/q0``) and ``mean_field_ok`` (contact at least
+        that wide), ``fwhm_cells`` (FWHM / grid spacing) and ``resolution_ok``, ``rms_slope``
+        (-), ``asperity_pressure`` (Pa, ``h' E*/2``), ``real_area_at_peak`` (-,
+        ``P(q1, p0)``), ``plastic_likely`` (bool or None), ``p0_over_beta_E_star`` (-); for
+        ``model="persson"`` ``beyond_exponential_law`` (the peak lies above the range where
+        the exponential law holds); for ``model="exponential"`` ``exponential_valid`` (bool),
+        ``exponential_valid_range`` ((p_min, p_max) in Pa where the law is within 5 % in u;
+        p_min is 0 since the law is the low-pressure asymptote), ``exponential_max_error``
+        (relative, over the pressures met) and ``pressure_range_met`` ((1e-3 p0, p0) in Pa).
+        Quantities that cannot be computed (no theory, Hertz model) are None or absent.
+        ``warning_causes`` lists the causes found (keys of :data:`CAUSES`, in that order),
+        ``warning_messages`` maps each to its message and ``warnings`` lists the messages.
     """
-    from fastline.limits import hertz_line_contact
-
     if hardness is not None:
+        if isinstance(hardness, bool) or not isinstance(hardness, _REAL):
+            raise TypeError(f"hardness must be a number in Pa, got {type(hardness).__name__}")
         hardness = float(hardness)
         if not math.isfinite(hardness) or hardness <= 0.0:
             raise ValueError(f"hardness must be a finite number > 0 Pa, got {hardness!r}")
@@ -128,52 +237,82 @@ def assess(result, theory=None, hardness=None, *, psd=None, warn=True) -> dict:
         from fastline.persson import PerssonTheory
 
         theory = PerssonTheory(psd, result.E_star)
+    if psd is None and theory is not None:
+        psd = theory.psd
 
     out: dict = {"alpha": float(result.alpha), "regime": regime(result.alpha)}
-    msgs: list[str] = []
+    msgs: dict[str, str] = {}
+    _half_space(out, result, msgs)
+    _mean_field(out, result, psd, msgs)
+    _resolution(out, result, msgs)
+    _asperities(out, result, theory, hardness, msgs)
+    _exponential(out, result, theory, msgs)
 
-    a_hertz = hertz_line_contact(result.E_star, result.radius, result.load).a
-    half = a_hertz
-    if math.isfinite(result.fwhm):
-        half = max(half, 0.5 * result.fwhm)
-    out["half_width"] = float(half)
-    out["half_width_over_radius"] = float(half / result.radius)
-    out["half_space_ok"] = bool(half <= HALF_WIDTH_LIMIT * result.radius)
-    if not out["half_space_ok"]:
-        msgs.append(
-            f"contact half-width {half:.3g} m is {100 * half / result.radius:.3g}% of the radius "
-            f"R = {result.radius:.3g} m (> {100 * HALF_WIDTH_LIMIT:g}%): the elastic half-space "
-            "assumption is strained"
-        )
-
-    if theory is not None:
-        slope = float(theory.psd.rms_slope)
-        p_asp = 0.5 * slope * result.E_star
-        out["rms_slope"] = slope
-        out["asperity_pressure"] = p_asp
-        out["real_area_at_peak"] = float(np.ravel(theory.contact_area([result.p0]))[0])
-        if hardness is not None:
-            out["plastic_likely"] = bool(p_asp > hardness)
-            if p_asp > hardness:
-                msgs.append(
-                    f"elastic mean asperity pressure h'E*/2 = {p_asp:.3g} Pa exceeds the hardness "
-                    f"{hardness:.3g} Pa: asperities likely deform plastically (the theory is "
-                    "elastic)"
-                )
-        else:
-            out["plastic_likely"] = None
-    else:
-        out["rms_slope"] = out["asperity_pressure"] = out["real_area_at_peak"] = None
-        out["plastic_likely"] = None
-
-    if result.model == "exponential" and theory is not None:
-        out.update(
-            _exponential_validity(
-                theory, theory.exponential_fit(), PRESSURE_FLOOR * result.p0, result.p0
-            )
-        )
-
-    for m in msgs if warn else ():
-        warnings.warn(f"fastline: {m}", ValidityWarning, stacklevel=3)
-    out["warnings"] = msgs
+    causes = [c for c in CAUSES if c in msgs]
+    out["warning_causes"] = causes
+    out["warning_messages"] = {c: msgs[c] for c in causes}
+    out["warnings"] = [msgs[c] for c in causes]
+    for c in causes if warn else ():
+        warnings.warn(f"fastline: {msgs[c]}", ValidityWarning, stacklevel=3)
     return out
+
+
+def _loads_text(loads: list[float], total: int) -> str:
+    """``"f_N = 1e4 N/m"`` or ``"3 of 30 solves: f_N from 1e5 to 1.5e6 N/m"``."""
+    if total == 1:
+        return f"f_N = {loads[0]:.4g} N/m"
+    distinct = sorted(set(loads))
+    head = f"{len(loads)} of {total} solves: f_N"
+    if len(distinct) <= 4:
+        return f"{head} = {', '.join(f'{f:.4g}' for f in distinct)} N/m"
+    return f"{head} from {distinct[0]:.4g} to {distinct[-1]:.4g} N/m"
+
+
+def summarise_warnings(results: Iterable) -> list[tuple[str, str]]:
+    """One ``(cause, message)`` per warning cause found in a list of results.
+
+    Parameters
+    ----------
+    results : iterable of LineContactResult
+        Solved scenes (their ``diagnostics`` hold :func:`assess`'s findings).
+
+    Returns
+    -------
+    list of (str, str)
+        In the order of :data:`CAUSES`. Each message is that of the worst result concerned (the
+        smallest load for ``"narrow_contact"``, the largest for the others), followed by the
+        loads concerned, e.g. ``"... [3 of 30 solves: f_N from 1e5 to 1.5e6 N/m]"``.
+    """
+    results = list(results)
+    found: dict[str, list] = {}
+    for r in results:
+        d = r.diagnostics if hasattr(r, "diagnostics") else r
+        for c in d.get("warning_causes", ()):
+            found.setdefault(c, []).append(r)
+    out = []
+    for c in CAUSES:
+        if c not in found:
+            continue
+        rs = sorted(found[c], key=lambda r: r.load)
+        worst = rs[0] if c in _WORST_AT_SMALL_LOAD else rs[-1]
+        msg = worst.diagnostics["warning_messages"][c]
+        out.append((c, f"{msg} [{_loads_text([r.load for r in rs], len(results))}]"))
+    return out
+
+
+def warn_once(results: Iterable, *, stacklevel: int = 2) -> list[str]:
+    """Emit one :class:`ValidityWarning` per cause found in ``results``; returns the causes.
+
+    Use after a loop of solves made with ``warn=False`` (a sweep over loads) so that each
+    problem is reported once, naming the loads concerned, instead of once per solve.
+
+    Parameters
+    ----------
+    results : iterable of LineContactResult
+    stacklevel : int
+        Passed to :func:`warnings.warn` (2: the caller of ``warn_once``).
+    """
+    summary = summarise_warnings(results)
+    for _cause, msg in summary:
+        warnings.warn(f"fastline: {msg}", ValidityWarning, stacklevel=stacklevel + 1)
+    return [c for c, _ in summary]

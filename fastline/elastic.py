@@ -1,4 +1,4 @@
-"""Plane-strain logarithmic-kernel operator for a line contact (THEORY.md section 4).
+"""Plane-strain logarithmic-kernel operator for a line contact (docs/theory.md section 4).
 
 Conventions
 -----------

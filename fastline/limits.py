@@ -1,4 +1,4 @@
-"""Analytic limits of the rough cylinder-on-flat line contact (THEORY.md section 5).
+"""Analytic limits of the rough cylinder-on-flat line contact (docs/theory.md section 5).
 
 Two closed-form pressure profiles bracket the rough line contact (Tiwari & Persson,
 "Cylinder-flat contact mechanics with surface roughness"):

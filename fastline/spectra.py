@@ -1,6 +1,6 @@
 """Isotropic surface-roughness power spectra C(q).
 
-Convention (Persson's; THEORY.md section 2). ``C(q)`` is the isotropic 2D power spectrum in
+Convention (Persson's; docs/theory.md section 2). ``C(q)`` is the isotropic 2D power spectrum in
 m^4 as a function of the wavenumber magnitude q in 1/m, normalised so that
 
     h_rms^2 = 2 pi int q C(q) dq,        h'^2 = 2 pi int q^3 C(q) dq  (rms slope squared).
@@ -83,7 +83,7 @@ class PSD:
 
     # -- derived quantities (shared) ------------------------------------------------------------
     def cumulative(self, q) -> np.ndarray:
-        """``A(q) = pi int_0^q q'^3 C(q') dq'`` (dimensionless), THEORY.md section 3."""
+        """``A(q) = pi int_0^q q'^3 C(q') dq'`` (dimensionless), docs/theory.md section 3."""
         q = np.asarray(q, dtype=np.float64)
         return math.pi * self._moment(3, q)
 

@@ -1,6 +1,6 @@
 """Slow, readable reference implementations used by the tests.
 
-Nothing here is fast or clever on purpose: each function writes the equation of THEORY.md out
+Nothing here is fast or clever on purpose: each function writes the equation of docs/theory.md out
 with SciPy ``quad`` so that the compiled kernels of fastline have an independent check.
 """
 
@@ -30,7 +30,7 @@ def universal_F(x0: float, gamma: float) -> float:
 
 
 def separation(psd, E_star: float, p: float, gamma: float = 0.45, epsrel: float = 1e-10):
-    """u(p) by a direct double integral (THEORY.md section 3), one pressure at a time.
+    """u(p) by a direct double integral (docs/theory.md section 3), one pressure at a time.
 
     The outer integral over q is split at the kinks of C(q) and at every decade; on the first
     interval the substitution q = q0 + L t^2 removes the (q - q0)^(-1/2) of w(q).

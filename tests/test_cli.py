@@ -1,221 +1,284 @@
-"""Tests of the command-line interface (run in-process through fastline.cli.main)."""
+"""Tests of the command-line interface (run in-process through fastline.cli.main).
 
-import csv
-import math
+Every command on small settings: the files it writes, its numbers against the API's, and the
+defects of issue 9 (exit status of a non-converged solve, warnings reaching ``sweep``,
+``--gamma``, spectrum files, negative numbers, output paths checked before any solve).
+"""
+
 import subprocess
 import sys
+from contextlib import redirect_stderr, redirect_stdout
+from io import StringIO
 
 import numpy as np
 import pytest
 
 import fastline as fl
+import fastline.line_contact
+from fastline import paper
 from fastline.cli import main
+from fastline.io import read_csv
 from fastline.line_contact import solve_line_contact
 
 pytest.importorskip("matplotlib")
 
-E_STAR, R = 1.33e9, 0.01
+E_STAR, R = paper.E_STAR, paper.RADIUS
 FIGS = ("fig2_psd", "fig3_profile", "fig4_ws", "fig5_p0ratio")
+#: the CSVs hold repr() of the API's numbers: equal to round-off of the same computation
+SAME = 1e-12
+PAPER_LOADS, N_SMALL = 3, 256
+MAGIC = {"png": b"\x89PNG\r\n\x1a\n", "pdf": b"%PDF", "svg": b"<?xml"}
 
 
-def read_csv(path):
-    with open(path, encoding="utf-8") as fh:
-        lines = [ln for ln in fh if not ln.startswith("#")]
-    return list(csv.DictReader(lines))
+def run(argv, capsys):
+    status = main([str(a) for a in argv])
+    out, err = capsys.readouterr()
+    return status, out, err
+
+
+def warning_lines(err):
+    return [ln for ln in err.splitlines() if ln.startswith("fastline: warning:")]
 
 
 @pytest.fixture(scope="module")
-def paper_dir(tmp_path_factory):
+def paper_run(tmp_path_factory):
     out = tmp_path_factory.mktemp("paper")
-    assert main(["paper", "--out", str(out), "--loads", "6", "--n", "256"]) == 0
-    return out
+    argv = ["paper", "--out", str(out), "--loads", str(PAPER_LOADS), "--n", str(N_SMALL)]
+    so, se = StringIO(), StringIO()  # capsys is function-scoped
+    with redirect_stdout(so), redirect_stderr(se):
+        status = main(argv)
+    return out, status, so.getvalue(), se.getvalue()
 
 
-def test_paper_files(paper_dir):
+# ----------------------------------------------------------------------------------------------
+# paper
+# ----------------------------------------------------------------------------------------------
+def test_paper_files(paper_run):
+    out, status, stdout, stderr = paper_run
+    assert status == 0
     for name in FIGS:
-        png = paper_dir / f"{name}.png"
-        assert png.exists() and png.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
-        assert (paper_dir / f"{name}.csv").stat().st_size > 0
-    rows = read_csv(paper_dir / "fig4_ws.csv")
-    assert len(rows) == 18
-    assert {r["surface"] for r in rows} == {"1", "2", "3"}
-    assert all(r["converged"] == "1" for r in rows)
+        assert (out / f"{name}.png").read_bytes()[:8] == MAGIC["png"]
+        meta, cols = read_csv(out / f"{name}.csv")
+        assert meta["E_star_Pa"] == repr(E_STAR) and meta["n"] == str(N_SMALL)
+        assert meta["fastline_version"] == fl.__version__
+    meta, cols = read_csv(out / "fig4_ws.csv")
+    assert len(cols["load_N_per_m"]) == 3 * PAPER_LOADS
+    assert set(cols["surface"]) == {1.0, 2.0, 3.0}
+    assert np.all(cols["converged"] == 1)
+    # the spectra are reported, and the warnings once per cause
+    assert "rms slope" in stdout and "surface 3" in stdout and "gamma_u" in stdout
+    causes = [ln for ln in warning_lines(stderr) if "narrower than the longest" in ln]
+    assert len(causes) == 1 and "solves" in causes[0]
 
 
-def test_paper_numbers_match_api(paper_dir):
-    rows = read_csv(paper_dir / "fig5_p0ratio.csv")
-    row = rows[8]  # surface 2, third load
-    psd = fl.SelfAffinePSD(float(row["h_rms_m"]), float(row["hurst"]), 1e3, 1e4, 1e9)
-    r = solve_line_contact(psd, E_STAR, R, float(row["load_N_per_m"]), n=256)
-    assert float(row["w_over_s"]) == pytest.approx(r.w_over_s, rel=1e-9)
-    assert float(row["p0_ratio"]) == pytest.approx(r.p0_ratio, rel=1e-9)
-    assert float(row["alpha"]) == pytest.approx(r.alpha, rel=1e-12)
+def test_paper_numbers_match_api(paper_run):
+    out = paper_run[0]
+    _, cols = read_csv(out / "fig5_p0ratio.csv")
+    k = PAPER_LOADS + 1  # surface 2, second load
+    psd = paper.surfaces()[1]
+    r = solve_line_contact(psd, E_STAR, R, cols["load_N_per_m"][k], n=N_SMALL)
+    assert cols["w_over_s"][k] == pytest.approx(r.w_over_s, rel=SAME)
+    assert cols["p0_ratio"][k] == pytest.approx(r.p0_ratio, rel=SAME)
+    assert cols["alpha"][k] == pytest.approx(r.alpha, rel=SAME)
     gu = fl.PerssonTheory(psd, E_STAR).exponential_fit().gamma_u
-    assert float(row["p0_ratio_eq14"]) == pytest.approx(
-        fl.p0_ratio_gaussian(r.alpha, gu), rel=1e-12
+    assert cols["p0_ratio_eq14"][k] == pytest.approx(fl.p0_ratio_gaussian(r.alpha, gu), rel=SAME)
+    loads = np.unique(cols["load_N_per_m"])
+    np.testing.assert_allclose(loads, paper.paper_loads(PAPER_LOADS), rtol=SAME)
+
+
+def test_paper_fig2_fig3(paper_run):
+    out = paper_run[0]
+    _, f2 = read_csv(out / "fig2_psd.csv")
+    q = f2["q_1_per_m"][100]
+    assert f2["C3_m4"][100] == pytest.approx(float(paper.surfaces()[2](q)), rel=SAME)
+    meta, f3 = read_csv(out / "fig3_profile.csv")
+    dx = f3["x_m"][1] - f3["x_m"][0]
+    assert f3["p_rough_Pa"].sum() * dx == pytest.approx(paper.FIG3_LOAD, rel=1e-9)
+    hz = fl.hertz_line_contact(E_STAR, R, paper.FIG3_LOAD)
+    assert f3["p_hertz_Pa"].max() == pytest.approx(hz.p0, rel=1e-2)
+    assert f3["p_rough_Pa"].max() < f3["p_hertz_Pa"].max()  # roughness lowers the peak
+
+
+@pytest.mark.parametrize("fmt", ["pdf", "svg"])
+def test_paper_vector_figures(fmt, tmp_path, capsys):
+    status, _, _ = run(
+        ["paper", "--out", tmp_path, "--loads", 2, "--n", 64, "--format", fmt], capsys
     )
-    loads = sorted({float(r["load_N_per_m"]) for r in rows})
-    assert loads[0] == pytest.approx(1e3) and loads[-1] == pytest.approx(1.5e6)
+    assert status == 0
+    for name in FIGS:
+        assert (tmp_path / f"{name}.{fmt}").read_bytes()[:5].startswith(MAGIC[fmt][:4])
+        assert not (tmp_path / f"{name}.png").exists()
 
 
-def test_paper_fig2_fig3(paper_dir):
-    f2 = read_csv(paper_dir / "fig2_psd.csv")
-    psd3 = fl.SelfAffinePSD(1e-6, 0.8, 1e3, 1e4, 1e9)
-    q = float(f2[100]["q_1_per_m"])
-    assert float(f2[100]["C3_m4"]) == pytest.approx(float(psd3(q)), rel=1e-12)
-    f3 = read_csv(paper_dir / "fig3_profile.csv")
-    x = np.array([float(r["x_m"]) for r in f3])
-    p = np.array([float(r["p_rough_Pa"]) for r in f3])
-    ph = np.array([float(r["p_hertz_Pa"]) for r in f3])
-    dx = x[1] - x[0]
-    assert p.sum() * dx == pytest.approx(1e4, rel=1e-6)
-    assert ph.max() == pytest.approx(fl.hertz_line_contact(E_STAR, R, 1e4).p0, rel=1e-2)
-    assert p.max() < ph.max()  # roughness lowers and widens the profile
+# ----------------------------------------------------------------------------------------------
+# profile
+# ----------------------------------------------------------------------------------------------
+PROFILE = ["profile", "--h-rms", 2e-6, "--hurst", 0.9, "--q1", 1e8, "--E-star", 2e9]
+PROFILE += ["--radius", 0.02, "--load", 3e4, "--n", N_SMALL]
 
 
-def test_paper_summary_and_progress(paper_dir, tmp_path, capsys):
-    assert main(["paper", "--out", str(tmp_path), "--loads", "2", "--n", "64"]) == 0
-    out, err = capsys.readouterr()
-    assert "surface 3" in out and "gamma_u" in out
-    assert "6/6" in err and "#" in err
-
-
-def test_profile_vs_api(tmp_path, capsys):
+def test_profile_vs_api_and_csv_header(tmp_path, capsys):
     csv_path, png = tmp_path / "p.csv", tmp_path / "p.png"
-    args = [
-        "profile",
-        "--h-rms",
-        "2e-6",
-        "--hurst",
-        "0.9",
-        "--q1",
-        "1e8",
-        "--E-star",
-        "2e9",
-        "--radius",
-        "0.02",
-        "--load",
-        "3e4",
-        "--n",
-        "256",
-        "--csv",
-        str(csv_path),
-        "--plot",
-        str(png),
-        "--hardness",
-        "1e12",
-    ]
-    assert main(args) == 0
-    out = capsys.readouterr().out
+    status, out, err = run(
+        PROFILE + ["--csv", csv_path, "--plot", png, "--hardness", 1e12, "--dpi", 60], capsys
+    )
+    assert status == 0
     psd = fl.SelfAffinePSD(2e-6, 0.9, 1e3, 1e4, 1e8)
-    r = solve_line_contact(psd, 2e9, 0.02, 3e4, n=256)
+    r = solve_line_contact(psd, 2e9, 0.02, 3e4, n=N_SMALL)
     assert f"{r.p0:.6g} Pa" in out and f"{r.w_over_s:.6g}" in out
     assert "regime" in out and "converged        yes" in out and "plastic likely   no" in out
-    rows = read_csv(csv_path)
-    p = np.array([float(x["p_Pa"]) for x in rows])
-    u = np.array([float(x["u_m"]) for x in rows])
-    np.testing.assert_allclose(p, r.pressure, rtol=1e-12)
-    np.testing.assert_allclose(u, r.separation, rtol=1e-12)
-    assert png.exists()
+    assert f"rms slope h' {psd.rms_slope:.4g}" in out
+    meta, cols = read_csv(csv_path)
+    np.testing.assert_allclose(cols["p_Pa"], r.pressure, rtol=SAME)
+    np.testing.assert_allclose(cols["u_m"], r.separation, rtol=SAME)
+    expected = {
+        "h_rms_m": 2e-6,
+        "q0_1_per_m": 1e3,
+        "q1_1_per_m": 1e8,
+        "E_star_Pa": 2e9,
+        "radius_m": 0.02,
+        "gamma": 0.45,
+        "n": N_SMALL,
+        "load_N_per_m": 3e4,
+        "rms_slope": psd.rms_slope,
+    }
+    for key, value in expected.items():
+        assert float(meta[key]) == pytest.approx(value, rel=SAME), key
+    assert meta["model"] == "persson" and meta["fastline_version"] == fl.__version__
+    assert "SelfAffinePSD" in meta["spectrum"]
+    assert png.read_bytes()[:8] == MAGIC["png"]
 
 
-def test_profile_elastic_constants_and_psd_file(tmp_path, capsys):
+def test_profile_gamma_moves_the_result(capsys):
+    # alpha ~ 3: gamma sets u0 = gamma_u h_rms and with it the Gaussian-like width
+    _, out45, _ = run(PROFILE + ["--load", 1e3], capsys)
+    status, out30, _ = run(PROFILE + ["--load", 1e3, "--gamma", 0.3], capsys)
+    assert status == 0
+    psd = fl.SelfAffinePSD(2e-6, 0.9, 1e3, 1e4, 1e8)
+    r30 = solve_line_contact(psd, 2e9, 0.02, 1e3, n=N_SMALL, gamma=0.3)
+    r45 = solve_line_contact(psd, 2e9, 0.02, 1e3, n=N_SMALL)
+    assert abs(r30.p0 / r45.p0 - 1.0) > 1e-2  # the parameter matters here
+    assert f"{r30.p0:.6g} Pa" in out30 and f"{r45.p0:.6g} Pa" in out45
+
+
+def test_profile_psd_file_and_elastic_constants(tmp_path, capsys):
     psd = fl.SelfAffinePSD(5e-6, 0.8, 1e3, 1e4, 1e8)
     q = np.logspace(3, 8, 120)
     f = tmp_path / "psd.txt"
     body = "\n".join(f"{float(a)!r}, {float(b)!r}" for a, b in zip(q, psd(q), strict=True))
     f.write_text("# q [1/m], C [m^4]\n" + body + "\n")
-    args = [
-        "profile",
-        "--psd",
-        str(f),
-        "--E1",
-        "2.1e11",
-        "--nu1",
-        "0.3",
-        "--E2",
-        "3e9",
-        "--nu2",
-        "0.4",
-        "--load",
-        "2e4",
-        "--n",
-        "256",
-        "--model",
-        "exponential",
-    ]
-    assert main(args) == 0
-    out = capsys.readouterr().out
+    args = ["profile", "--psd", f, "--E1", 2.1e11, "--nu1", 0.3, "--E2", 3e9, "--nu2", 0.4]
+    status, out, _ = run(args + ["--load", 2e4, "--n", N_SMALL, "--model", "exponential"], capsys)
+    assert status == 0
     E = fl.effective_modulus(2.1e11, 0.3, 3e9, 0.4)
-    r = solve_line_contact(fl.TabulatedPSD(q, psd(q)), E, R, 2e4, n=256, model="exponential")
+    tab = fl.TabulatedPSD(q, psd(q))
+    r = solve_line_contact(tab, E, R, 2e4, n=N_SMALL, model="exponential")
     assert f"{r.p0:.6g} Pa" in out and "exp. law valid" in out
+    assert f"file {f}" in out and f"h_rms {tab.h_rms:.4g} m" in out
+
+
+def test_profile_reports_each_warning_once(capsys):
+    # O-ring-like scene with the exponential law: outside the law's range and narrower
+    # than the longest roughness wavelength
+    argv = ["profile", "--E1", 2.1e11, "--nu1", 0.3, "--E2", 5e6, "--nu2", 0.49, "--radius"]
+    argv += [1.75e-3, "--load", 50, "--model", "exponential", "--h-rms", 1e-6, "--q0", 2e3]
+    status, _, err = run(argv + ["--qr", 2e4, "--n", N_SMALL], capsys)
+    assert status == 0
+    lines = warning_lines(err)
+    assert len(lines) == 2
+    assert "model='exponential' is used outside its range" in lines[0]
+    assert "narrower than the longest roughness wavelength" in lines[1]
+
+
+def test_height_file_rejected(tmp_path, capsys):
+    x = np.linspace(0.0, 1e-3, 50)
+    f = tmp_path / "height.txt"
+    f.write_text("\n".join(f"{a:.9g} {1e-6 * np.sin(9e3 * a):.9g}" for a in x))
+    status, out, err = run(["profile", "--psd", f], capsys)
+    assert status == 2 and out == ""
+    assert "this looks like a height profile, not a spectrum" in err
+
+
+def test_psd_with_spectrum_options_is_an_error(tmp_path, capsys):
+    f = tmp_path / "psd.txt"
+    f.write_text("1e3 1e-20\n1e6 1e-30\n")
+    status, _, err = run(["profile", "--psd", f, "--h-rms", 1e-6, "--hurst", 0.7], capsys)
+    assert status == 2 and "--psd cannot be combined with --h-rms, --hurst" in err
+
+
+def test_non_converged_solve_exits_non_zero(tmp_path, capsys):
+    csv_path = tmp_path / "p.csv"
+    status, out, err = run(PROFILE + ["--max-iter", 1, "--csv", csv_path], capsys)
+    assert status == 1
+    assert "converged        NO" in out and "did not converge" in err
+    assert csv_path.exists()  # the results are still written
+    status, _, err = run(
+        ["sweep", "--loads-num", 2, "--n", 64, "--max-iter", 1, "--loads-to", 1e4], capsys
+    )
+    assert status == 1 and "2 of 2 solves did not converge" in err
+
+
+# ----------------------------------------------------------------------------------------------
+# sweep
+# ----------------------------------------------------------------------------------------------
+SWEEP = ["sweep", "--h-rms", 1e-6, "--loads-from", 1e3, "--loads-to", 1e5, "--loads-num", 4]
+SWEEP += ["--n", N_SMALL]
 
 
 def test_sweep_vs_api(tmp_path, capsys):
-    path = tmp_path / "s.csv"
-    args = [
-        "sweep",
-        "--h-rms",
-        "1e-6",
-        "--loads-from",
-        "1e3",
-        "--loads-to",
-        "1e5",
-        "--loads-num",
-        "4",
-        "--n",
-        "256",
-        "--csv",
-        str(path),
-        "--plot",
-        str(tmp_path / "s.png"),
-    ]
-    assert main(args) == 0
-    rows = read_csv(path)
-    assert len(rows) == 4
-    assert list(rows[0]) == [
-        "load_N_per_m",
-        "alpha",
-        "p0_Pa",
-        "p0_ratio",
-        "s_m",
-        "w_m",
-        "w_over_s",
-        "converged",
-    ]
+    path, png = tmp_path / "s.csv", tmp_path / "s.svg"
+    status, out, _ = run(SWEEP + ["--csv", path, "--plot", png], capsys)
+    assert status == 0
+    meta, cols = read_csv(path)
+    assert list(cols) == list(fl.io.SWEEP_COLUMNS)
+    assert float(meta["h_rms_m"]) == 1e-6 and meta["model"] == "persson"
     psd = fl.SelfAffinePSD(1e-6, 0.8, 1e3, 1e4, 1e9)
-    for row, f in zip(rows, np.logspace(3, 5, 4), strict=True):
-        assert float(row["load_N_per_m"]) == pytest.approx(f, rel=1e-12)
-        r = solve_line_contact(psd, E_STAR, R, f, n=256)
-        assert float(row["w_over_s"]) == pytest.approx(r.w_over_s, rel=1e-9)
-        assert float(row["p0_ratio"]) == pytest.approx(r.p0_ratio, rel=1e-9)
-        assert float(row["s_m"]) == pytest.approx(r.s, rel=1e-9)
-    assert (tmp_path / "s.png").exists()
+    np.testing.assert_allclose(cols["load_N_per_m"], np.geomspace(1e3, 1e5, 4), rtol=SAME)
+    for k, f in enumerate(cols["load_N_per_m"]):
+        r = solve_line_contact(psd, E_STAR, R, f, n=N_SMALL)
+        assert cols["w_over_s"][k] == pytest.approx(r.w_over_s, rel=SAME)
+        assert cols["p0_ratio"][k] == pytest.approx(r.p0_ratio, rel=SAME)
+        assert cols["s_m"][k] == pytest.approx(r.s, rel=SAME)
+    assert "rms slope" in out
+    assert png.read_bytes()[:5] == MAGIC["svg"]
 
 
-def test_module_help_subprocess():
-    res = subprocess.run(
-        [sys.executable, "-m", "fastline", "--help"], capture_output=True, text=True, timeout=60
-    )
-    assert res.returncode == 0
-    assert "N/m" in res.stdout and "paper" in res.stdout and "profile" in res.stdout
+def test_sweep_reports_warnings_once_with_loads(capsys):
+    # the paper's load range: half-width 38 % of R at 1.5e6 N/m; the hardness is exceeded at
+    # every load (h'E*/2 ~ 1 GPa for q1 = 1e9 1/m)
+    argv = ["sweep", "--loads-num", 5, "--n", 128, "--hardness", 1e8]
+    status, _, err = run(argv, capsys)
+    assert status == 0
+    lines = warning_lines(err)
+    half = [ln for ln in lines if "half-space" in ln]
+    plastic = [ln for ln in lines if "hardness" in ln]
+    assert len(half) == 1 and "1.5e+06" in half[0] and "of 5 solves" in half[0]
+    assert len(plastic) == 1 and "5 of 5 solves" in plastic[0]
+    assert len(lines) == len(set(lines))
 
 
-@pytest.mark.parametrize("sub", ["paper", "profile", "sweep"])
-def test_subcommand_help_has_units(sub, capsys):
-    with pytest.raises(SystemExit) as e:
-        main([sub, "--help"])
-    assert e.value.code == 0
-    out = capsys.readouterr().out
-    assert "[1/m]" in out or "N/m" in out
+def test_sweep_gamma_moves_the_result(tmp_path, capsys):
+    a, b = tmp_path / "a.csv", tmp_path / "b.csv"
+    assert run(SWEEP + ["--csv", a], capsys)[0] == 0
+    assert run(SWEEP + ["--csv", b, "--gamma", 0.3], capsys)[0] == 0
+    meta_b, cols_b = read_csv(b)
+    assert float(meta_b["gamma"]) == 0.3
+    change = np.abs(cols_b["p0_Pa"] / read_csv(a)[1]["p0_Pa"] - 1.0)
+    assert change[0] > 1e-2 and np.all(change > 1e-6)  # most at the smallest load (alpha ~ 1)
 
 
+# ----------------------------------------------------------------------------------------------
+# bad input: one line, exit status 2, nothing solved
+# ----------------------------------------------------------------------------------------------
 @pytest.mark.parametrize(
     "argv, needle",
     [
         (["profile", "--load", "abc"], "--load"),
-        (["profile", "--load", "-5"], "--load"),
+        (["profile", "--load", "-5"], "must be > 0"),
+        (["profile", "--load", "-1e4"], "must be > 0"),
+        (["sweep", "--loads-from", "-1.5E+3"], "must be > 0"),
         (["profile", "--radius", "nan"], "--radius"),
+        (["profile", "--gamma", "0"], "--gamma"),
         (["profile", "--hurst", "3"], "hurst"),  # ValueError from the library
         (["profile", "--E1", "2e11"], "--E2"),
         (
@@ -235,6 +298,7 @@ def test_subcommand_help_has_units(sub, capsys):
             "--E-star",
         ),
         (["profile", "--model", "bogus"], "--model"),
+        (["profile", "--format", "jpg"], "--format"),
         (["profile", "--psd", "/nonexistent/psd.txt"], "psd.txt"),
         (["paper"], "--out"),
         (["sweep", "--loads-from", "1e5", "--loads-to", "1e3"], "--loads-to"),
@@ -242,12 +306,65 @@ def test_subcommand_help_has_units(sub, capsys):
     ],
 )
 def test_bad_options(argv, needle, capsys):
-    assert main(argv) == 2
-    out, err = capsys.readouterr()
+    status, out, err = run(argv, capsys)
+    assert status == 2
     lines = [ln for ln in err.splitlines() if ln.strip()]
     assert len(lines) == 1, err
     assert lines[0].startswith("fastline: error:") and needle in lines[0]
-    assert "Traceback" not in err + out
+    assert "Traceback" not in err + out and "expected one argument" not in err
+
+
+@pytest.mark.parametrize(
+    "argv",
+    [
+        ["profile", "--csv", "/nonexistent-dir/p.csv"],
+        ["profile", "--plot", "/nonexistent-dir/p.png"],
+        ["sweep", "--csv", "/nonexistent-dir/s.csv"],
+        ["paper", "--out", "/proc/fastline-out"],
+    ],
+)
+def test_output_paths_checked_before_solving(argv, monkeypatch, capsys):
+    def no_solve(*args, **kwargs):
+        raise AssertionError("solved before checking the output path")
+
+    monkeypatch.setattr(fastline.line_contact, "solve_line_contact", no_solve)
+    monkeypatch.setattr(fastline.paper, "paper_data", no_solve)
+    status, _, err = run(argv, capsys)
+    assert status == 2 and err.startswith("fastline: error:") and "/" in err
+
+
+def test_output_path_is_a_directory(tmp_path, capsys):
+    status, _, err = run(["profile", "--csv", tmp_path], capsys)
+    assert status == 2 and "is a directory" in err
+
+
+def test_missing_matplotlib(monkeypatch, tmp_path, capsys):
+    monkeypatch.setitem(sys.modules, "matplotlib", None)
+    status, _, err = run(["paper", "--out", tmp_path], capsys)
+    assert status == 2
+    assert "plotting needs matplotlib" in err and len(err.strip().splitlines()) == 1
+
+
+# ----------------------------------------------------------------------------------------------
+# help and entry points
+# ----------------------------------------------------------------------------------------------
+def test_module_help_subprocess():
+    res = subprocess.run(
+        [sys.executable, "-m", "fastline", "--help"], capture_output=True, text=True, timeout=60
+    )
+    assert res.returncode == 0
+    assert "N/m" in res.stdout and "paper" in res.stdout and "profile" in res.stdout
+
+
+@pytest.mark.parametrize("sub", ["paper", "profile", "sweep"])
+def test_subcommand_help_has_units_and_common_options(sub, capsys):
+    with pytest.raises(SystemExit) as e:
+        main([sub, "--help"])
+    assert e.value.code == 0
+    out = capsys.readouterr().out
+    assert "[1/m]" in out or "N/m" in out
+    for opt in ("--gamma", "--format", "--dpi", "--hardness", "--max-iter", "--n"):
+        assert opt in out, opt
 
 
 def test_bad_option_subprocess_no_traceback():
@@ -264,11 +381,3 @@ def test_bad_option_subprocess_no_traceback():
 def test_no_command_prints_help(capsys):
     assert main([]) == 2
     assert "usage" in capsys.readouterr().out
-
-
-def test_missing_matplotlib(monkeypatch, tmp_path, capsys):
-    monkeypatch.setitem(sys.modules, "matplotlib", None)
-    assert main(["paper", "--out", str(tmp_path)]) == 2
-    err = capsys.readouterr().err
-    assert "pip install fastline[plot]" in err and len(err.strip().splitlines()) == 1
-    assert math.isfinite(1.0)

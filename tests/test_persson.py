@@ -1,6 +1,6 @@
 """Acceptance tests of fastline.persson: P(q, p), u(p), its inverse p(u), the exponential law.
 
-Reference: ``naive.separation`` (SciPy quad double integral of THEORY.md section 3).
+Reference: ``naive.separation`` (SciPy quad double integral of docs/theory.md section 3).
 """
 
 from __future__ import annotations

@@ -1,6 +1,6 @@
 """Tests for fastline._special: the universal function F(x0) of the Persson separation.
 
-    F(x0) = int_{x0}^inf (1/x) [gamma + 3 (1 - gamma) erf(x)^2] exp(-x^2) dx   (THEORY.md 3)
+    F(x0) = int_{x0}^inf (1/x) [gamma + 3 (1 - gamma) erf(x)^2] exp(-x^2) dx  (docs/theory.md §3)
 
 Reference: ``naive.universal_F`` (SciPy exp1 + quad).
 """

@@ -1,6 +1,6 @@
 """Tests for fastline.spectra: the roughness power spectra C(q) and effective_modulus.
 
-Every moment is checked against SciPy quadrature of its definition (THEORY.md section 2):
+Every moment is checked against SciPy quadrature of its definition (docs/theory.md section 2):
 ``h_rms^2 = 2 pi int q C dq``, ``h'^2 = 2 pi int q^3 C dq``, ``A(q) = pi int_0^q q^3 C dq``.
 """
 

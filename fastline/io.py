@@ -1,0 +1,322 @@
+"""Files: measured spectra in, results out (CSV with the whole scene in its header).
+
+Spectrum files hold two columns, wavenumber q [1/m] and isotropic power spectrum C(q) [m^4] in
+Persson's convention (``h_rms^2 = 2 pi int q C dq``, docs/theory.md section 2), separated by
+whitespace or a comma; ``#`` starts a comment. :func:`read_spectrum` checks that the table is
+a plausible spectrum before it is used (a height profile, x [m] against h [m], starts at x = 0
+and is refused).
+
+Result files are CSV: ``# key: value`` lines describing the scene (spectrum and where it came
+from, its h_rms, rms slope and q range, E*, R, model, gamma, n, fastline version), then a
+header row of column names with units, then rows written with full double precision.
+:func:`read_csv` reads them back.
+
+SI units throughout.
+"""
+
+from __future__ import annotations
+
+import os
+from collections.abc import Iterable, Mapping, Sequence
+
+import numpy as np
+
+__all__ = [
+    "SpectrumFileError",
+    "read_spectrum",
+    "spectrum_summary",
+    "scene_metadata",
+    "check_output_file",
+    "check_output_dir",
+    "write_csv",
+    "write_profile_csv",
+    "write_sweep_csv",
+    "sweep_rows",
+    "read_csv",
+    "PROFILE_COLUMNS",
+    "SWEEP_COLUMNS",
+]
+
+#: columns of :func:`write_profile_csv`
+PROFILE_COLUMNS = ("x_m", "p_Pa", "u_m")
+#: columns of :func:`write_sweep_csv`
+SWEEP_COLUMNS = (
+    "load_N_per_m",
+    "alpha",
+    "p0_Pa",
+    "p0_ratio",
+    "s_m",
+    "w_m",
+    "w_over_s",
+    "converged",
+)
+
+
+class SpectrumFileError(ValueError):
+    """A spectrum file that cannot be read or does not look like a spectrum."""
+
+
+def _parse_rows(path: str) -> np.ndarray:
+    rows = []
+    try:
+        with open(path, encoding="utf-8") as fh:
+            for k, raw in enumerate(fh, 1):
+                line = raw.split("#", 1)[0].replace(",", " ").strip()
+                if not line:
+                    continue
+                parts = line.split()
+                if len(parts) != 2:
+                    raise SpectrumFileError(
+                        f"{path}:{k}: expected two columns q [1/m] and C [m^4], got {len(parts)}"
+                    )
+                try:
+                    rows.append((float(parts[0]), float(parts[1])))
+                except ValueError:
+                    raise SpectrumFileError(f"{path}:{k}: not a number in {line!r}") from None
+    except OSError as e:
+        raise SpectrumFileError(f"cannot read spectrum file {path}: {e.strerror}") from None
+    except UnicodeDecodeError:
+        raise SpectrumFileError(f"{path}: not a text file") from None
+    if len(rows) < 2:
+        raise SpectrumFileError(f"{path}: need at least two (q, C) rows, got {len(rows)}")
+    return np.array(rows)
+
+
+def read_spectrum(path: str | os.PathLike):
+    """Read a two-column spectrum file (q [1/m], C [m^4]) into a :class:`~fastline.TabulatedPSD`.
+
+    Parameters
+    ----------
+    path : str or path-like
+        Text file; whitespace- or comma-separated columns, ``#`` comments.
+
+    Returns
+    -------
+    TabulatedPSD
+
+    Raises
+    ------
+    SpectrumFileError
+        (a ValueError) naming the file and line when a row is malformed, when the first column
+        starts at 0 (a height profile, not a spectrum), or when q or C break the rules of
+        :class:`~fastline.TabulatedPSD` (q > 0 strictly increasing, C >= 0, finite).
+    """
+    from fastline.spectra import TabulatedPSD
+
+    path = os.fspath(path)
+    q, C = _parse_rows(path).T
+    if q[0] == 0.0:
+        raise SpectrumFileError(
+            f"{path}: the first column starts at 0: this looks like a height profile, not a "
+            "spectrum (expected wavenumbers q > 0 [1/m] and C(q) [m^4])"
+        )
+    if np.any(C < 0.0):
+        k = int(np.argmax(C < 0.0))
+        raise SpectrumFileError(
+            f"{path}: C(q) < 0 at q = {q[k]:g} 1/m: a power spectrum is >= 0 (is this a height "
+            "profile, not a spectrum?)"
+        )
+    try:
+        return TabulatedPSD(q, C)
+    except ValueError as e:
+        raise SpectrumFileError(f"{path}: {e}") from None
+
+
+def spectrum_summary(psd) -> dict:
+    """h_rms [m], rms slope [-] and the wavenumber range [1/m] of a spectrum.
+
+    Returns
+    -------
+    dict
+        ``h_rms``, ``rms_slope``, ``q0``, ``q1`` and ``longest_wavelength`` (``2 pi / q0``, m).
+    """
+    return {
+        "h_rms": float(psd.h_rms),
+        "rms_slope": float(psd.rms_slope),
+        "q0": float(psd.q0),
+        "q1": float(psd.q1),
+        "longest_wavelength": float(2.0 * np.pi / psd.q0),
+    }
+
+
+def scene_metadata(
+    psd,
+    E_star: float,
+    radius: float,
+    *,
+    model: str,
+    gamma: float,
+    n: int,
+    source: str | None = None,
+    **extra,
+) -> dict:
+    """The ``key: value`` lines of a result file's header (see :func:`write_csv`).
+
+    Parameters
+    ----------
+    psd : PSD or None
+        The spectrum (None for smooth surfaces).
+    E_star, radius : float
+        Effective modulus in Pa and cylinder radius in m.
+    model : str
+        ``"persson"``, ``"exponential"`` or ``"hertz"``.
+    gamma : float
+        Yang-Persson parameter of the theory.
+    n : int
+        Grid points.
+    source : str, optional
+        The spectrum file the spectrum was read from.
+    **extra
+        Further entries (e.g. the load), written after these.
+    """
+    from fastline import __version__
+
+    meta: dict = {"fastline_version": __version__}
+    if psd is None:
+        meta["spectrum"] = "none (smooth surfaces)"
+    else:
+        meta["spectrum"] = f"file {source}" if source else repr(psd)
+        s = spectrum_summary(psd)
+        meta["h_rms_m"] = s["h_rms"]
+        meta["rms_slope"] = s["rms_slope"]
+        meta["q0_1_per_m"] = s["q0"]
+        meta["q1_1_per_m"] = s["q1"]
+    meta.update(E_star_Pa=float(E_star), radius_m=float(radius), model=model, gamma=float(gamma))
+    meta["n"] = int(n)
+    meta.update(extra)
+    return meta
+
+
+def _fmt(v) -> str:
+    if isinstance(v, bool | np.bool_):
+        return str(int(v))
+    if isinstance(v, str):
+        return v
+    if isinstance(v, int | np.integer):
+        return str(int(v))
+    return repr(float(v))
+
+
+def check_output_file(path: str | os.PathLike) -> str:
+    """Check, before any work, that a file can be written at ``path``; returns it as str.
+
+    Raises
+    ------
+    ValueError
+        When the path is a directory, its directory does not exist or is not writable.
+    """
+    path = os.fspath(path)
+    if os.path.isdir(path):
+        raise ValueError(f"{path} is a directory, not a file")
+    parent = os.path.dirname(os.path.abspath(path))
+    if not os.path.isdir(parent):
+        raise ValueError(f"cannot write {path}: directory {parent} does not exist")
+    if not os.access(parent, os.W_OK) or (os.path.exists(path) and not os.access(path, os.W_OK)):
+        raise ValueError(f"cannot write {path}: permission denied")
+    return path
+
+
+def check_output_dir(path: str | os.PathLike) -> str:
+    """Create the directory ``path`` if needed and check it is writable; returns it as str.
+
+    Raises
+    ------
+    ValueError
+        When it cannot be created or written to.
+    """
+    path = os.fspath(path)
+    try:
+        os.makedirs(path, exist_ok=True)
+    except OSError as e:
+        raise ValueError(f"cannot create directory {path}: {e.strerror}") from None
+    if not os.access(path, os.W_OK):
+        raise ValueError(f"cannot write to directory {path}: permission denied")
+    return path
+
+
+def write_csv(
+    path: str | os.PathLike,
+    columns: Sequence[str],
+    rows: Iterable[Sequence],
+    meta: Mapping | None = None,
+    title: str | None = None,
+) -> None:
+    """Write a CSV result file: ``# title``, ``# key: value`` lines, header row, rows.
+
+    Numbers are written with full double precision (``repr``), booleans as 0/1.
+    """
+    path = os.fspath(path)
+    try:
+        with open(path, "w", encoding="utf-8") as fh:
+            if title:
+                for line in title.splitlines():
+                    fh.write(f"# {line}\n")
+            for k, v in (meta or {}).items():
+                fh.write(f"# {k}: {v if isinstance(v, str) else _fmt(v)}\n")
+            fh.write(",".join(columns) + "\n")
+            for row in rows:
+                fh.write(",".join(_fmt(v) for v in row) + "\n")
+    except OSError as e:
+        raise ValueError(f"cannot write {path}: {e.strerror}") from None
+
+
+def write_profile_csv(path, result, meta: Mapping | None = None) -> None:
+    """Write p(x) of one result: columns ``x_m, p_Pa, u_m``; ``meta`` as the header.
+
+    The load, alpha, p0, widths and convergence of the result are added to the header.
+    """
+    info = dict(meta or {})
+    info.update(
+        load_N_per_m=result.load,
+        alpha=result.alpha,
+        p0_Pa=result.p0,
+        s_m=result.s,
+        w_m=result.fwhm,
+        w_over_s=result.w_over_s,
+        converged=result.converged,
+    )
+    rows = zip(result.x, result.pressure, result.separation, strict=True)
+    write_csv(path, PROFILE_COLUMNS, rows, info, title="fastline profile: p(x) and u(x)")
+
+
+def sweep_rows(results: Iterable) -> list[tuple]:
+    """One row of :data:`SWEEP_COLUMNS` per result."""
+    return [
+        (r.load, r.alpha, r.p0, r.p0_ratio, r.s, r.fwhm, r.w_over_s, r.converged) for r in results
+    ]
+
+
+def write_sweep_csv(path, results: Sequence, meta: Mapping | None = None) -> None:
+    """Write a load sweep: one row per result, columns :data:`SWEEP_COLUMNS`."""
+    write_csv(path, SWEEP_COLUMNS, sweep_rows(results), meta, title="fastline sweep")
+
+
+def read_csv(path: str | os.PathLike) -> tuple[dict, dict]:
+    """Read a file written by :func:`write_csv`.
+
+    Returns
+    -------
+    meta : dict
+        The ``# key: value`` header entries (values as strings).
+    columns : dict
+        Column name -> float ndarray (non-numeric columns as arrays of str).
+    """
+    meta: dict = {}
+    lines = []
+    with open(os.fspath(path), encoding="utf-8") as fh:
+        for line in fh:
+            if line.startswith("#"):
+                key, sep, value = line[1:].strip().partition(": ")
+                if sep and key.isidentifier():
+                    meta[key] = value
+            elif line.strip():
+                lines.append(line.rstrip("\n").split(","))
+    names, body = lines[0], lines[1:]
+    columns = {}
+    for j, name in enumerate(names):
+        col = [row[j] for row in body]
+        try:
+            columns[name] = np.array([float(v) for v in col])
+        except ValueError:
+            columns[name] = np.array(col)
+    return meta, columns

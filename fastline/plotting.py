@@ -1,0 +1,334 @@
+"""Figures of line-contact results: C(q), p(x), w/s and p0/p0_Hertz against alpha.
+
+Each function draws into a given matplotlib ``Axes`` (``ax=``) or makes its own
+:class:`matplotlib.figure.Figure` (no pyplot, no global backend change) and returns the figure.
+matplotlib is imported only when a figure is made (install it with the ``plot`` extra).
+
+Conventions: alpha on a log axis, SI units with mm and MPa for profiles, no titles (captions
+belong to the document), reference lines labelled, legends outside the data.
+
+>>> import fastline as fl                                              # doctest: +SKIP
+>>> res = [fl.solve_line_contact(psd, 1.33e9, 0.01, f) for f in (1e3, 1e4, 1e5)]
+>>> fig = fl.plotting.plot_sweep(res)
+>>> fl.plotting.save_figure(fig, "sweep.pdf")
+"""
+
+from __future__ import annotations
+
+import math
+import os
+from collections.abc import Mapping
+
+import numpy as np
+
+__all__ = [
+    "FORMATS",
+    "plot_psd",
+    "plot_profile",
+    "plot_w_over_s",
+    "plot_p0_ratio",
+    "plot_sweep",
+    "save_figure",
+]
+
+#: file formats :func:`save_figure` writes
+FORMATS = ("png", "pdf", "svg")
+#: resolution of raster (PNG) figures in dots per inch
+DEFAULT_DPI = 150
+_ALPHA_LABEL = r"$\alpha = h_\mathrm{rms}/\delta$"
+_WS_LABEL = r"$w/s$ (FWHM / standard deviation)"
+_P0_LABEL = r"$p_0/p_{0,\mathrm{Hertz}}$"
+_PANEL = (5.6, 3.8)  # inches: one panel with a legend on its right
+
+
+def _figure(ax, size=_PANEL):
+    """(figure, axes): the given axes' figure, or a new one with fixed margins."""
+    if ax is not None:
+        return ax.figure, ax, False
+    try:
+        from matplotlib.figure import Figure
+    except ImportError:
+        raise ImportError(
+            'plotting needs matplotlib: pip install matplotlib (the "plot" extra of '
+            "fastline-contact)"
+        ) from None
+    fig = Figure(figsize=size)
+    # fixed margins (no tight/constrained layout pass: each costs a full draw); the right
+    # margin holds the legend
+    fig.subplots_adjust(left=0.13, right=0.66, bottom=0.15, top=0.96)
+    return fig, fig.add_subplot(), True
+
+
+_SUPERSCRIPT = str.maketrans(
+    "-0123456789", "\u207b\u2070\u00b9\u00b2\u00b3\u2074\u2075\u2076\u2077\u2078\u2079"
+)
+
+
+def _power_of_ten(value, _pos=None) -> str:
+    """Tick label ``10⁻³`` in plain Unicode: a log axis without mathtext tick labels (their
+    parsing took 0.37 s of the ~1 s spent on the paper's four figures)."""
+    if value <= 0.0:
+        return ""
+    e = math.log10(value)
+    return "10" + str(round(e)).translate(_SUPERSCRIPT) if abs(e - round(e)) < 1e-9 else ""
+
+
+def _log_axis(axis) -> None:
+    """Major ticks at powers of ten labelled 10ⁿ (Unicode superscripts); minor ticks unlabelled.
+
+    Left to matplotlib's own labels when the axis spans fewer than two powers of ten.
+    """
+    from matplotlib.ticker import FuncFormatter, NullFormatter
+
+    lo, hi = sorted(axis.get_view_interval())
+    if lo <= 0.0 or math.floor(math.log10(hi)) - math.ceil(math.log10(lo)) < 1:
+        return
+    axis.set_major_formatter(FuncFormatter(_power_of_ten))
+    axis.set_minor_formatter(NullFormatter())
+
+
+def _series(results) -> dict:
+    """label -> list of results, from a list of results or a mapping of lists."""
+    if isinstance(results, Mapping):
+        return {str(k): list(v) for k, v in results.items()}
+    results = list(results)
+    if not results:
+        raise ValueError("results must hold at least one LineContactResult")
+    return {None: results}
+
+
+def _legend(ax) -> None:
+    """Legend outside the axes, on the right (never over the data)."""
+    ax.legend(loc="upper left", bbox_to_anchor=(1.02, 1.0), fontsize=8, frameon=False)
+
+
+def _no_outside_legend(fig, ax, own: bool) -> None:
+    """Give the right margin back to the axes of a figure made here without an outer legend."""
+    if own and len(fig.axes) == 1:
+        fig.subplots_adjust(left=0.19, right=0.96)
+        fig.set_size_inches(4.6, fig.get_size_inches()[1])
+
+
+def _sorted(results):
+    return sorted(results, key=lambda r: r.alpha)
+
+
+def plot_psd(psds, *, q=None, ax=None):
+    """Power spectra C(q) on log-log axes.
+
+    Parameters
+    ----------
+    psds : PSD or mapping of label -> PSD
+        Spectra to draw.
+    q : array_like, optional
+        Wavenumbers in 1/m; default 400 log-spaced points over the spectra's range.
+    ax : matplotlib Axes, optional
+    """
+    if not isinstance(psds, Mapping):
+        psds = {None: psds}
+    fig, ax, own = _figure(ax)
+    if q is None:
+        lo = min(p.q0 for p in psds.values())
+        hi = max(p.q1 for p in psds.values())
+        q = np.geomspace(lo, hi, 400)
+    q = np.asarray(q, dtype=np.float64)
+    for label, psd in psds.items():
+        C = psd(q)
+        live = C > 0.0
+        ax.loglog(q[live], C[live], label=label)
+    _log_axis(ax.xaxis)
+    _log_axis(ax.yaxis)
+    ax.set_xlabel(r"wavenumber $q$ (1/m)")
+    ax.set_ylabel(r"$C(q)$ (m$^4$)")
+    if any(k is not None for k in psds):
+        # spectra fall from top left to bottom right: the lower left corner is free
+        ax.legend(loc="lower left", fontsize=8, frameon=False)
+    _no_outside_legend(fig, ax, own)
+    return fig
+
+
+def plot_profile(result, *, hertz: bool = True, label: str | None = None, ax=None):
+    """Pressure profile p(x) of one result, with the smooth (Hertz) profile at the same load.
+
+    Parameters
+    ----------
+    result : LineContactResult
+    hertz : bool
+        Also draw the Hertz profile (paper eq. 6) at the same E*, R and load.
+    label : str, optional
+        Legend entry of the rough profile (default: its model and alpha).
+    ax : matplotlib Axes, optional
+    """
+    from fastline.limits import hertz_line_contact
+
+    fig, ax, _ = _figure(ax)
+    x_mm = result.x * 1e3
+    if label is None:
+        label = f"{result.model}, $\\alpha$ = {result.alpha:.3g}"
+    ax.plot(x_mm, result.pressure / 1e6, "-", color="C0", label=label)
+    hz = hertz_line_contact(result.E_star, result.radius, result.load)
+    if hertz:
+        ax.plot(x_mm, hz.pressure(result.x) / 1e6, "--", color="k", lw=1, label="Hertz (smooth)")
+    half = 1.3 * max(hz.a if hertz else 0.0, 2.5 * result.s)
+    ax.set_xlim(-half * 1e3, half * 1e3)
+    ax.set_ylim(0.0, None)
+    ax.set_xlabel(r"$x$ (mm)")
+    ax.set_ylabel(r"nominal pressure $p$ (MPa)")
+    _legend(ax)
+    return fig
+
+
+def _ws_limits(values) -> tuple[float, float]:
+    """y range of a w/s panel: the data and both reference values, with a margin."""
+    from fastline.limits import WS_GAUSSIAN, WS_HERTZ
+
+    v = np.asarray([x for x in values if math.isfinite(x)] or [WS_GAUSSIAN])
+    lo, hi = min(v.min(), WS_GAUSSIAN), max(v.max(), WS_HERTZ)
+    pad = 0.07 * (hi - lo)  # room for the reference lines' labels
+    return lo - pad, hi + pad
+
+
+def plot_w_over_s(results, *, ax=None):
+    """w/s against alpha (log axis) with the Hertz and Gaussian values labelled.
+
+    Parameters
+    ----------
+    results : sequence of LineContactResult, or mapping of label -> sequence
+        One or several load sweeps (paper Fig. 4).
+    ax : matplotlib Axes, optional
+    """
+    from fastline.limits import WS_GAUSSIAN, WS_HERTZ
+
+    series = _series(results)
+    fig, ax, own = _figure(ax)
+    allv = []
+    for label, rs in series.items():
+        rs = _sorted(rs)
+        a = [r.alpha for r in rs]
+        ws = [r.w_over_s for r in rs]
+        allv += ws
+        ax.semilogx(a, ws, "o-", ms=3, lw=1.2, label=label)
+    ax.set_ylim(*_ws_limits(allv))
+    _log_axis(ax.xaxis)
+    # reference lines labelled outside the band between them, where w/s usually lies: Hertz
+    # above its line on the right (large alpha), Gaussian below its line on the left
+    for y, ls, text, x, ha, dy, va in (
+        (WS_HERTZ, "--", r"Hertz: $2\sqrt{3}$ = 3.464", 0.98, "right", 2, "bottom"),
+        (WS_GAUSSIAN, ":", r"Gaussian: $2\sqrt{2\ln 2}$ = 2.355", 0.02, "left", -2, "top"),
+    ):
+        ax.axhline(y, ls=ls, color="k", lw=0.8)
+        ax.annotate(
+            text, (x, y), xycoords=("axes fraction", "data"), xytext=(0, dy),
+            textcoords="offset points", ha=ha, va=va, fontsize=8,
+        )  # fmt: skip
+    ax.set_xlabel(_ALPHA_LABEL)
+    ax.set_ylabel(_WS_LABEL)
+    if any(k is not None for k in series):
+        _legend(ax)
+    else:
+        _no_outside_legend(fig, ax, own)
+    return fig
+
+
+def _gamma_u_for(gamma_u, label):
+    if isinstance(gamma_u, Mapping):
+        return gamma_u.get(label)
+    return gamma_u
+
+
+def plot_p0_ratio(results, *, gamma_u=None, ax=None):
+    """p0/p0_Hertz against alpha (log axis), with the Gaussian asymptote (paper eq. 14).
+
+    Parameters
+    ----------
+    results : sequence of LineContactResult, or mapping of label -> sequence
+        One or several load sweeps (paper Fig. 5).
+    gamma_u : float or mapping of label -> float, optional
+        ``u0 / h_rms`` of each series; when given, eq. 14 ``(pi / (8 gamma_u alpha))^(1/2)`` is
+        drawn (dashed, in the series' colour). The y range follows the data, not the
+        asymptote (which grows without bound at small alpha).
+    ax : matplotlib Axes, optional
+    """
+    from fastline.limits import p0_ratio_gaussian
+
+    series = _series(results)
+    fig, ax, _ = _figure(ax)
+    top = 1.0
+    for k, (label, rs) in enumerate(series.items()):
+        rs = _sorted(rs)
+        a = np.array([r.alpha for r in rs])
+        pr = np.array([r.p0_ratio for r in rs])
+        top = max(top, float(np.nanmax(pr)))
+        color = f"C{k % 10}"
+        ax.semilogx(a, pr, "o-", ms=3, lw=1.2, color=color, label=label)
+        gu = _gamma_u_for(gamma_u, label)
+        if gu is not None and np.all(a > 0):
+            aa = np.geomspace(a.min(), a.max(), 200)
+            ax.semilogx(
+                aa,
+                p0_ratio_gaussian(aa, gu),
+                "--",
+                color=color,
+                lw=0.9,
+                label=f"eq. 14, $\\gamma_u$ = {gu:.3f}",
+            )
+    ax.axhline(1.0, color="k", lw=0.6, label="Hertz")
+    ax.set_ylim(0.0, 1.15 * top)
+    _log_axis(ax.xaxis)
+    ax.set_xlabel(_ALPHA_LABEL)
+    ax.set_ylabel(_P0_LABEL)
+    _legend(ax)
+    return fig
+
+
+def plot_sweep(results, *, gamma_u=None):
+    """Two panels of a load sweep: w/s and p0/p0_Hertz against alpha.
+
+    Parameters
+    ----------
+    results : sequence of LineContactResult, or mapping of label -> sequence
+    gamma_u : float or mapping, optional
+        For the eq. 14 curve (see :func:`plot_p0_ratio`).
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+    """
+    fig, _, _ = _figure(None, size=(10.0, 3.8))
+    fig.clear()
+    fig.subplots_adjust(left=0.07, right=0.83, bottom=0.15, top=0.96, wspace=0.28)
+    ax1, ax2 = fig.subplots(1, 2)
+    plot_w_over_s(results, ax=ax1)
+    plot_p0_ratio(results, gamma_u=gamma_u, ax=ax2)
+    if ax1.get_legend() is not None:  # one legend (the right panel's) is enough
+        ax1.get_legend().remove()
+    return fig
+
+
+def save_figure(fig, path, *, format: str | None = None, dpi: float | None = None) -> str:
+    """Write a figure to ``path`` (PNG, PDF or SVG) and return the path.
+
+    Parameters
+    ----------
+    fig : matplotlib Figure
+    path : str or path-like
+    format : {"png", "pdf", "svg"}, optional
+        Default: from the file extension, else PNG.
+    dpi : float, optional
+        Resolution of PNG output (default 150).
+    """
+    path = os.fspath(path)
+    if format is None:
+        ext = os.path.splitext(path)[1].lower().lstrip(".")
+        format = ext if ext in FORMATS else "png"
+    if format not in FORMATS:
+        raise ValueError(f"format must be one of {FORMATS}, got {format!r}")
+    if dpi is not None and not (isinstance(dpi, int | float) and 10 <= dpi <= 2400):
+        raise ValueError(f"dpi must be a number in [10, 2400], got {dpi!r}")
+    meta = {"png": {"Software": "fastline"}, "pdf": {"Creator": "fastline"}}
+    meta["svg"] = {"Creator": "fastline"}
+    try:
+        fig.savefig(path, format=format, dpi=dpi or DEFAULT_DPI, metadata=meta[format])
+    except OSError as e:
+        raise ValueError(f"cannot write {path}: {e.strerror}") from None
+    return path

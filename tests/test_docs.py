@@ -1,0 +1,118 @@
+"""Every code block in README.md and docs/*.md runs as written.
+
+Rules (also stated in docs/usage.md's neighbourhood by example):
+
+* ```` ```python ```` blocks are executed, each in a fresh namespace, in a temporary directory
+  that holds a copy of ``examples/`` (so ``"examples/psd_example.txt"`` resolves and the files
+  a block writes do not land in the repository).
+* In ```` ```bash ```` blocks, each command that starts with ``fastline`` or
+  ``.venv/bin/fastline`` is run in-process through :func:`fastline.cli.main` and must exit 0;
+  other lines (``pip``, ``python -m venv``, ``pytest``, comments) are not run here: CI runs the
+  README's set-up commands verbatim (``.ci/run``, checked below).
+* A block preceded by the line ``<!-- docs-test: skip -->`` is not run.
+"""
+
+from __future__ import annotations
+
+import os
+import re
+import shlex
+import shutil
+import warnings
+from contextlib import redirect_stderr, redirect_stdout
+from io import StringIO
+
+import pytest
+
+from fastline.cli import main
+
+ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+PAGES = ["README.md"] + sorted(
+    os.path.join("docs", f) for f in os.listdir(os.path.join(ROOT, "docs")) if f.endswith(".md")
+)
+SKIP = "<!-- docs-test: skip -->"
+FENCE = re.compile(r"^```(\w*)\n(.*?)^```", re.MULTILINE | re.DOTALL)
+
+pytest.importorskip("matplotlib")
+
+
+def blocks(page: str):
+    """(language, code, line number) of each fenced block of a page not marked to skip."""
+    text = open(os.path.join(ROOT, page), encoding="utf-8").read()
+    for m in FENCE.finditer(text):
+        before = text[: m.start()].rstrip("\n").rsplit("\n", 1)[-1]
+        if before.strip() != SKIP:
+            yield m.group(1), m.group(2), text[: m.start()].count("\n") + 1
+
+
+def commands(code: str) -> list[str]:
+    """The fastline commands of a bash block (continuation lines joined)."""
+    joined = code.replace("\\\n", " ")
+    out = []
+    for line in joined.splitlines():
+        line = line.split(" #", 1)[0].strip()
+        if line.startswith(("fastline ", ".venv/bin/fastline ")):
+            out.append(line)
+    return out
+
+
+CASES = [
+    pytest.param(page, lang, code, id=f"{page}:{line}")
+    for page in PAGES
+    for lang, code, line in blocks(page)
+    if lang == "python" or (lang == "bash" and commands(code))
+]
+
+
+@pytest.fixture
+def in_tmp(tmp_path, monkeypatch):
+    shutil.copytree(os.path.join(ROOT, "examples"), tmp_path / "examples")
+    monkeypatch.chdir(tmp_path)
+    return tmp_path
+
+
+@pytest.mark.parametrize("page, lang, code", CASES)
+def test_code_block_runs(page, lang, code, in_tmp):
+    out = StringIO()
+    with redirect_stdout(out), redirect_stderr(out), warnings.catch_warnings():
+        warnings.simplefilter("ignore")  # the blocks show warnings; they are tested elsewhere
+        if lang == "python":
+            exec(compile(code, page, "exec"), {"__name__": "__docs__"})
+        else:
+            for cmd in commands(code):
+                status = main(shlex.split(cmd)[1:])
+                assert status == 0, f"{cmd!r} exited {status}:\n{out.getvalue()[-2000:]}"
+
+
+def test_every_page_has_checked_blocks():
+    assert any(c.id.startswith("README.md") for c in CASES)
+    assert any(c.id.startswith("docs/usage.md") for c in CASES)
+
+
+def test_install_lines_name_this_project():
+    """No install line in the repository installs another distribution (``fastline`` on the
+    package index is an unrelated project)."""
+    pat = re.compile(r"pip install\s+(?:-\S+\s+)*(\S+)")
+    found = []
+    for base, dirs, files in os.walk(ROOT):
+        dirs[:] = [d for d in dirs if not d.startswith(".") and d not in ("build", "dist")]
+        for f in files:
+            if f.endswith((".md", ".py", ".toml", ".txt")) or f == "run":
+                text = open(os.path.join(base, f), encoding="utf-8", errors="ignore").read()
+                found += [(f, m.group(1)) for m in pat.finditer(text)]
+    ci = open(os.path.join(ROOT, ".ci", "run"), encoding="utf-8").read()
+    found += [("run", m.group(1)) for m in pat.finditer(ci)]
+    allowed = re.compile(r"""^["']?(\.|fastline-contact)(\[[\w,]+\])?["']?$|^matplotlib\b""")
+    bad = [(f, t) for f, t in found if not allowed.match(t.rstrip("`;,)."))]
+    assert found and not bad, bad
+
+
+def test_ci_runs_the_readme_setup_commands():
+    readme = open(os.path.join(ROOT, "README.md"), encoding="utf-8").read()
+    setup = readme[readme.index("## Set-up") :]
+    lang, code = FENCE.search(setup).groups()
+    assert lang == "bash"
+    ci = open(os.path.join(ROOT, ".ci", "run"), encoding="utf-8").read().splitlines()
+    lines = [ln for ln in code.splitlines() if ln.strip()]
+    assert len(lines) == 2 and all(ln in ci for ln in lines)
+    assert all(".venv/bin/" in ln for ln in lines)  # no activated venv needed

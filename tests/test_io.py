@@ -1,0 +1,95 @@
+"""Tests of fastline.io: spectrum files in (with plausibility checks), result CSVs out."""
+
+import os
+
+import numpy as np
+import pytest
+
+import fastline as fl
+from fastline import io
+
+ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+EXAMPLE = os.path.join(ROOT, "examples", "psd_example.txt")
+
+
+def write(tmp_path, text, name="f.txt"):
+    path = tmp_path / name
+    path.write_text(text)
+    return path
+
+
+def test_read_spectrum_roundtrip(tmp_path):
+    psd = fl.SelfAffinePSD(3e-6, 0.8, 1e3, 1e4, 1e8)
+    q = np.union1d(np.geomspace(1e3, 1e8, 80), [1e4])  # the roll-off corner is a table point
+    body = "\n".join(
+        f"{a!r},{b!r}  # comment" for a, b in zip(q.tolist(), psd(q).tolist(), strict=True)
+    )
+    tab = io.read_spectrum(write(tmp_path, "# q [1/m]  C [m^4]\n\n" + body))
+    np.testing.assert_array_equal(tab.q, q)
+    # log-log interpolation is exact for piecewise power laws with their corners tabulated
+    assert tab.h_rms == pytest.approx(psd.h_rms, rel=1e-9)
+
+
+def test_example_spectrum_is_plausible():
+    tab = io.read_spectrum(EXAMPLE)
+    s = io.spectrum_summary(tab)
+    assert 1e-7 < s["h_rms"] < 1e-4 and 0.01 < s["rms_slope"] < 10.0
+    assert s["longest_wavelength"] == pytest.approx(2 * np.pi / tab.q0, rel=1e-12)
+
+
+@pytest.mark.parametrize(
+    "text, needle",
+    [
+        ("0 1e-6\n1e-5 2e-6\n2e-5 -1e-6\n", "this looks like a height profile, not a spectrum"),
+        ("1e3 1e-20\n1e4 -1e-22\n", "C(q) < 0"),
+        ("1e3 1e-20 5\n1e4 1e-22 5\n", "expected two columns"),
+        ("1e3 abc\n1e4 1e-22\n", "not a number"),
+        ("1e3 1e-20\n", "at least two"),
+        ("1e4 1e-20\n1e3 1e-22\n", "strictly increasing"),
+    ],
+)
+def test_read_spectrum_rejects(tmp_path, text, needle):
+    with pytest.raises(io.SpectrumFileError, match="f.txt") as e:
+        io.read_spectrum(write(tmp_path, text))
+    assert needle in str(e.value)
+    assert issubclass(io.SpectrumFileError, ValueError)
+
+
+def test_read_spectrum_missing_or_binary(tmp_path):
+    with pytest.raises(ValueError, match="cannot read"):
+        io.read_spectrum(tmp_path / "nope.txt")
+    path = tmp_path / "b.bin"
+    path.write_bytes(b"\xff\xfe\x00\x81" * 10)
+    with pytest.raises(ValueError, match="not a text file"):
+        io.read_spectrum(path)
+
+
+def test_csv_header_records_the_scene(tmp_path):
+    psd = fl.SelfAffinePSD(1e-6, 0.8, 1e3, 1e4, 1e9)
+    r = fl.solve_line_contact(psd, 1.33e9, 0.01, 1e4, n=64, gamma=0.4)
+    meta = io.scene_metadata(psd, 1.33e9, 0.01, model="persson", gamma=0.4, n=64, source="x.txt")
+    io.write_profile_csv(tmp_path / "p.csv", r, meta)
+    got, cols = io.read_csv(tmp_path / "p.csv")
+    assert got["spectrum"] == "file x.txt" and got["model"] == "persson"
+    assert float(got["h_rms_m"]) == psd.h_rms and float(got["rms_slope"]) == psd.rms_slope
+    assert float(got["q0_1_per_m"]) == 1e3 and float(got["q1_1_per_m"]) == 1e9
+    assert float(got["gamma"]) == 0.4 and int(got["n"]) == 64
+    assert got["fastline_version"] == fl.__version__ and got["converged"] == "1"
+    assert float(got["p0_Pa"]) == r.p0
+    np.testing.assert_array_equal(cols["p_Pa"], r.pressure)  # repr: exact round trip
+    io.write_sweep_csv(tmp_path / "s.csv", [r, r], meta)
+    _, cols = io.read_csv(tmp_path / "s.csv")
+    assert list(cols) == list(io.SWEEP_COLUMNS) and cols["w_over_s"][1] == r.w_over_s
+
+
+def test_output_checks(tmp_path):
+    assert io.check_output_file(tmp_path / "a.csv") == str(tmp_path / "a.csv")
+    with pytest.raises(ValueError, match="does not exist"):
+        io.check_output_file(tmp_path / "no" / "a.csv")
+    with pytest.raises(ValueError, match="is a directory"):
+        io.check_output_file(tmp_path)
+    out = io.check_output_dir(tmp_path / "new" / "deeper")
+    assert os.path.isdir(out)
+    (tmp_path / "file").write_text("")
+    with pytest.raises(ValueError, match="cannot create directory"):
+        io.check_output_dir(tmp_path / "file" / "sub")
