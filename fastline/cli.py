@@ -525,7 +525,7 @@ def cmd_profile(args) -> int:
 def cmd_sweep(args) -> int:
     import numpy as np
 
-    from fastline.line_contact import solve_line_contact
+    from fastline.line_contact import LineContact
 
     psd, E, source = _scene(args)
     if args.loads_to < args.loads_from:
@@ -533,14 +533,9 @@ def cmd_sweep(args) -> int:
     _check_outputs(args)
     loads = np.geomspace(args.loads_from, args.loads_to, args.loads_num)
     th = _theory(psd, E, args)
-    kw = _solve_kwargs(args, th)
-    results = []
+    model = LineContact(psd, E, args.radius, model=args.model, **_solve_kwargs(args, th))
     with _progress(len(loads), "sweep") as bar:
-        for f in loads:
-            results.append(
-                solve_line_contact(psd, E, args.radius, float(f), model=args.model, **kw)
-            )
-            bar.update()
+        results = model.sweep(loads, progress=bar.update)
     print(_spectrum_line(psd, source))
     print(
         f"{'load [N/m]':>12}{'alpha':>12}{'p0 [Pa]':>13}{'p0 ratio':>10}{'s [m]':>12}"

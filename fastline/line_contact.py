@@ -20,7 +20,7 @@ from __future__ import annotations
 import math
 import threading
 import warnings
-from collections.abc import Iterable, Sequence
+from collections.abc import Callable, Iterable, Sequence
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -35,7 +35,7 @@ from fastline._validate import (
     integer,
     positive,
 )
-from fastline.diagnostics import assess
+from fastline.diagnostics import assess, warn_once
 from fastline.elastic import LogKernelOperator, log_reference_shift
 from fastline.laws import ExponentialLaw, PerssonLaw, PressureLaw, check_law
 from fastline.limits import HertzLineContact, gaussian_line_contact, hertz_line_contact
@@ -245,6 +245,21 @@ def _log_pressure(result: LineContactResult) -> np.ndarray:
     return np.log(np.maximum(result.pressure, 1e-300))
 
 
+def _warn_sweep(results: list) -> None:
+    """One ConvergenceWarning for the loads that did not converge, one ValidityWarning per
+    cause (the caller of ``sweep`` sees them)."""
+    failed = [r.load for r in results if not r.converged]
+    if failed:
+        loads = ", ".join(f"{f:.4g}" for f in failed)
+        warnings.warn(
+            f"fastline: {len(failed)} of {len(results)} solves did not converge "
+            f"(loads {loads} N/m); see each result's message",
+            ConvergenceWarning,
+            stacklevel=3,
+        )
+    warn_once(results, stacklevel=3)
+
+
 def _rescaled_start(grid: _LineGrid, initial: LineContactResult) -> np.ndarray:
     """ln p of a neighbouring solution at the same relative position in the domain (the default
     domain scales with the contact), interpolated onto this grid; the load is restored later."""
@@ -403,18 +418,20 @@ class LineContact:
             )
         grid = self._grid(load)
         start = None if initial is None else _rescaled_start(grid, initial)
-        return self._solve_on(grid, start)
+        return self._solve_on(grid, start, self.warn)
 
-    def _solve_on(self, grid: _LineGrid, start: np.ndarray | None) -> LineContactResult:
-        """Run the core from ``start`` (ln p, or p for hertz; None: cold) and finish the result."""
+    def _solve_on(self, grid: _LineGrid, start: np.ndarray | None, warn: bool) -> LineContactResult:
+        """Run the core from ``start`` (ln p; None: cold) and finish the result."""
         outcome = self._run(grid, start)
         result = self._result(grid, outcome)
-        if not result.converged and self.warn:
+        if not result.converged and warn:
             warnings.warn(f"fastline: {result.message}", ConvergenceWarning, stacklevel=3)
-        result.diagnostics.update(assess(result, self._theory, self.hardness, warn=self.warn))
+        result.diagnostics.update(assess(result, self._theory, self.hardness, warn=warn))
         return result
 
-    def sweep(self, loads: Iterable[float]) -> list[LineContactResult]:
+    def sweep(
+        self, loads: Iterable[float], progress: Callable[[], object] | None = None
+    ) -> list[LineContactResult]:
         """Solve a series of loads (N/m) by continuation; results in the order given.
 
         The loads are solved in increasing order. Each solve starts from a prediction made
@@ -422,16 +439,23 @@ class LineContact:
         by a polynomial through the last ``SWEEP_PREDICTOR_ORDER + 1`` of them. Over the
         paper's 50-load sweeps this costs fewer FFT convolutions than independent solves
         (docs/performance.md gives the figure); each result is the converged solution at its
-        load, equal to an independent solve to the solver tolerance.
+        load, equal to an independent solve to the solver tolerance. Warnings are emitted once
+        per cause for the whole sweep, naming the loads concerned
+        (:func:`fastline.diagnostics.warn_once`). ``progress``, if given, is called with no
+        argument after each solve (e.g. a tqdm bar's ``update``).
         """
         loads = self._check_loads(loads)
         out: list[LineContactResult | None] = [None] * loads.size
         history: list[tuple[float, np.ndarray]] = []  # (ln f_N, ln p on the grid)
         for i in np.argsort(loads, kind="stable"):
             grid = self._grid(float(loads[i]))
-            result = self._solve_on(grid, self._predict(grid, history))
+            result = self._solve_on(grid, self._predict(grid, history), warn=False)
             history = (history + [(math.log(grid.hertz.load), _log_pressure(result))])[-4:]
             out[i] = result
+            if progress is not None:
+                progress()
+        if self.warn:
+            _warn_sweep(out)
         return out  # type: ignore[return-value]
 
     def _check_load(self, name: str, load) -> float:

@@ -26,6 +26,7 @@ E_STAR, R = paper.E_STAR, paper.RADIUS
 FIGS = ("fig2_psd", "fig3_profile", "fig4_ws", "fig5_p0ratio")
 #: the CSVs hold repr() of the API's numbers: equal to round-off of the same computation
 SAME = 1e-12
+CONTINUATION = 1e-7  # a sweep (warm starts) against independent solves at tol 1e-8
 PAPER_LOADS, N_SMALL = 3, 256
 MAGIC = {"png": b"\x89PNG\r\n\x1a\n", "pdf": b"%PDF", "svg": b"<?xml"}
 
@@ -234,11 +235,14 @@ def test_sweep_vs_api(tmp_path, capsys):
     assert float(meta["h_rms_m"]) == 1e-6 and meta["model"] == "persson"
     psd = fl.SelfAffinePSD(1e-6, 0.8, 1e3, 1e4, 1e9)
     np.testing.assert_allclose(cols["load_N_per_m"], np.geomspace(1e3, 1e5, 4), rtol=SAME)
+    swept = fl.LineContact(psd, E_STAR, R, n=N_SMALL).sweep(cols["load_N_per_m"])
     for k, f in enumerate(cols["load_N_per_m"]):
-        r = solve_line_contact(psd, E_STAR, R, f, n=N_SMALL)
+        r = swept[k]  # the command is LineContact.sweep
         assert cols["w_over_s"][k] == pytest.approx(r.w_over_s, rel=SAME)
         assert cols["p0_ratio"][k] == pytest.approx(r.p0_ratio, rel=SAME)
         assert cols["s_m"][k] == pytest.approx(r.s, rel=SAME)
+        alone = solve_line_contact(psd, E_STAR, R, f, n=N_SMALL)  # to the solver tolerance
+        assert cols["w_over_s"][k] == pytest.approx(alone.w_over_s, rel=CONTINUATION)
     assert "rms slope" in out
     assert png.read_bytes()[:5] == MAGIC["svg"]
 
