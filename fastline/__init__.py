@@ -6,6 +6,7 @@ Full Persson contact theory (compiled with Numba) and a fast line-contact solver
 
 from fastline.diagnostics import ValidityWarning, assess
 from fastline.elastic import LogKernelOperator, influence_coefficients
+from fastline.leakage import CriticalGap, LeakageWarning, LeakResult, leak_rate, leak_rate_profile
 from fastline.limits import (
     WS_GAUSSIAN,
     WS_HERTZ,
@@ -53,4 +54,9 @@ __all__ = [
     "ConvergenceWarning",
     "ValidityWarning",
     "assess",
+    "leak_rate",
+    "leak_rate_profile",
+    "LeakResult",
+    "CriticalGap",
+    "LeakageWarning",
 ]
