@@ -112,6 +112,8 @@ class _MomentTable:
     """
 
     def __init__(self, psd, per_decade: int = 256):
+        # 256 nodes per decade (and 32 per decade of q - q0 near q0): q to 3e-9 and dq/dB to
+        # 3e-6 on the paper's surfaces; 64 and 8 gave 3e-7 and 2e-4
         q0, q1 = psd.q0, psd.q1
         bps = psd.breakpoints()
         bps = bps[(bps > q0) & (bps < q1)]
@@ -155,9 +157,10 @@ class _MomentTable:
 
 
 @numba.njit(**JIT)
-def _inverse_moment(B, k, y, coef, lin):
-    """Q(B) and dQ/dB for B > 0, with k a cell index hint (walks forward: callers ask in
-    increasing B). Returns q, dq/dB, the new hint."""
+def _inverse_moment(B, k, qtab):
+    """Q(B) and dQ/dB for B > 0 from ``qtab = (y, coef, (q0, B'(q0)))``, with k a cell index
+    hint (walks forward: callers ask in increasing B). Returns q, dq/dB, the new hint."""
+    y, coef, lin = qtab
     ly = math.log(B)
     if ly <= y[0]:
         return lin[0] + B / lin[1], 1.0 / lin[1], 0
@@ -182,9 +185,9 @@ class _TauRule:
     """Reference Gauss-Legendre rules on [0, 1] and panel densities, sized by ``rtol``."""
 
     def __init__(self, rtol: float):
-        # measured (tests/test_leakage.py) against a 20-point, 8-panel-per-decade rule over
-        # the whole pressure range of the paper's surfaces: max relative error of u_c
-        # 3e-5 / 5e-10 / 2e-10; the top grading (near sealing) sets it
+        # max relative error of u_c against a 20-point, 8-panels-per-decade, 12-level rule,
+        # 103 pressures from 1e-10 E* to near sealing on the paper's three surfaces:
+        # 1.4e-6 / 2.8e-9 / 6.3e-10 for the three settings; the top grading sets it
         if rtol >= 1e-4:
             order, per_decade, levels, graded = 8, 1.5, 5, 8
         elif rtol >= 1e-7:
@@ -199,9 +202,15 @@ class _TauRule:
         self.levels = levels
 
 
+#: geometric grading of the top panel (as the q quadrature of fastline.persson)
+_TOP_RATIO = 0.15
+
+
 @numba.njit(**JIT)
-def _panel(la, lb, m, s, t, w, gamma, c1, c2, c3, y, coef, lin, k, acc):
-    """Add one Gauss-Legendre panel [la, lb] in ln tau to acc = (I0, I2, J)."""
+def _panel(la, lb, m, s, t, w, fc, qtab, k, acc):
+    """Add one Gauss-Legendre panel [la, lb] in ln tau to acc = (I0, I2, J);
+    ``fc = (gamma, c1, c2, c3)`` are F's parameters. Returns the Q-table hint."""
+    gamma, c1, c2, c3 = fc
     b3 = 3.0 * (1.0 - gamma)
     width = lb - la
     for i in range(t.shape[0]):
@@ -210,7 +219,7 @@ def _panel(la, lb, m, s, t, w, gamma, c1, c2, c3, y, coef, lin, k, acc):
         x = s / tau
         if x > _X_CUT:
             continue
-        q, dq, k = _inverse_moment(m + tau * tau, k, y, coef, lin)
+        q, dq, k = _inverse_moment(m + tau * tau, k, qtab)
         F = _F(max(x, 1e-300), gamma, c1, c2, c3)
         er = math.erf(x)
         acc[0] += wt * F / q
@@ -220,80 +229,67 @@ def _panel(la, lb, m, s, t, w, gamma, c1, c2, c3, y, coef, lin, k, acc):
 
 
 @numba.njit(**JIT)
-def _band_integrals(m, s, B1, B_breaks, rule, gamma, c1, c2, c3, y, coef, lin, acc):
+def _graded_top(lo, lb, m, s, rule, fc, qtab, k, acc):
+    """The top panel [lo, lb] in ln tau, split geometrically towards lb (widths shrinking by
+    _TOP_RATIO), where near sealing exp(-s^2/tau^2) piles the integrand up against tau = T."""
+    tg, wg, levels = rule[2], rule[3], rule[5]
+    h = lb - lo
+    a = lo
+    for lev in range(1, levels + 1):
+        b = lb - h * _TOP_RATIO**lev
+        k = _panel(a, b, m, s, tg, wg, fc, qtab, k, acc)
+        a = b
+    return _panel(a, lb, m, s, tg, wg, fc, qtab, k, acc)
+
+
+@numba.njit(**JIT)
+def _band_integrals(m, s, band, rule, fc, qtab, acc):
     """acc <- (I0, I2, J) = int over tau in (0, sqrt(B1 - m)) of F/Q, beta e^(-x^2)/Q and
-    F Q'/Q^2 (x = s/tau). Panels uniform in ln tau, split at the breakpoints, graded at the top."""
-    t, w, tg, wg, per_decade, levels = rule
+    F Q'/Q^2 (x = s/tau), ``band = (B1, q1, B at the breakpoints of C)``. Panels uniform in
+    ln tau from s/27.3 (below, every integrand is 0), split at the breakpoints, the top one
+    graded."""
+    B1, _, B_breaks = band
+    t, w, per_decade = rule[0], rule[1], rule[4]
     acc[0] = acc[1] = acc[2] = 0.0
     delta = B1 - m
-    if delta <= 0.0:
-        return
-    tau_hi = math.sqrt(delta)
     tau_lo = s / _X_CUT
-    if tau_lo >= tau_hi:
+    if delta <= tau_lo * tau_lo:
         return
-    l_hi = math.log(tau_hi)
     la = math.log(tau_lo)
     k = 0
     nb = B_breaks.shape[0]
-    for j in range(nb + 1):
-        if j < nb:
-            d = B_breaks[j] - m
-            if d <= tau_lo * tau_lo:
-                continue
-            lb = 0.5 * math.log(d)
-        else:
-            lb = l_hi
+    for j in range(nb + 1):  # segments between the breakpoints above m, then the last one
+        d = B_breaks[j] - m if j < nb else delta
+        if d <= tau_lo * tau_lo:
+            continue
+        lb = 0.5 * math.log(d)
         if lb <= la:
             continue
         n = max(1, int(math.ceil(per_decade * (lb - la) / _LN10)))
         h = (lb - la) / n
-        last = n - 1 if j == nb else n  # the top panel of the last segment is graded
-        for i in range(last):
-            k = _panel(
-                la + i * h, la + (i + 1) * h, m, s, t, w, gamma, c1, c2, c3, y, coef, lin, k, acc
-            )
+        plain = n if j < nb else n - 1
+        for i in range(plain):
+            k = _panel(la + i * h, la + (i + 1) * h, m, s, t, w, fc, qtab, k, acc)
         if j == nb:
-            lo = la + last * h
-            ratio = 0.15
-            edge = lb - h * ratio**levels
-            k = _panel(lo, lb - h * ratio, m, s, tg, wg, gamma, c1, c2, c3, y, coef, lin, k, acc)
-            for lev in range(1, levels):
-                k = _panel(
-                    lb - h * ratio**lev,
-                    lb - h * ratio ** (lev + 1),
-                    m,
-                    s,
-                    tg,
-                    wg,
-                    gamma,
-                    c1,
-                    c2,
-                    c3,
-                    y,
-                    coef,
-                    lin,
-                    k,
-                    acc,
-                )
-            k = _panel(edge, lb, m, s, tg, wg, gamma, c1, c2, c3, y, coef, lin, k, acc)
+            k = _graded_top(la + plain * h, lb, m, s, rule, fc, qtab, k, acc)
         la = lb
 
 
 @numba.njit(**JIT)
-def _interface(m, p, E_star, B1, q1, B_breaks, rule, gamma, c1, c2, c3, y, coef, lin, acc):
-    """(P, u_bar, u1) at moment m = B(zeta q0) > 0 and nominal pressure p > 0."""
+def _interface(m, p, E_star, band, rule, fc, qtab, acc):
+    """(P, u_bar, u1) at moment m = B(zeta q0) >= 0 and nominal pressure p > 0."""
+    B1, q1, _ = band
     yy = p / (E_star * math.sqrt(m)) if m > 0.0 else math.inf  # m = 0 at zeta = 1
     P = math.erf(yy)
     s = p / (E_star * P)
-    _band_integrals(m, s, B1, B_breaks, rule, gamma, c1, c2, c3, y, coef, lin, acc)
+    _band_integrals(m, s, band, rule, fc, qtab, acc)
     two = 2.0 / _SQRT_PI
     u_bar = two * acc[0]
     delta = B1 - m
     edge = 0.0
     if delta > 0.0 and s * s < 745.0 * delta:  # g(T^2)/q1, the boundary term at q1
         x = s / math.sqrt(delta)
-        edge = _F(max(x, 1e-300), gamma, c1, c2, c3) / (math.sqrt(delta) * q1)
+        edge = _F(max(x, 1e-300), *fc) / (math.sqrt(delta) * q1)
     dm = edge + 2.0 * acc[2]  # = -sqrt(pi) du_bar/dm at fixed s, >= 0
     if dm == 0.0:  # every scale in contact: nothing left to separate
         return P, u_bar, u_bar + two * acc[1]
@@ -304,39 +300,31 @@ def _interface(m, p, E_star, B1, q1, B_breaks, rule, gamma, c1, c2, c3, y, coef,
 
 
 @numba.njit(**JIT)
-def _interface_vec(
-    m, p, E_star, B1, q1, B_breaks, rule, gamma, c1, c2, c3, y, coef, lin, P, u_bar, u1
-):
+def _interface_vec(m, p, E_star, band, rule, fc, qtab, P, u_bar, u1):
     acc = np.empty(3)
     for i in range(m.shape[0]):
-        P[i], u_bar[i], u1[i] = _interface(
-            m[i], p[i], E_star, B1, q1, B_breaks, rule, gamma, c1, c2, c3, y, coef, lin, acc
-        )
+        P[i], u_bar[i], u1[i] = _interface(m[i], p[i], E_star, band, rule, fc, qtab, acc)
 
 
 @numba.njit(**JIT)
-def _critical_vec(
-    x1, X_t, t, E_star, B1, q1, B_breaks, rule, gamma, c1, c2, c3, y, coef, lin, gap, qc, sealed
-):
+def _critical_vec(x1, X_t, t, E_star, band, rule, fc, qtab, gap, qc, sealed):
     """u_c = u1(zeta_c) and q_c = zeta_c q0 for x1 = w(q1) p / E* (THEORY.md 8.3).
 
     ``P(zeta_c) = t`` has the closed-form root ``B(q_c) = m = B1 (x1 / X_t)^2``,
     ``X_t = erfinv(t)``; sealed where ``erf(x1) >= t`` (gap 0, q_c = q1)."""
+    B1, q1, _ = band
     acc = np.empty(3)
     for i in range(x1.shape[0]):
-        if math.erf(x1[i]) >= t:
-            sealed[i] = True
+        sealed[i] = math.erf(x1[i]) >= t
+        if sealed[i]:
             gap[i] = 0.0
             qc[i] = q1
             continue
-        sealed[i] = False
         r = x1[i] / X_t
         m = B1 * r * r
         p = x1[i] * E_star * math.sqrt(B1)
-        gap[i] = _interface(
-            m, p, E_star, B1, q1, B_breaks, rule, gamma, c1, c2, c3, y, coef, lin, acc
-        )[2]
-        qc[i] = _inverse_moment(m, 0, y, coef, lin)[0] if m > 0.0 else lin[0]
+        gap[i] = _interface(m, p, E_star, band, rule, fc, qtab, acc)[2]
+        qc[i] = _inverse_moment(m, 0, qtab)[0] if m > 0.0 else qtab[2][0]
 
 
 @numba.njit(**JIT)
@@ -391,17 +379,10 @@ class _Spectrum:
         self.gamma = theory.gamma
 
     def kernel_args(self):
+        """(E*, band, rule, fc, qtab): what the interface kernels take after their arrays."""
         tb = self.table
-        return (
-            self.E_star,
-            tb.B1,
-            tb.q1,
-            tb.B_breaks,
-            self.rule,
-            self.gamma,
-            *self.coef,
-            *tb.arrays(),
-        )
+        band = (tb.B1, tb.q1, tb.B_breaks)
+        return self.E_star, band, self.rule, (self.gamma, *self.coef), tb.arrays()
 
 
 def _state(theory) -> dict:

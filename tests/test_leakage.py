@@ -130,7 +130,7 @@ def test_inverse_moment_table(name):
     q = np.concatenate(
         [psd.q0 * (1.0 + np.geomspace(1e-9, 1.0, 50)), np.geomspace(2 * psd.q0, psd.q1, 400)]
     )
-    got = np.array([leakage._inverse_moment(b, 0, *tab.arrays())[:2] for b in psd.cumulative(q)])
+    got = np.array([leakage._inverse_moment(b, 0, tab.arrays())[:2] for b in psd.cumulative(q)])
     np.testing.assert_allclose(got[:, 0], q, rtol=RTOL_MOMENT_Q)
     slope = 1.0 / (math.pi * q**3 * psd(q))
     np.testing.assert_allclose(got[:, 1], slope, rtol=RTOL_MOMENT_SLOPE)
