@@ -59,7 +59,7 @@ from dataclasses import dataclass
 
 import numba
 import numpy as np
-from scipy.special import erfinv, roots_legendre
+from scipy.special import erf, erfinv, roots_legendre
 
 from fastline._special import _F, JIT, f_coefficients
 from fastline._validate import finite_array, in_range, positive, positive_array
@@ -441,13 +441,16 @@ def apparent_area(theory, zeta, p) -> np.ndarray:
         Magnification, in ``[1, q1/q0]``.
     p : array_like
         Uniform nominal pressure in Pa (> 0); broadcasts against ``zeta``.
+
+    Returns
+    -------
+    ndarray
+        P(zeta) in [0, 1], shaped like the broadcast of ``zeta`` and ``p``.
     """
     _state(theory)
     shape, m, p = _zeta_moment(theory, zeta, p)
     with np.errstate(divide="ignore"):
         x = p / (theory.E_star * np.sqrt(m))
-    from scipy.special import erf
-
     return erf(x).reshape(shape)
 
 
@@ -468,6 +471,11 @@ def mean_separation(theory, zeta, p) -> np.ndarray:
         Magnification, in ``[1, q1/q0]``.
     p : array_like
         Uniform nominal pressure in Pa (> 0); broadcasts against ``zeta``.
+
+    Returns
+    -------
+    ndarray
+        u_bar in m (>= 0), shaped like the broadcast of ``zeta`` and ``p``.
     """
     shape, _, u_bar, _ = _interface_arrays(theory, zeta, p)
     return u_bar.reshape(shape)
@@ -489,6 +497,11 @@ def edge_separation(theory, zeta, p) -> np.ndarray:
         Magnification, in ``[1, q1/q0]``.
     p : array_like
         Uniform nominal pressure in Pa (> 0); broadcasts against ``zeta``.
+
+    Returns
+    -------
+    ndarray
+        u1 in m (>= u_bar; +inf where P(zeta) = 1), shaped like the broadcast of ``zeta``, ``p``.
     """
     shape, _, _, u1 = _interface_arrays(theory, zeta, p)
     return u1.reshape(shape)

@@ -8,6 +8,7 @@ variable), closed forms (rectangle formula, the small-pressure limit of u_c) and
 
 from __future__ import annotations
 
+import copy
 import functools
 import math
 import warnings
@@ -260,6 +261,18 @@ def test_leak_rate_is_leak_rate_profile_of_the_result():
     a = fl.leak_rate(res, DP, ETA, 0.05, theory=th, warn=False)
     b = fl.leak_rate_profile(res.x, res.pressure, th, DP, ETA, 0.05, warn=False)
     assert a.rate == b.rate and np.array_equal(a.gap, b.gap)
+
+
+def test_theory_from_the_result_and_cached_tables():
+    """leak_rate takes result.theory when no theory is given (the solver will attach it); the
+    gap table is built once per theory and threshold."""
+    th = _theory("surface1")
+    res = copy.copy(_line_contact("surface1", 1e4))
+    res.theory = th
+    a = fl.leak_rate(res, DP, ETA, warn=False)
+    assert a.rate == fl.leak_rate(res, DP, ETA, theory=th, warn=False).rate
+    assert leakage._gap_table(th, 0.42) is leakage._gap_table(th, 0.42)
+    assert leakage._gap_table(th, 0.5) is not leakage._gap_table(th, 0.42)
 
 
 def test_zero_pressure_strips_add_no_resistance():
