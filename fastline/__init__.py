@@ -8,6 +8,7 @@ from fastline import io, paper, plotting  # light: matplotlib loads on first plo
 from fastline.diagnostics import ValidityWarning, assess, warn_once
 from fastline.elastic import LogKernelOperator, influence_coefficients
 from fastline.laws import ExponentialLaw, PerssonLaw, PressureLaw, TabulatedLaw
+from fastline.leakage import CriticalGap, LeakageWarning, LeakResult, leak_rate, leak_rate_profile
 from fastline.limits import (
     WS_GAUSSIAN,
     WS_HERTZ,
@@ -74,4 +75,9 @@ __all__ = [
     "io",
     "paper",
     "plotting",
+    "leak_rate",
+    "leak_rate_profile",
+    "LeakResult",
+    "CriticalGap",
+    "LeakageWarning",
 ]

@@ -694,3 +694,47 @@ class PerssonTheory:
 
     def __repr__(self):
         return f"PerssonTheory({self.psd!r}, E_star={self.E_star!r}, gamma={self.gamma!r})"
+
+    # -- the interface at magnification zeta: leakage (fastline.leakage, THEORY.md section 8) --
+    # Issue 12's names: P(zeta) -> apparent_area, u_bar(zeta, p) -> mean_separation,
+    # u1(zeta) -> edge_separation, critical_gap. The work is done in fastline.leakage.
+    def apparent_area(self, zeta, p) -> np.ndarray:
+        """Apparent relative contact area ``P(zeta)`` at magnification zeta for a uniform
+        nominal pressure p in Pa; ``contact_area(p, zeta * q0)`` (THEORY.md 8.1).
+
+        See :func:`fastline.leakage.apparent_area`.
+        """
+        from fastline import leakage
+
+        return leakage.apparent_area(self, zeta, p)
+
+    def mean_separation(self, zeta, p) -> np.ndarray:
+        """Mean separation ``u_bar(zeta, p)`` in m inside the apparent contact at magnification
+        zeta (THEORY.md 8.2); ``mean_separation(1, p) == separation(p)``.
+
+        See :func:`fastline.leakage.mean_separation`.
+        """
+        from fastline import leakage
+
+        return leakage.mean_separation(self, zeta, p)
+
+    def edge_separation(self, zeta, p) -> np.ndarray:
+        """Persson's ``u1(zeta) = u_bar + u_bar' P / P'`` in m: the separation in the area
+        leaving contact at magnification zeta (THEORY.md 8.2); ``>= mean_separation``.
+
+        See :func:`fastline.leakage.edge_separation`.
+        """
+        from fastline import leakage
+
+        return leakage.edge_separation(self, zeta, p)
+
+    def critical_gap(self, p, threshold=0.42):
+        """The critical constriction for uniform nominal pressures p in Pa (THEORY.md 8.3):
+        a :class:`fastline.leakage.CriticalGap` with ``gap`` (u_c in m), ``zeta`` (zeta_c) and
+        ``sealed`` (``P(q1, p) >= threshold``, where the gap is 0).
+
+        See :func:`fastline.leakage.critical_gap`.
+        """
+        from fastline import leakage
+
+        return leakage.critical_gap(self, p, threshold)

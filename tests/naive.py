@@ -127,3 +127,109 @@ def line_contact_exponential(E_star, radius, load, u0, beta, n, half_width):
     if not sol.success:
         raise RuntimeError(sol.message)
     return x, np.exp(sol.x[:-1])
+
+
+# ----------------------------------------------------------------------------------------------
+# leakage (THEORY.md section 8): the interface at magnification zeta
+# ----------------------------------------------------------------------------------------------
+def _band_integral(psd, a: float, integrand, epsrel: float) -> float:
+    """``int_a^{q1} integrand(q, b) dq`` with ``b = pi int_a^q q'^3 C dq'`` (the moment of the
+    roughness not resolved at magnification a/q0).
+
+    Split at the kinks of C(q) and at every decade, as :func:`separation`; on the first interval
+    ``q = a + L t^2`` removes the ``(q - a)^(-1/2)`` of ``w = b^(-1/2)`` and b is integrated from
+    a directly (no cancellation in ``A(q) - A(a)``).
+    """
+    q1 = psd.q1
+    cuts = [a] + [c for c in psd.breakpoints() if a < c < q1] + [q1]
+    edges = []
+    for lo, hi in zip(cuts[:-1], cuts[1:], strict=False):
+        n = max(1, math.ceil(math.log10(hi / lo)))
+        edges.extend(list(np.geomspace(lo, hi, n + 1))[:-1])
+    edges.append(q1)
+    B_a = float(psd.cumulative(a))
+    L = edges[1] - a
+
+    def first(t):
+        if t == 0.0:
+            return 0.0
+        d = L * t * t
+        b = math.pi * quad(lambda r: (a + r) ** 3 * float(psd(a + r)), 0.0, d, epsrel=1e-13)[0]
+        return integrand(a + d, b) * 2.0 * L * t
+
+    total = quad(first, 0.0, 1.0, epsabs=0.0, epsrel=epsrel, limit=400)[0]
+    for lo, hi in zip(edges[1:-1], edges[2:], strict=False):
+        total += quad(
+            lambda lq: (
+                integrand(math.exp(lq), float(psd.cumulative(math.exp(lq))) - B_a) * math.exp(lq)
+            ),
+            math.log(lo),
+            math.log(hi),
+            epsabs=0.0,
+            epsrel=epsrel,
+            limit=200,
+        )[0]
+    return total
+
+
+def _apparent(psd, E_star, a, p):
+    """P(a) = erf(w(a) p/E*), w(a) = A(a)^(-1/2), and its derivative dP/da."""
+    B_a = float(psd.cumulative(a))
+    if B_a <= 0.0:
+        return 1.0, 0.0
+    w0 = 1.0 / math.sqrt(B_a)
+    y = w0 * p / E_star
+    dB = math.pi * a**3 * float(psd(a))
+    dP = -(1.0 / math.sqrt(math.pi)) * y * math.exp(-y * y) * w0 * w0 * dB
+    return float(erf(y)), dP
+
+
+def mean_separation(psd, E_star, zeta, p, gamma=0.45, epsrel=1e-10):
+    """u_bar(zeta, p) of THEORY.md 8.2 written out with quad: the Yang-Persson separation of the
+    roughness from zeta q0 to q1 under the pressure p / P(zeta)."""
+    a = zeta * psd.q0
+    P, _ = _apparent(psd, E_star, a, p)
+    s = p / (E_star * P)
+
+    def integrand(q, b):
+        if b <= 0.0:
+            return 0.0
+        w = 1.0 / math.sqrt(b)
+        x = w * s
+        if x > 27.0:
+            return 0.0
+        return q * q * float(psd(q)) * w * universal_F(x, gamma)
+
+    return math.sqrt(math.pi) * _band_integral(psd, a, integrand, epsrel)
+
+
+def edge_separation(psd, E_star, zeta, p, gamma=0.45, epsrel=1e-10):
+    """u1(zeta) = u_bar + u_bar'(zeta) P(zeta)/P'(zeta) (THEORY.md 8.2), zeta > 1.
+
+    The derivative is taken under the integral in the q variable (an independent route from the
+    package's moment variable): with ``w = (A(q) - A(a))^(-1/2)``, ``x = w s``,
+    ``s = p/(E* P(a))`` and ``beta(x) = gamma + 3 (1 - gamma) erf(x)^2`` (so ``x F'(x) =
+    -beta e^(-x^2)``),
+
+        du_bar/da = sqrt(pi) int q^2 C [w^3 A'(a)/2 (F - beta e^(-x^2))
+                                         - w beta e^(-x^2) d ln s/da].
+    """
+    a = zeta * psd.q0
+    P, dP = _apparent(psd, E_star, a, p)
+    s = p / (E_star * P)
+    dB = math.pi * a**3 * float(psd(a))
+    dlns = -dP / P
+
+    def integrand(q, b):
+        if b <= 0.0:
+            return 0.0
+        w = 1.0 / math.sqrt(b)
+        x = w * s
+        if x > 27.0:
+            return 0.0
+        e = math.exp(-x * x) * (gamma + 3.0 * (1.0 - gamma) * erf(x) ** 2)
+        F = universal_F(x, gamma)
+        return q * q * float(psd(q)) * (0.5 * w**3 * dB * (F - e) - w * e * dlns)
+
+    du = math.sqrt(math.pi) * _band_integral(psd, a, integrand, epsrel)
+    return mean_separation(psd, E_star, zeta, p, gamma, epsrel) + du * P / dP

@@ -1,0 +1,399 @@
+"""Seal leakage (fastline.leakage, THEORY.md section 8): the interface at magnification zeta, the
+critical junction and the leak rate of a pressure profile.
+
+References: ``naive.mean_separation`` / ``naive.edge_separation`` (SciPy quad in the q variable,
+the derivative under the integral in q: an independent route from the package's moment
+variable), closed forms (rectangle formula, the small-pressure limit of u_c) and invariants.
+"""
+
+from __future__ import annotations
+
+import copy
+import dataclasses
+import functools
+import math
+import warnings
+
+import naive
+import numpy as np
+import pytest
+from scipy.special import erfinv
+
+import fastline as fl
+from fastline import leakage
+
+RTOL_REF = 1e-6  # u_bar and u1 against the quad reference (issue 12)
+RTOL_SEPARATION = 1e-6  # u_bar(1, p) against separation(p) (the theory's rtol)
+RTOL_EXACT = 1e-13  # identities computed two ways in floating point
+RTOL_RECTANGLE = 1e-10  # leak rate of a constant pressure against the rectangle formula
+RTOL_GAP_TABLE = 1e-6  # u_c from the leak-rate table against the direct quadrature
+RTOL_ZETA_C = 1e-8  # P(zeta_c) against the threshold (the inverse-moment table's accuracy)
+RTOL_LIMIT = 1e-6  # u_c(p) against u(p/a_c) + u0 at p = 1e-9 E*
+RTOL_MOMENT_Q, RTOL_MOMENT_SLOPE = 1e-8, 1e-5  # inverse-moment table: q and dq/dB
+
+E_STAR, RADIUS = 1.33e9, 0.01
+ETA, DP = 1e-3, 1e5  # water, 1 bar
+SURFACES = {
+    "surface1": lambda: fl.SelfAffinePSD(10e-6, 0.8, 1e3, 1e4, 1e9),
+    "surface2": lambda: fl.SelfAffinePSD(10e-6, 1.0, 1e3, 1e4, 1e9),
+    "surface3": lambda: fl.SelfAffinePSD(1e-6, 0.8, 1e3, 1e4, 1e9),
+}
+PAPER = list(SURFACES)
+OTHER = {
+    "hurst0.3_q1e13": lambda: fl.SelfAffinePSD(10e-6, 0.3, 1e3, 1e4, 1e13),
+    "no_rolloff": lambda: fl.SelfAffinePSD(10e-6, 0.8, 1e3, 1e3, 1e9),
+    "sum1+3": lambda: (
+        fl.SelfAffinePSD(10e-6, 0.8, 1e3, 1e4, 1e9) + fl.SelfAffinePSD(1e-6, 0.8, 3e3, 1e5, 1e8)
+    ),
+}
+ALL = {**SURFACES, **OTHER}
+
+
+@functools.cache
+def _theory(name):
+    return fl.PerssonTheory(ALL[name](), E_STAR)
+
+
+def _p_seal(th, threshold=0.42):
+    """Pressure where P(q1, p) = threshold."""
+    return float(erfinv(threshold)) * E_STAR * math.sqrt(float(th.psd.cumulative(th.psd.q1)))
+
+
+@functools.cache
+def _line_contact(name, load):
+    return fl.solve_line_contact(
+        _theory(name).psd, E_STAR, RADIUS, load, theory=_theory(name), n=256, warn=False
+    )
+
+
+# ----------------------------------------------------------------------------------------------
+# the interface at magnification zeta
+# ----------------------------------------------------------------------------------------------
+REF_POINTS = [
+    ("surface1", 3.0, 1e-4),
+    ("surface1", 1e4, 5e-3),
+    ("surface2", 30.0, 1e-3),
+    ("surface3", 1.5, 1e-8),
+    ("hurst0.3_q1e13", 1e6, 1e-3),
+    ("sum1+3", 20.0, 1e-4),
+]
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("name, zeta, p_rel", REF_POINTS)
+def test_mean_and_edge_separation_against_quad(name, zeta, p_rel):
+    th = _theory(name)
+    p = p_rel * E_STAR
+    ref_bar = naive.mean_separation(th.psd, E_STAR, zeta, p, th.gamma)
+    ref_u1 = naive.edge_separation(th.psd, E_STAR, zeta, p, th.gamma)
+    assert th.mean_separation(zeta, p) == pytest.approx(ref_bar, rel=RTOL_REF)
+    assert th.edge_separation(zeta, p) == pytest.approx(ref_u1, rel=RTOL_REF)
+
+
+@pytest.mark.parametrize("name", list(ALL))
+def test_mean_separation_at_zeta_one_is_the_separation(name):
+    th = _theory(name)
+    p = np.geomspace(1e-9, 1e-1, 9) * E_STAR
+    np.testing.assert_allclose(th.mean_separation(1.0, p), th.separation(p), rtol=RTOL_SEPARATION)
+
+
+@pytest.mark.parametrize("name", PAPER)
+def test_apparent_area_is_contact_area_at_zeta_q0(name):
+    th = _theory(name)
+    zeta = np.geomspace(1.0, th.psd.q1 / th.psd.q0, 13)[:, None]
+    p = np.geomspace(1e-6, 1.0, 7)[None, :] * E_STAR
+    np.testing.assert_allclose(
+        th.apparent_area(zeta, p), th.contact_area(p, zeta * th.psd.q0), rtol=RTOL_EXACT
+    )
+
+
+@pytest.mark.parametrize("name", list(ALL))
+def test_edge_separation_exceeds_mean_and_both_fall_with_zeta(name):
+    th = _theory(name)
+    zeta = np.geomspace(1.001, th.psd.q1 / th.psd.q0, 40)[:, None]
+    p = np.geomspace(1e-8, 1e-1, 6)[None, :] * E_STAR
+    u_bar = th.mean_separation(zeta, p)
+    u1 = th.edge_separation(zeta, p)
+    assert np.all(np.isfinite(u_bar)) and np.all(u1 >= u_bar)
+    assert np.all(np.diff(u_bar, axis=0) <= 0.0)
+
+
+def test_interface_end_points():
+    th = _theory("surface1")
+    top = th.psd.q1 / th.psd.q0
+    assert th.mean_separation(top, 1e6) == 0.0 and th.edge_separation(top, 1e6) == 0.0
+    assert th.edge_separation(1.0, 1e6) == math.inf  # P(1) = 1: no area leaves contact
+
+
+@pytest.mark.parametrize("name", list(ALL))
+def test_inverse_moment_table(name):
+    psd = ALL[name]()
+    tab = leakage._MomentTable(psd)
+    q = np.concatenate(
+        [psd.q0 * (1.0 + np.geomspace(1e-9, 1.0, 50)), np.geomspace(2 * psd.q0, psd.q1, 400)]
+    )
+    got = np.array([leakage._inverse_moment(b, 0, tab.arrays())[:2] for b in psd.cumulative(q)])
+    np.testing.assert_allclose(got[:, 0], q, rtol=RTOL_MOMENT_Q)
+    slope = 1.0 / (math.pi * q**3 * psd(q))
+    np.testing.assert_allclose(got[:, 1], slope, rtol=RTOL_MOMENT_SLOPE)
+
+
+# ----------------------------------------------------------------------------------------------
+# the critical junction
+# ----------------------------------------------------------------------------------------------
+@pytest.mark.parametrize("name", list(ALL))
+def test_critical_gap_monotone_finite_and_at_the_threshold(name):
+    th = _theory(name)
+    p_seal = _p_seal(th)
+    p = np.sort(
+        np.concatenate([np.geomspace(1e-9 * E_STAR, p_seal, 200), [10 * p_seal, 10 * E_STAR]])
+    )
+    cg = th.critical_gap(p)
+    assert np.all(np.isfinite(cg.u_c)) and np.all(cg.u_c >= 0.0)
+    assert np.all(np.isfinite(cg.zeta)) and np.all(cg.zeta >= 1.0)
+    assert np.all(np.diff(cg.u_c) <= 0.0)
+    assert np.all(cg.u_c[cg.sealed] == 0.0) and cg.sealed[-1]
+    # P(zeta_c) = threshold; near zeta_c = 1, A(zeta q0) ~ (zeta - 1) and zeta_c itself cannot
+    # be represented finely enough in float64 (1e-16 / (zeta_c - 1)), so check away from there
+    resolved = ~cg.sealed & (cg.zeta > 1.0 + 1e-4)
+    assert resolved.sum() > 20 and cg.zeta[0] < 1.0 + 1e-6
+    np.testing.assert_allclose(
+        th.apparent_area(cg.zeta[resolved], p[resolved]), 0.42, rtol=RTOL_ZETA_C
+    )
+
+
+@pytest.mark.parametrize("threshold", [0.415, 0.42, 0.5])
+def test_sealed_exactly_when_real_area_reaches_threshold(threshold):
+    th = _theory("surface1")
+    p_seal = _p_seal(th, threshold)
+    around = p_seal * (1.0 + np.linspace(-4e-16, 4e-16, 17))
+    p = np.concatenate([around, p_seal * np.array([0.5, 0.999, 1.001, 2.0])])
+    expect = th.contact_area(p) >= threshold
+    assert expect.any() and not expect.all()
+    assert np.array_equal(th.critical_gap(p, threshold).sealed, expect)
+    x = np.arange(p.size) * 1e-5
+    res = fl.leak_rate_profile(x, p, th, DP, ETA, threshold=threshold, warn=False)
+    assert np.array_equal(res.sealed_strips, expect) and res.sealed and res.Q == 0.0
+
+
+@pytest.mark.parametrize("name", PAPER)
+def test_small_pressure_limit(name):
+    """u_c -> u(p/a_c) + u0 as p -> 0 (module docstring of fastline.leakage)."""
+    th = _theory(name)
+    p = 1e-9 * E_STAR
+    limit = th.separation(p / 0.42) + th.exponential_fit().u0
+    assert th.critical_gap(p).u_c == pytest.approx(limit, rel=RTOL_LIMIT)
+
+
+@pytest.mark.parametrize("name", list(ALL))
+def test_gap_table_against_direct(name):
+    th = _theory(name)
+    p_seal = _p_seal(th)
+    p = np.concatenate(
+        [np.geomspace(1e-12 * E_STAR, 0.99 * p_seal, 300), p_seal * (1 - np.geomspace(1e-2, 1e-4))]
+    )
+    direct = th.critical_gap(p).u_c
+    log_gap, sealed = leakage._gap_table(th, 0.42).log_gap(leakage._x1(th, p))
+    assert not sealed.any() and np.all(np.isfinite(log_gap))
+    assert np.all(np.diff(log_gap) <= 0.0)
+    # the table ends near u_c = 1e-260 m (a closed seal); beyond, a linear continuation
+    tabulated = direct > 1e-250
+    assert tabulated.sum() > 300
+    np.testing.assert_allclose(np.exp(log_gap[tabulated]), direct[tabulated], rtol=RTOL_GAP_TABLE)
+
+
+# ----------------------------------------------------------------------------------------------
+# leak rate
+# ----------------------------------------------------------------------------------------------
+@pytest.mark.parametrize("n", [2, 7, 64])
+def test_uniform_pressure_is_the_rectangle_formula(n):
+    th = _theory("surface1")
+    Lx, Ly, p0 = 3e-3, 0.2, 2e6
+    x = (np.arange(n) + 0.5) * Lx / n
+    res = fl.leak_rate_profile(x, np.full(n, p0), th, DP, ETA, Ly, warn=False)
+    u_c = res.u_c[0]
+    assert np.all(res.u_c == u_c) and not res.sealed
+    assert res.Q == pytest.approx(Ly / Lx * DP * u_c**3 / (12.0 * ETA), rel=RTOL_RECTANGLE)
+    assert u_c == pytest.approx(th.critical_gap(p0).u_c, rel=RTOL_GAP_TABLE)
+    assert res.share_in_fwhm == pytest.approx(1.0, rel=RTOL_EXACT)
+    assert res.resistance_width == pytest.approx(0.9 * Lx, rel=RTOL_RECTANGLE)
+
+
+def test_strips_in_series_on_a_nonuniform_grid():
+    """Two pressure levels on unequal strips: resistances add (Q/Ly = dP / sum w_i / sigma_i)."""
+    th = _theory("surface1")
+    x = np.array([0.0, 1e-3, 3e-3, 4e-3])  # widths 1, 1.5, 1.5, 1 mm
+    p = np.array([1e6, 1e6, 4e6, 4e6])
+    res = fl.leak_rate_profile(x, p, th, DP, ETA, warn=False)
+    g = th.critical_gap([1e6, 4e6]).u_c
+    R = 12.0 * ETA * (2.5e-3 / g[0] ** 3 + 2.5e-3 / g[1] ** 3)
+    assert res.Q == pytest.approx(DP / R, rel=10 * RTOL_GAP_TABLE)
+    np.testing.assert_allclose(res.resistance_share.sum(), 1.0, rtol=RTOL_EXACT)
+    assert res.cumulative_share[-1] == 1.0
+
+
+@pytest.mark.parametrize("name", PAPER)
+def test_line_contact_leak_falls_with_load_and_sits_at_the_peak(name):
+    loads = np.geomspace(1e3, 1.5e6, 6)
+    out = [
+        fl.leak_rate(_line_contact(name, f), DP, ETA, theory=_theory(name), warn=False)
+        for f in loads
+    ]
+    rates = np.array([r.Q for r in out])
+    assert np.all(np.diff(rates) <= 0.0) and rates[0] > 0.0
+    assert all(r.share_in_fwhm > 0.5 for r in out)
+    assert all(r.converged for r in out)
+
+
+def test_exact_scaling_with_pressure_drop_viscosity_and_length():
+    th = _theory("surface1")
+    res = _line_contact("surface1", 1e4)
+    a = fl.leak_rate(res, DP, ETA, 1.0, theory=th, warn=False)
+    b = fl.leak_rate(res, 3.0 * DP, 0.25 * ETA, 0.01, theory=th, warn=False)
+    assert b.Q == pytest.approx(a.Q * 3.0 / 0.25 * 0.01, rel=RTOL_EXACT * 100)
+    assert b.conductance == pytest.approx(a.conductance / 0.25, rel=RTOL_EXACT * 100)
+    np.testing.assert_array_equal(a.u_c, b.u_c)
+    np.testing.assert_allclose(b.resistance_share, a.resistance_share, rtol=1e-12, atol=0.0)
+
+
+def test_leak_rate_is_leak_rate_profile_of_the_result():
+    th = _theory("surface2")
+    res = _line_contact("surface2", 3e4)
+    a = fl.leak_rate(res, DP, ETA, 0.05, theory=th, warn=False)
+    b = fl.leak_rate_profile(res.x, res.pressure, th, DP, ETA, 0.05, warn=False)
+    assert a.Q == b.Q and np.array_equal(a.u_c, b.u_c)
+
+
+def test_theory_from_the_result_and_cached_tables():
+    """leak_rate takes result.theory when no theory is given (the solver will attach it); the
+    gap table is built once per theory and threshold."""
+    th = _theory("surface1")
+    res = copy.copy(_line_contact("surface1", 1e4))
+    res.theory = th
+    a = fl.leak_rate(res, DP, ETA, warn=False)
+    assert a.Q == fl.leak_rate(res, DP, ETA, theory=th, warn=False).Q
+    assert leakage._gap_table(th, 0.42) is leakage._gap_table(th, 0.42)
+    assert leakage._gap_table(th, 0.5) is not leakage._gap_table(th, 0.42)
+
+
+def test_zero_pressure_strips_add_no_resistance():
+    th = _theory("surface1")
+    x = np.arange(5) * 1e-4
+    with_zeros = fl.leak_rate_profile(x, [0.0, 1e6, 2e6, 1e6, 0.0], th, DP, ETA, warn=False)
+    assert with_zeros.u_c[0] == math.inf and with_zeros.resistance_share[0] == 0.0
+    core = fl.leak_rate_profile(x[1:4], [1e6, 2e6, 1e6], th, DP, ETA, warn=False)
+    assert with_zeros.Q == pytest.approx(core.Q, rel=RTOL_EXACT * 100)
+
+
+# ----------------------------------------------------------------------------------------------
+# range of validity (warnings)
+# ----------------------------------------------------------------------------------------------
+def _punch(th, width, p0=2e6, n=32):
+    return (np.arange(n) + 0.5) * width / n, np.full(n, p0)
+
+
+def test_no_warning_inside_the_range():
+    th = _theory("surface1")  # roll-off wavelength 0.63 mm
+    x, p = _punch(th, 20e-3)
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        res = fl.leak_rate_profile(x, p, th, DP, ETA, mean_free_path=None)
+    assert res.diagnostics["warnings"] == []
+
+
+@pytest.mark.parametrize(
+    "kwargs, key",
+    [
+        ({"width": 1e-3}, "junctions_across"),
+        ({"pressure_drop": 1e6}, "fluid_pressure_ratio"),
+        ({"mean_free_path": 1e-5}, "knudsen"),
+    ],
+)
+def test_one_warning_per_cause(kwargs, key):
+    th = _theory("surface1")
+    x, p = _punch(th, kwargs.pop("width", 20e-3))
+    args = {"pressure_drop": DP, **kwargs}
+    with pytest.warns(fl.LeakageWarning) as record:
+        res = fl.leak_rate_profile(x, p, th, viscosity=ETA, **args)
+    assert len(record) == 1 and key in str(record[0].message)
+    assert issubclass(fl.LeakageWarning, fl.ValidityWarning)
+    assert len(res.diagnostics["warnings"]) == 1
+
+
+# ----------------------------------------------------------------------------------------------
+# bad input
+# ----------------------------------------------------------------------------------------------
+@pytest.mark.parametrize(
+    "kwargs, match",
+    [
+        ({"viscosity": 0.0}, "viscosity"),
+        ({"viscosity": -1e-3}, "viscosity"),
+        ({"pressure_drop": 0.0}, "pressure_drop"),
+        ({"pressure_drop": math.nan}, "pressure_drop"),
+        ({"length": -1.0}, "length"),
+        ({"threshold": 0.0}, "threshold"),
+        ({"threshold": 1.0}, "threshold"),
+        ({"threshold": 1.5}, "threshold"),
+        ({"method": "effective-medium"}, "method"),
+        ({"mean_free_path": 0.0}, "mean_free_path"),
+    ],
+)
+def test_bad_scalars(kwargs, match):
+    th = _theory("surface1")
+    res = _line_contact("surface1", 1e4)
+    args = {"pressure_drop": DP, "viscosity": ETA, **kwargs}
+    with pytest.raises(ValueError, match=match):
+        fl.leak_rate(res, theory=th, **args)
+    with pytest.raises(ValueError, match=match):
+        fl.leak_rate_profile(res.x, res.pressure, th, **args)
+
+
+def test_bad_results_and_profiles():
+    th = _theory("surface1")
+    hertz = fl.solve_line_contact(None, E_STAR, RADIUS, 1e4, model="hertz", n=64)
+    with pytest.raises(ValueError, match="hertz"):
+        fl.leak_rate(hertz, DP, ETA, theory=th)
+    res = _line_contact("surface1", 1e4)
+    assert fl.leak_rate(res, DP, ETA).Q > 0.0  # the result carries its theory
+    with pytest.raises(ValueError, match="PerssonTheory"):
+        fl.leak_rate(dataclasses.replace(res, theory=None), DP, ETA)  # none on it, none given
+    with pytest.raises(ValueError, match="E_star"):
+        fl.leak_rate(res, DP, ETA, theory=fl.PerssonTheory(th.psd, 2 * E_STAR))
+    with pytest.raises(TypeError, match="PerssonTheory"):
+        fl.leak_rate(res, DP, ETA, theory="surface1")
+    x = np.arange(4) * 1e-4
+    for xx, pp, match in [
+        (x[::-1], [1e6] * 4, "increasing"),
+        (x, [1e6, -1.0, 1e6, 1e6], "p must be >= 0"),
+        (x, [1e6] * 3, "same length"),
+        (x[:1], [1e6], "at least 2"),
+        (x, [0.0] * 4, "> 0 somewhere"),
+        (x, [1e6, math.nan, 1e6, 1e6], "finite"),
+    ]:
+        with pytest.raises(ValueError, match=match):
+            fl.leak_rate_profile(xx, pp, th, DP, ETA)
+
+
+def test_bad_interface_input():
+    th = _theory("surface1")
+    for fn in (th.apparent_area, th.mean_separation, th.edge_separation):
+        with pytest.raises(ValueError, match="zeta"):
+            fn(0.5, 1e6)
+        with pytest.raises(ValueError, match="zeta"):
+            fn(2e6, 1e6)  # beyond q1/q0 = 1e6
+        with pytest.raises(ValueError, match="p must be > 0"):
+            fn(2.0, 0.0)
+    with pytest.raises(ValueError, match="p must be > 0"):
+        th.critical_gap([1e6, -1.0])
+    with pytest.raises(ValueError, match="threshold"):
+        th.critical_gap(1e6, threshold=0.0)
+    with pytest.raises(TypeError, match="PerssonTheory"):
+        leakage.critical_gap(None, 1e6)
+
+
+def test_spectrum_with_a_gap_is_refused():
+    q = np.array([1e3, 1e4, 1e5, 1e6, 1e7])
+    C = np.array([1e-20, 1e-24, 0.0, 1e-30, 1e-34])  # C = 0 on (1e4, 1e6)
+    th = fl.PerssonTheory(fl.TabulatedPSD(q, C), E_STAR)
+    with pytest.raises(ValueError, match="gap"):
+        th.critical_gap(1e6)
