@@ -20,6 +20,7 @@ import subprocess
 import sys
 import tempfile
 import time
+from functools import partial
 
 import fastline as fl
 
@@ -76,9 +77,9 @@ def main():
             for n in (128, 1024):
                 args = (E_STAR, RADIUS, load)
                 lc = fl.LineContact(psd, *args[:2], n=n, warn=False)
-                t_old = best(lambda: old.solve_line_contact(psd_old, *args, n=n, warn=False))
-                t_fn = best(lambda: fl.solve_line_contact(psd, *args, n=n, warn=False))
-                t_lc = best(lambda: lc.solve(load))
+                t_old = best(partial(old.solve_line_contact, psd_old, *args, n=n, warn=False))
+                t_fn = best(partial(fl.solve_line_contact, psd, *args, n=n, warn=False))
+                t_lc = best(partial(lc.solve, load))
                 c_old = old.solve_line_contact(psd_old, *args, n=n, warn=False).convolutions
                 c_new = lc.solve(load).convolutions
                 print(
