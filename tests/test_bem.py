@@ -209,29 +209,45 @@ def test_sphere_converges_with_grid():
     assert math.log(errors[0] / errors[2]) / math.log(4.0) > 0.8
 
 
-def test_cylinder_hertz_and_images():
-    """Periodic cylinder: p0, a and s against Hertz within 1 % at Lx = 16 a; the periodic
-    images in x shift s by -(pi^2/12)(a/Lx)^2 (image curvature pi f x^2 / (3 E* Lx^2))."""
+def cylinder_s(res):
+    grid = res.grid
+    p = res.pressure.mean(axis=1)
+    return math.sqrt(np.dot(grid.x**2, p) / p.sum() + grid.dx**2 / 12)
+
+
+def test_cylinder_hertz():
+    """Periodic cylinder, Lx = 8 a, images cancelled: p0, a and s against Hertz within 1 %."""
     load = 100.0
     hz = fl.hertz_line_contact(E_STAR, RADIUS, load)
     dx = hz.a / 32
-    shifts = {}
-    for widths in (4, 8, 16):
-        grid = bem.Grid(32 * widths, 4, dx, dx)
-        res = bem.solve_contact(bem.cylinder_gap(grid, RADIUS), grid, E_STAR, load * grid.ly)
-        check_contact_invariants(res, load * grid.ly, hz.delta)
-        p = res.pressure.mean(axis=1)
-        s = math.sqrt(np.dot(grid.x**2, p) / p.sum() + dx * dx / 12)
-        shifts[widths] = s / hz.s - 1.0
-        if widths == 16:
-            assert p.max() == approx(hz.p0, rel=RTOL_HERTZ)
-            half = 0.5 * np.count_nonzero(p > 0.0) * dx
-            assert half == approx(hz.a, rel=RTOL_HERTZ)
-            assert s == approx(hz.s, rel=RTOL_HERTZ)
-            assert np.ptp(res.pressure, axis=1).max() < 1e-9 * hz.p0  # uniform along the axis
-    for widths in (4, 8):
-        predicted = -(math.pi**2 / 12.0) / widths**2
-        assert shifts[widths] == approx(predicted, rel=RTOL_IMAGE_SHIFT)
+    grid = bem.Grid(256, 4, dx, dx)
+    kappa = bem.image_curvature(E_STAR, load, RADIUS, grid.lx)
+    g0 = bem.cylinder_gap(grid, RADIUS, kappa)
+    res = bem.solve_contact(g0, grid, E_STAR, load * grid.ly)
+    check_contact_invariants(res, load * grid.ly, hz.delta)
+    p = res.pressure.mean(axis=1)
+    assert p.max() == approx(hz.p0, RTOL_HERTZ)
+    assert 0.5 * np.count_nonzero(p > 0.0) * dx == approx(hz.a, RTOL_HERTZ)
+    assert cylinder_s(res) == approx(hz.s, RTOL_HERTZ)
+    assert np.ptp(res.pressure, axis=1).max() < 1e-9 * hz.p0  # uniform along the axis
+
+
+@pytest.mark.parametrize("widths, corrected_bound", [(4, 5e-3), (8, 1e-3)])
+def test_cylinder_domain_size(widths, corrected_bound):
+    """The periodic images in x shift s by -kappa/2 = -(pi^2/12)(a/Lx)^2; the curvature
+    correction of cylinder_gap removes that to O(kappa^2)."""
+    load = 100.0
+    hz = fl.hertz_line_contact(E_STAR, RADIUS, load)
+    dx = hz.a / 32
+    grid = bem.Grid(32 * widths, 4, dx, dx)
+    kappa = bem.image_curvature(E_STAR, load, RADIUS, grid.lx)
+    assert kappa / 2 == approx((math.pi**2 / 12.0) / widths**2, 1e-12)
+    shifts = []
+    for k in (0.0, kappa):
+        res = bem.solve_contact(bem.cylinder_gap(grid, RADIUS, k), grid, E_STAR, load * grid.ly)
+        shifts.append(cylinder_s(res) / hz.s - 1.0)
+    assert shifts[0] == approx(-kappa / 2, RTOL_IMAGE_SHIFT)
+    assert abs(shifts[1]) < corrected_bound
 
 
 def test_rough_contact_invariants():
@@ -403,6 +419,12 @@ def test_bad_inputs():
         bem.cylinder_gap(grid, 0.0)
     with pytest.raises(TypeError, match="grid"):
         bem.sphere_gap("grid", 1.0)
+    with pytest.raises(ValueError, match="image_curvature"):
+        bem.cylinder_gap(grid, 1.0, 0.7)
+    with pytest.raises(ValueError, match="lx"):
+        bem.image_curvature(E_STAR, 1.0, 1.0, 0.0)
+    with pytest.raises(TypeError, match="image_correction"):
+        bem.line_contact_scene(PSD, E_STAR, RADIUS, 1.0, image_correction="no")
     with pytest.raises(ValueError, match="gap must be >= 0"):
         bem.reynolds_flow(-np.ones((4, 4)), 1e-6)
     with pytest.raises(ValueError, match="viscosity"):

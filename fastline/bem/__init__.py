@@ -11,7 +11,13 @@ Modules: :mod:`~fastline.bem.surface` (grids, random surfaces, spectrum estimate
 :mod:`~fastline.bem.ensemble` (scenes, realisations, ensembles).
 """
 
-from fastline.bem.contact import ContactResult, cylinder_gap, solve_contact, sphere_gap
+from fastline.bem.contact import (
+    ContactResult,
+    cylinder_gap,
+    image_curvature,
+    solve_contact,
+    sphere_gap,
+)
 from fastline.bem.ensemble import (
     FlatEnsemble,
     ProfileEnsemble,
@@ -46,6 +52,7 @@ __all__ = [
     "solve_contact",
     "cylinder_gap",
     "sphere_gap",
+    "image_curvature",
     "FlowResult",
     "reynolds_flow",
     "Scene",

@@ -31,29 +31,78 @@ import numba
 import numpy as np
 
 from fastline._special import JIT
-from fastline._validate import finite_array, integer, positive
+from fastline._validate import finite_array, finite_scalar, integer, positive
 from fastline.bem.halfspace import ElasticHalfSpace
 from fastline.bem.surface import Grid
 
-__all__ = ["ContactResult", "solve_contact", "cylinder_gap", "sphere_gap"]
+__all__ = ["ContactResult", "solve_contact", "cylinder_gap", "sphere_gap", "image_curvature"]
 
 #: Default stopping tolerance on the relative pressure change per iteration (Polonsky & Keer).
 DEFAULT_TOL = 1e-9
 
 
-def cylinder_gap(grid: Grid, radius) -> np.ndarray:
-    """Undeformed gap ``x^2 / (2R)`` [m] of a rigid cylinder with axis along y.
+def cylinder_gap(grid: Grid, radius, image_curvature=0.0) -> np.ndarray:
+    """Undeformed gap ``(1 - kappa) x^2 / (2R)`` [m] of a rigid cylinder with axis along y.
 
     Parameters
     ----------
     grid : Grid
     radius : float
         Cylinder radius ``R`` [m], > 0.
+    image_curvature : float
+        ``kappa`` from :func:`image_curvature` to cancel the leading effect of the periodic
+        images in x (default 0: no correction), in [0, 0.5).
     """
     _check_grid(grid)
     radius = positive("radius", radius, "m")
+    kappa = finite_scalar("image_curvature", image_curvature)
+    if not 0.0 <= kappa < 0.5:
+        raise ValueError(f"image_curvature must lie in [0, 0.5), got {kappa!r}")
     x = grid.x
-    return np.repeat((x * x / (2.0 * radius))[:, None], grid.ny, axis=1)
+    return np.repeat(((1.0 - kappa) * x * x / (2.0 * radius))[:, None], grid.ny, axis=1)
+
+
+def image_curvature(E_star, load, radius, lx) -> float:
+    """Curvature of the periodic images' displacement near a line contact, in units of 1/R.
+
+    A load per length ``f`` [N/m] repeated with period ``Lx`` along x displaces the surface
+    near the contact by its images (plane strain, ``u = -(2/(pi E*)) int p ln|x - x'|``)
+
+        sum_{n != 0} -(2/(pi E*)) int p(x') ln|x - x' - n Lx| dx'
+            = const + (pi f / (3 E* Lx^2)) (x - x_c)^2 + O(Lx^-4)
+
+    (from ``sum_{n>=1} 1/n^2 = pi^2/6``), whatever the profile, so the images act like a
+    change of the cylinder's curvature by ``kappa / R`` with
+
+        kappa = 2 pi f R / (3 E* Lx^2).
+
+    Uncorrected, ``s`` and the contact width shrink by ``kappa / 2`` relative (Hertz,
+    ``s ~ R^(1/2)``, and the Gaussian limit, ``s^2 = R u0``, alike; Hertz:
+    ``kappa / 2 = (pi^2 / 12)(a / Lx)^2``); :func:`cylinder_gap` with ``image_curvature=kappa``
+    cancels it (``tests/test_bem.py``: at ``Lx = 4 a`` the Hertz ``s`` moves from -5.0 % to
+    -0.27 %, at ``Lx = 8 a`` from -1.3 % to +0.002 %).
+
+    Parameters
+    ----------
+    E_star : float
+        Effective modulus [Pa], > 0.
+    load : float
+        Load per unit length [N/m], > 0.
+    radius : float
+        Cylinder radius [m], > 0.
+    lx : float
+        Period along x [m], > 0.
+
+    Returns
+    -------
+    float
+        ``kappa`` (dimensionless).
+    """
+    E_star = positive("E_star", E_star, "Pa")
+    load = positive("load", load, "N/m")
+    radius = positive("radius", radius, "m")
+    lx = positive("lx", lx, "m")
+    return 2.0 * math.pi * load * radius / (3.0 * E_star * lx * lx)
 
 
 def sphere_gap(grid: Grid, radius) -> np.ndarray:
