@@ -382,6 +382,46 @@ def test_flat_ensemble():
     assert high.conductance < low.conductance
 
 
+# ---- theory vs BEM ------------------------------------------------------------------------------
+class FakeTheory:
+    def __init__(self, x, pressure, p0, s, fwhm, load):
+        self.x, self.pressure, self.p0, self.s, self.fwhm, self.load = (
+            x,
+            pressure,
+            p0,
+            s,
+            fwhm,
+            load,
+        )
+
+
+def test_compare_counts_error_bars(small_line_scene):
+    ens = bem.run_ensemble(small_line_scene, 3, seed=2)
+    x = np.linspace(-1e-3, 1e-3, 2001)
+    fake = FakeTheory(
+        x, np.full(x.size, 500.0), ens.p0 + 2 * ens.p0_error, ens.s - ens.s_error, ens.fwhm, 30.0
+    )
+    cmp = bem.compare_line_contact(fake, ens)
+    assert cmp.p0.z == approx(2.0, 1e-12) and cmp.s.z == approx(-1.0, 1e-12)
+    assert cmp.fwhm.z == 0.0 and cmp.fwhm.relative == 0.0
+    np.testing.assert_allclose(cmp.theory_pressure, 500.0, rtol=1e-12)  # bin average of a constant
+    ok = np.isfinite(cmp.z_profile)
+    z = (500.0 - ens.pressure[ok]) / ens.pressure_error[ok]
+    np.testing.assert_allclose(cmp.z_profile[ok], z, rtol=1e-12)
+    assert cmp.chi2_per_bin == approx(np.mean(z * z), 1e-12)
+    assert "p0" in cmp.table() and "chi2/bin" in cmp.table()
+
+
+def test_compare_smooth_theory_with_smooth_bem():
+    load = 100.0
+    ens = bem.run_ensemble(bem.line_contact_scene(None, E_STAR, RADIUS, load), 1)
+    theory = fl.solve_line_contact(None, E_STAR, RADIUS, load, model="hertz")
+    cmp = bem.compare_line_contact(theory, ens)
+    for name in ("p0", "s", "fwhm", "w_over_s"):
+        assert abs(getattr(cmp, name).relative) < RTOL_HERTZ
+        assert math.isnan(getattr(cmp, name).z)  # one realisation: no error bar
+
+
 # ---- bad input -------------------------------------------------------------------------------
 def test_bad_inputs():
     grid = bem.Grid(16, 16, 1e-6, 1e-6)
@@ -444,3 +484,11 @@ def test_bad_inputs():
         bem.run_ensemble(scene, 1, executor=object())
     with pytest.raises(TypeError, match="grid"):
         bem.with_grid(scene, None)
+    with pytest.raises(TypeError, match="ensemble"):
+        bem.compare_line_contact(None, scene)
+    line = bem.run_ensemble(bem.line_contact_scene(None, E_STAR, RADIUS, 100.0), 1)
+    with pytest.raises(TypeError, match="missing"):
+        bem.compare_line_contact(object(), line)
+    x = np.linspace(-1e-3, 1e-3, 11)
+    with pytest.raises(ValueError, match="differs"):
+        bem.compare_line_contact(FakeTheory(x, x * 0, 1.0, 1.0, 1.0, 50.0), line)

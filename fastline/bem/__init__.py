@@ -8,9 +8,11 @@ Reynolds flow through the gap of a nominally flat contact.
 Modules: :mod:`~fastline.bem.surface` (grids, random surfaces, spectrum estimate),
 :mod:`~fastline.bem.halfspace` (Love's influence coefficients, FFT convolution),
 :mod:`~fastline.bem.contact` (the CCG solver), :mod:`~fastline.bem.flow` (Reynolds flow),
-:mod:`~fastline.bem.ensemble` (scenes, realisations, ensembles).
+:mod:`~fastline.bem.ensemble` (scenes, realisations, ensembles),
+:mod:`~fastline.bem.compare` (theory against the ensemble in units of its error bar).
 """
 
+from fastline.bem.compare import Difference, LineComparison, compare_line_contact
 from fastline.bem.contact import (
     ContactResult,
     cylinder_gap,
@@ -65,4 +67,7 @@ __all__ = [
     "run_realization",
     "run_ensemble",
     "with_grid",
+    "Difference",
+    "LineComparison",
+    "compare_line_contact",
 ]
