@@ -323,6 +323,16 @@ def test_jackknife_of_a_mean_is_the_standard_error():
     np.testing.assert_allclose(err, x.std(axis=0, ddof=1) / math.sqrt(7), rtol=1e-12)
 
 
+def test_central_peak_bias():
+    """The even quartic over |u| <= 0.75 s recovers the peak of Hertz and Gaussian profiles."""
+    u = np.linspace(-3.0, 3.0, 601)
+    gauss = 7.0 * np.exp(-0.5 * u * u)
+    assert _profile.central_peak(u, gauss, 1.0) == approx(7.0, 1e-3)
+    a = 2.0  # Hertz: s = a/2
+    hertz = 7.0 * np.sqrt(np.maximum(1.0 - (u / a) ** 2, 0.0))
+    assert _profile.central_peak(u, hertz, 0.5 * a) == approx(7.0, 1e-3)
+
+
 def test_smooth_ensembles_give_hertz():
     line = bem.run_ensemble(bem.line_contact_scene(None, E_STAR, RADIUS, 100.0), 1)
     assert line.converged and line.realizations == 1 and math.isnan(line.p0_error)
@@ -335,10 +345,14 @@ def test_smooth_ensembles_give_hertz():
     assert ball.w_over_s == approx(math.sqrt(15.0), rel=RTOL_HERTZ)
 
 
+LOAD_SMALL = 5.0  # N/m
+
+
 @pytest.fixture(scope="module")
 def small_line_scene():
+    """Hertz a = 80 um on Lx = 416 um (5.2 a)."""
     grid = bem.Grid(104, 48, 4e-6, 4e-6)  # 13 full bins of 8 cells, one centred on x = 0
-    return bem.line_contact_scene(PSD, E_STAR, RADIUS, 30.0, grid=grid, bin_width=8 * grid.dx)
+    return bem.line_contact_scene(PSD, E_STAR, RADIUS, LOAD_SMALL, grid=grid, bin_width=8 * grid.dx)
 
 
 def test_rough_line_ensemble(small_line_scene):
@@ -350,7 +364,7 @@ def test_rough_line_ensemble(small_line_scene):
     np.testing.assert_allclose(ens.coordinate, -ens.coordinate[::-1], atol=1e-15)
     assert dx_bin[0] == approx(8 * small_line_scene.grid.dx, RTOL_EXACT)  # exactly 8 cells per bin
     # the binned mean carries the load per unit length
-    assert np.sum(ens.pressure) * dx_bin[0] == approx(30.0, rel=RTOL_EXACT)
+    assert np.sum(ens.pressure) * dx_bin[0] == approx(LOAD_SMALL, rel=RTOL_EXACT)
     for name in ("p0", "s", "fwhm", "w_over_s"):
         value, error = getattr(ens, name), getattr(ens, name + "_error")
         assert value > 0.0 and 0.0 < error < value
@@ -399,13 +413,20 @@ def test_compare_counts_error_bars(small_line_scene):
     ens = bem.run_ensemble(small_line_scene, 3, seed=2)
     x = np.linspace(-1e-3, 1e-3, 2001)
     fake = FakeTheory(
-        x, np.full(x.size, 500.0), ens.p0 + 2 * ens.p0_error, ens.s - ens.s_error, ens.fwhm, 30.0
+        x,
+        np.full(x.size, 500.0),
+        ens.p0 + 2 * ens.p0_error,
+        ens.s - ens.s_error,
+        ens.fwhm,
+        LOAD_SMALL,
     )
     cmp = bem.compare_line_contact(fake, ens)
     assert cmp.p0.z == approx(2.0, 1e-12) and cmp.s.z == approx(-1.0, 1e-12)
     assert cmp.fwhm.z == 0.0 and cmp.fwhm.relative == 0.0
     np.testing.assert_allclose(cmp.theory_pressure, 500.0, rtol=1e-12)  # bin average of a constant
     ok = np.isfinite(cmp.z_profile)
+    core = ens.pressure >= 0.1 * ens.p0
+    assert np.array_equal(ok, core & (ens.pressure_error > 0))
     z = (500.0 - ens.pressure[ok]) / ens.pressure_error[ok]
     np.testing.assert_allclose(cmp.z_profile[ok], z, rtol=1e-12)
     assert cmp.chi2_per_bin == approx(np.mean(z * z), 1e-12)

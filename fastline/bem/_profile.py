@@ -6,24 +6,29 @@ import math
 
 import numpy as np
 
-
-def peak(x, p):
-    """Maximum of ``p`` refined by the parabola through the largest sample and its neighbours."""
-    i = int(np.argmax(p))
-    if 0 < i < p.size - 1:
-        a, b, c = p[i - 1], p[i], p[i + 1]
-        den = a - 2.0 * b + c
-        if den < 0.0:
-            t = 0.5 * (a - c) / den
-            return float(b - 0.25 * (a - c) * t)
-    return float(p[i])
+#: Half-width of the central window of the peak fit, in units of the profile's s.
+PEAK_WINDOW = 0.75
 
 
-def radial_peak(r, p, rings=3):
-    """``p(0)`` from the least-squares fit ``p = a + b r^2`` to the innermost ``rings`` rings."""
-    k = min(rings, r.size)
-    A = np.stack([np.ones(k), r[:k] ** 2], axis=1)
-    return float(np.linalg.lstsq(A, p[:k], rcond=None)[0][0])
+def central_peak(u, p, s, weights=None):
+    """Peak ``a`` of the least-squares fit ``p = a + b u^2 + c u^4`` over ``|u| <= 0.75 s``.
+
+    ``u`` is the distance from the centre (signed or radial).  Averaging over the central
+    window keeps the noise of a rough-contact profile out of the peak (the largest sample of a
+    noisy profile is biased upward); the fit's own bias is ~2e-4 relative for Hertz and
+    ~5e-4 for a Gaussian (their u^6 terms).  Falls back to the largest sample if the window
+    holds fewer than 5 samples.
+    """
+    inside = np.abs(u) <= PEAK_WINDOW * s
+    if np.count_nonzero(inside) < 5:
+        return float(np.max(p))
+    t = u[inside] / s
+    A = np.stack([np.ones(t.size), t * t, t**4], axis=1)
+    b = p[inside]
+    if weights is not None:
+        w = np.sqrt(weights[inside])
+        A, b = A * w[:, None], b * w
+    return float(np.linalg.lstsq(A, b, rcond=None)[0][0])
 
 
 def half_crossings(x, p, level):
@@ -40,17 +45,6 @@ def half_crossings(x, p, level):
     if j < p.size - 1:
         right = x[j] + (level - p[j]) * (x[j + 1] - x[j]) / (p[j + 1] - p[j])
     return float(left), float(right)
-
-
-def line_stats(x, p, dx):
-    """(p0, s, fwhm) of a line profile on cell centres ``x`` (``s`` cell-exact about the
-    centroid: the ``dx^2/12`` of a uniform cell included)."""
-    m0 = p.sum()
-    xc = np.dot(x, p) / m0
-    s = math.sqrt(np.dot((x - xc) ** 2, p) / m0 + dx * dx / 12.0)
-    p0 = peak(x, p)
-    left, right = half_crossings(x, p, 0.5 * p0)
-    return p0, s, right - left
 
 
 def jackknife(samples, statistic):

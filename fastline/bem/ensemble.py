@@ -12,12 +12,15 @@ Statistics (:func:`run_ensemble`):
 
 * cylinder: ``p_bar(x)``, the pressure averaged along the axis y, over bins of ``x`` of width
   ``Scene.bin_width`` and over realisations, with the standard error of the mean over
-  realisations in each bin; ``p0`` (parabolic peak) and ``w`` (FWHM) *of* ``p_bar``, ``s``
-  (standard deviation about the centroid) of the unbinned mean profile (cell-exact);
+  realisations in each bin; ``s`` (standard deviation about the centroid, cell-exact) and
+  ``p0`` (peak of the even quartic fitted to the central ``|x - x_c| <= 0.75 s`` of the unbinned
+  mean profile: the largest bin of a noisy profile is biased upward) and ``w`` (FWHM of the
+  binned ``p_bar``);
 * sphere: ``p_bar(r)`` averaged over rings of width ``Scene.bin_width`` about the sphere's axis
-  and over realisations; ``p0`` from the fit ``a + b r^2`` to the three innermost rings,
-  ``w = 2 r_half``, and ``s`` the per-axis standard deviation ``s^2 = <|r - r_c|^2> / 2`` of
-  the mean pressure map (a Gaussian ``exp(-r^2 / 2 s^2)`` has standard deviation ``s``);
+  and over realisations; ``p0`` from the same central fit over the rings with
+  ``r <= 0.75 sqrt(2) s``, ``w = 2 r_half``, and ``s`` the per-axis standard deviation
+  ``s^2 = <|r - r_c|^2> / 2`` of the mean pressure map (a Gaussian ``exp(-r^2 / 2 s^2)``
+  has standard deviation ``s``);
   Hertz: ``s = a / sqrt(5)``, ``w/s = sqrt(15)``;
 * flat: contact-area fraction, mean gap, and the Reynolds conductance and effective gap
   (:mod:`fastline.bem.flow`), means with standard errors.
@@ -659,20 +662,23 @@ def _line_statistic(scene):
         m0 = profile.sum()
         xc = np.dot(x, profile) / m0
         s = math.sqrt(np.dot((x - xc) ** 2, profile) / m0 + grid.dx**2 / 12.0)
-        p0 = _profile.peak(centres, binned)
+        p0 = _profile.central_peak(x - xc, profile, s)
         left, right = _profile.half_crossings(centres, binned, 0.5 * p0)
         return p0, s, right - left, (right - left) / s
 
     return stat, lambda profiles: np.stack([np.bincount(k, weights=p) / count for p in profiles])
 
 
-def _sphere_statistic(r, nring, dx, dy):
+def _sphere_statistic(r, count, dx, dy):
+    nring = r.size
+
     def stat(sample):
         profile, m = sample[:nring], sample[nring:]
-        p0 = _profile.radial_peak(r, profile)
-        _, r_half = _profile.half_crossings(r, profile, 0.5 * p0)
         var = 0.5 * (m[3] / m[0] - (m[1] ** 2 + m[2] ** 2) / m[0] ** 2) + (dx * dx + dy * dy) / 24
         s = math.sqrt(var)
+        # radial window 0.75 sqrt(2) s: the same fraction of the profile as on a line
+        p0 = _profile.central_peak(r / math.sqrt(2.0), profile, s, weights=count)
+        _, r_half = _profile.half_crossings(r, profile, 0.5 * p0)
         return p0, s, 2.0 * r_half, 2.0 * r_half / s
 
     return stat
@@ -687,9 +693,9 @@ def _profile_ensemble(scene, runs):
         coord = _line_bins(scene)[2]
         profiles = binner(profiles)
     else:
-        _, coord, _ = _ring_index(scene)
+        _, coord, count = _ring_index(scene)
         samples = np.concatenate([profiles, np.array([r.moments for r in runs])], axis=1)
-        stat = _sphere_statistic(coord, coord.size, grid.dx, grid.dy)
+        stat = _sphere_statistic(coord, count.astype(np.float64), grid.dx, grid.dy)
     (p0, s, w, ws), (p0_e, s_e, w_e, ws_e) = _profile.jackknife(samples, stat)
     n = len(runs)
     err = profiles.std(axis=0, ddof=1) / math.sqrt(n) if n > 1 else np.full(coord.size, np.nan)
