@@ -233,3 +233,90 @@ def edge_separation(psd, E_star, zeta, p, gamma=0.45, epsrel=1e-10):
 
     du = math.sqrt(math.pi) * _band_integral(psd, a, integrand, epsrel)
     return mean_separation(psd, E_star, zeta, p, gamma, epsrel) + du * P / dP
+
+
+# ---- boundary-element references (fastline.bem) -----------------------------------------------
+def boussinesq_cell(X: float, Y: float, dx: float, dy: float, E_star: float) -> float:
+    """Displacement at (X, Y) of unit pressure on the cell |x| <= dx/2, |y| <= dy/2, by quadrature.
+
+    u = (1/(pi E*)) int_cell dA / r (Boussinesq). The cell is cut into the four rectangles that
+    have a corner at the field point; each is integrated in polar coordinates about that corner,
+    int_0^{pi/2} rho_max(theta) d theta, so the 1/r singularity never meets the quadrature.
+    """
+
+    def corner_rect(a: float, b: float) -> float:
+        # int over [0, a] x [0, b] of 1/r, a, b >= 0
+        if a <= 0.0 or b <= 0.0:
+            return 0.0
+        split = math.atan2(b, a)
+        f1 = quad(lambda t: a / math.cos(t), 0.0, split, epsabs=0.0, epsrel=1e-13)[0]
+        f2 = quad(lambda t: b / math.sin(t), split, 0.5 * math.pi, epsabs=0.0, epsrel=1e-13)[0]
+        return f1 + f2
+
+    # int_{x0}^{x1} int_{y0}^{y1} as a signed sum of rectangles with a corner at the point
+    total = 0.0
+    for xa, sx in ((0.5 * dx - X, 1.0), (-0.5 * dx - X, -1.0)):
+        for ya, sy in ((0.5 * dy - Y, 1.0), (-0.5 * dy - Y, -1.0)):
+            sign = sx * sy * math.copysign(1.0, xa) * math.copysign(1.0, ya)
+            total += sign * corner_rect(abs(xa), abs(ya))
+    return total / (math.pi * E_star)
+
+
+def reynolds_dense(gap, dx, dy, viscosity, pressure_drop):
+    """Reynolds flow across x by loops and a dense solve (fastline.bem.flow's discretisation).
+
+    Cells with gap > 0 conduct g^3/(12 eta); faces take the harmonic mean; inlet/outlet are half
+    a cell from the first/last column; periodic in y. Cells not reachable from both inlet and
+    outlet (breadth-first search) are dropped. Returns Q Lx / (Ly dP).
+    """
+    nx, ny = gap.shape
+    c = gap**3 / (12.0 * viscosity)
+
+    def face(a, b):
+        return 0.0 if a + b == 0.0 else 2.0 * a * b / (a + b)
+
+    def neighbours(i, j):
+        out = []
+        if i > 0:
+            out.append((i - 1, j, face(c[i, j], c[i - 1, j]) * dy / dx))
+        if i < nx - 1:
+            out.append((i + 1, j, face(c[i, j], c[i + 1, j]) * dy / dx))
+        for jj in ((j - 1) % ny, (j + 1) % ny):
+            out.append((i, jj, face(c[i, j], c[i, jj]) * dx / dy))
+        return [(a, b, t) for a, b, t in out if t > 0.0]
+
+    def reach(starts):
+        seen = set(s for s in starts if c[s] > 0.0)
+        todo = list(seen)
+        while todo:
+            i, j = todo.pop()
+            for a, b, _ in neighbours(i, j):
+                if (a, b) not in seen:
+                    seen.add((a, b))
+                    todo.append((a, b))
+        return seen
+
+    active = reach([(0, j) for j in range(ny)]) & reach([(nx - 1, j) for j in range(ny)])
+    if not active:
+        return 0.0
+    cells = sorted(active)
+    index = {cell: k for k, cell in enumerate(cells)}
+    A = np.zeros((len(cells), len(cells)))
+    rhs = np.zeros(len(cells))
+    for (i, j), k in index.items():
+        for a, b, t in neighbours(i, j):
+            if (a, b) in index:
+                A[k, k] += t
+                A[k, index[(a, b)]] -= t
+        if i == 0:
+            A[k, k] += 2.0 * c[i, j] * dy / dx
+            rhs[k] += 2.0 * c[i, j] * dy / dx * pressure_drop
+        if i == nx - 1:
+            A[k, k] += 2.0 * c[i, j] * dy / dx
+    P = np.linalg.solve(A, rhs)
+    q = sum(
+        2.0 * c[nx - 1, j] * dy / dx * P[index[(nx - 1, j)]]
+        for j in range(ny)
+        if (nx - 1, j) in index
+    )
+    return q * nx * dx / (ny * dy * pressure_drop)
