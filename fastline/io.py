@@ -434,8 +434,9 @@ def write_leak_sweep_csv(
     """Write leak rate against load: one row per load, columns :data:`LEAK_SWEEP_COLUMNS`.
 
     ``results`` and ``leaks`` are the solves and their leak rates, in the same order; the
-    leak's inputs (:func:`leak_metadata`, from the first) are added to ``meta``. Q is 0 and
-    min_gap_m is 0 at sealed loads.
+    leak's inputs (:func:`leak_metadata`, from the first) are added to ``meta``. At sealed
+    loads Q and min_gap_m are 0, and share_in_fwhm and resistance_width_m describe the sealed
+    strips (where the resistance is infinite).
     """
     leaks = list(leaks)
     if not leaks:

@@ -376,7 +376,7 @@ def plot_leak(leak, *, axes=None):
     bottom.set_xlabel(r"$x$ (mm)")
     lo, hi, text = _leak_band(leak)
     half = leak.x[leak.pressure >= 0.5 * leak.pressure.max()]
-    fwhm = f"FWHM of $p$ ({leak.share_in_fwhm:.0%} of the resistance inside)"
+    fwhm = f"FWHM of $p$ ({leak.share_in_fwhm:.1%} of the resistance inside)"
     for k, ax in enumerate((top, bottom)):
         color = "C3" if leak.sealed else "C2"
         ax.axvspan(lo * 1e3, hi * 1e3, color=color, alpha=0.15, lw=0, label=text if k else None)
@@ -438,18 +438,22 @@ def plot_leak_sweep(loads, leaks, *, label: str | None = None, ax=None):
     if np.any(~sealed):
         q_lo, q_hi = Q[~sealed].min(), Q[~sealed].max()
         ax.set_ylim(q_lo / 10.0, q_hi * 10.0)
-    if sealed.any():
-        from matplotlib.transforms import blended_transform_factory
+    from matplotlib.transforms import blended_transform_factory
 
+    at_bottom = blended_transform_factory(ax.transData, ax.transAxes)  # x data, y axes fraction
+    if sealed.any():
         ax.axvspan(f[sealed].min(), f.max(), color="0.9", lw=0, zorder=0)
-        at_bottom = blended_transform_factory(ax.transData, ax.transAxes)
         ax.plot(
             f[sealed], np.zeros(sealed.sum()), "v", color="k", ms=5, transform=at_bottom,
             clip_on=False, label="sealed ($Q$ = 0)",
         )  # fmt: skip
-    if bad.any():
-        y = np.where(sealed[bad], np.nan, Q[bad])
-        ax.plot(f[bad], y, "o", mfc="none", mec="r", ms=8, label="not converged")
+    circle = dict(ls="none", marker="o", mfc="none", mec="r", ms=8, clip_on=False)
+    if (bad & ~sealed).any():
+        ax.plot(f[bad & ~sealed], Q[bad & ~sealed], label="not converged", **circle)
+    if (bad & sealed).any():
+        label = None if (bad & ~sealed).any() else "not converged"
+        ax.plot(f[bad & sealed], np.zeros((bad & sealed).sum()), transform=at_bottom, **circle,
+                label=label)  # fmt: skip
     pad = (f[-1] / f[0]) ** 0.03 if f[-1] > f[0] else 1.5
     ax.set_xlim(f[0] / pad, f[-1] * pad)
     _log_axis(ax.xaxis)
@@ -459,6 +463,9 @@ def plot_leak_sweep(loads, leaks, *, label: str | None = None, ax=None):
     ax.grid(True, which="major", alpha=0.3)
     if ax.get_legend_handles_labels()[1]:
         _legend(ax)
+        if own:  # short legend entries: a narrower right margin than _figure's
+            fig.set_size_inches(5.0, fig.get_size_inches()[1])
+            fig.subplots_adjust(left=0.17, right=0.71)
     else:
         _no_outside_legend(fig, ax, own)
     return fig

@@ -7,6 +7,7 @@ paths checked before any solve. Small settings (n = 128) on the O-ring-like scen
 docs/leakage.md: rubber (E 10 MPa, nu 0.5) on steel, h_rms 0.3 um, H 0.85, R 1.5 mm, water.
 """
 
+import dataclasses
 from contextlib import redirect_stderr, redirect_stdout
 from io import StringIO
 
@@ -392,6 +393,21 @@ def test_plot_leak_sweep_marks_sealed_loads(swept):
     np.testing.assert_allclose(curve.get_ydata(), [k.Q for k in leaks if not k.sealed])
     lo, hi = ax.get_ylim()
     assert lo < min(k.Q for k in leaks if not k.sealed) and hi > max(k.Q for k in leaks)
+
+
+def test_plot_leak_sweep_circles_unconverged(swept):
+    loads, _, leaks = swept
+    k_open = next(i for i, k in enumerate(leaks) if not k.sealed)
+    k_sealed = next(i for i, k in enumerate(leaks) if k.sealed)
+    marked = list(leaks)
+    for i in (k_open, k_sealed):
+        marked[i] = dataclasses.replace(leaks[i], converged=False)
+    (ax,) = plotting.plot_leak_sweep(loads, marked).axes
+    circles = [ln for ln in ax.get_lines() if ln.get_marker() == "o" and ln.get_mec() == "r"]
+    x = sorted(float(v) for ln in circles for v in ln.get_xdata())
+    np.testing.assert_allclose(x, sorted([loads[k_open], loads[k_sealed]]))
+    labels = [t.get_text() for t in ax.get_legend().get_texts()]
+    assert labels.count("not converged") == 1
 
 
 def test_plot_leak_sweep_edge_cases(swept):
