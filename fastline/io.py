@@ -35,6 +35,12 @@ __all__ = [
     "read_csv",
     "PROFILE_COLUMNS",
     "SWEEP_COLUMNS",
+    "write_leak_csv",
+    "write_leak_sweep_csv",
+    "leak_metadata",
+    "leak_sweep_rows",
+    "LEAK_COLUMNS",
+    "LEAK_SWEEP_COLUMNS",
 ]
 
 #: columns of :func:`write_profile_csv`
@@ -48,6 +54,30 @@ SWEEP_COLUMNS = (
     "s_m",
     "w_m",
     "w_over_s",
+    "converged",
+)
+
+#: columns of :func:`write_leak_csv` (one row per strip of the contact)
+LEAK_COLUMNS = (
+    "x_m",
+    "p_Pa",
+    "u_c_m",
+    "sigma_m3_per_Pa_s",
+    "resistance_share",
+    "cumulative_share",
+    "sealed",
+)
+#: columns of :func:`write_leak_sweep_csv` (one row per load)
+LEAK_SWEEP_COLUMNS = (
+    "load_N_per_m",
+    "alpha",
+    "p0_Pa",
+    "Q_m3_per_s",
+    "conductance_m2_per_Pa_s",
+    "sealed",
+    "share_in_fwhm",
+    "resistance_width_m",
+    "min_gap_m",
     "converged",
 )
 
@@ -320,3 +350,97 @@ def read_csv(path: str | os.PathLike) -> tuple[dict, dict]:
         except ValueError:
             columns[name] = np.array(col)
     return meta, columns
+
+
+def leak_metadata(leak) -> dict:
+    """The inputs of a leak rate as header entries: ``pressure_drop_Pa``, ``viscosity_Pa_s``,
+    ``length_m``, ``threshold``, ``method`` (add ``mean_free_path_m`` yourself when used)."""
+    return {
+        "pressure_drop_Pa": float(leak.pressure_drop),
+        "viscosity_Pa_s": float(leak.viscosity),
+        "length_m": float(leak.length),
+        "threshold": float(leak.threshold),
+        "method": str(leak.method),
+    }
+
+
+def write_leak_csv(path, leak, meta: Mapping | None = None, *, result=None) -> None:
+    """Write where along the contact a seal leaks: one row per strip, :data:`LEAK_COLUMNS`.
+
+    Columns: strip centre x [m], nominal pressure p [Pa], critical gap u_c [m] (0 in sealed
+    strips, ``inf`` where p = 0), local conductance sigma [m^3/(Pa s)], the strip's share of the
+    flow resistance and its running sum, and whether the strip is sealed (0/1).
+
+    Parameters
+    ----------
+    path : str or path-like
+    leak : LeakResult
+        From :func:`fastline.leak_rate`.
+    meta : mapping, optional
+        The scene (:func:`scene_metadata`); the leak's inputs (:func:`leak_metadata`) and its
+        results (Q [m^3/s], conductance [m^2/(Pa s)], sealed, share in the FWHM, 90 % width
+        [m]) are added.
+    result : LineContactResult, optional
+        The solve the leak rate post-processes: its load, alpha, p0 and convergence are added.
+    """
+    info = dict(meta or {})
+    if result is not None:
+        info.update(load_N_per_m=result.load, alpha=result.alpha, p0_Pa=result.p0)
+    info.update(leak_metadata(leak))
+    info.update(
+        Q_m3_per_s=leak.Q,
+        conductance_m2_per_Pa_s=leak.conductance,
+        sealed=leak.sealed,
+        share_in_fwhm=leak.share_in_fwhm,
+        resistance_width_m=leak.resistance_width,
+        converged=leak.converged,
+    )
+    rows = zip(
+        leak.x,
+        leak.pressure,
+        leak.u_c,
+        leak.sigma,
+        leak.resistance_share,
+        leak.cumulative_share,
+        leak.sealed_strips,
+        strict=True,
+    )
+    title = "fastline leak: p(x), critical gap u_c(x) and where the flow resistance sits"
+    write_csv(path, LEAK_COLUMNS, rows, info, title=title)
+
+
+def leak_sweep_rows(results: Iterable, leaks: Iterable) -> list[tuple]:
+    """One row of :data:`LEAK_SWEEP_COLUMNS` per (LineContactResult, LeakResult) pair."""
+    return [
+        (
+            r.load,
+            r.alpha,
+            r.p0,
+            k.Q,
+            k.conductance,
+            k.sealed,
+            k.share_in_fwhm,
+            k.resistance_width,
+            k.diagnostics["min_gap"],
+            r.converged,
+        )
+        for r, k in zip(results, leaks, strict=True)
+    ]
+
+
+def write_leak_sweep_csv(
+    path, results: Sequence, leaks: Sequence, meta: Mapping | None = None
+) -> None:
+    """Write leak rate against load: one row per load, columns :data:`LEAK_SWEEP_COLUMNS`.
+
+    ``results`` and ``leaks`` are the solves and their leak rates, in the same order; the
+    leak's inputs (:func:`leak_metadata`, from the first) are added to ``meta``. At sealed
+    loads Q and min_gap_m are 0, and share_in_fwhm and resistance_width_m describe the sealed
+    strips (where the resistance is infinite).
+    """
+    leaks = list(leaks)
+    if not leaks:
+        raise ValueError("leaks must hold at least one LeakResult")
+    info = {**dict(meta or {}), **leak_metadata(leaks[0])}
+    rows = leak_sweep_rows(results, leaks)
+    write_csv(path, LEAK_SWEEP_COLUMNS, rows, info, title="fastline leak --sweep: Q against load")
