@@ -239,6 +239,10 @@ def _build_grid(n: int, half_width: float, radius: float, E_star: float, hz) -> 
 #: ones. Over the paper's three 50-load sweeps (n = 1024) the total convolutions were
 #: 6252 independent, 5018 / 4495 / 4244 with degree 1 / 2 / 3.
 SWEEP_PREDICTOR_ORDER = 3
+#: largest step in ln f_N over which the polynomial extrapolates; a longer step starts from the
+#: previous solution rescaled (degree 0). An O-ring sweep of 6-12 loads over 10..1e4 N/m (steps
+#: of ln 2-ln 4) failed to converge from cubic predictions and converged from degree 0.
+PREDICTOR_MAX_STEP = math.log(1.5)
 
 
 def _log_pressure(result: LineContactResult) -> np.ndarray:
@@ -450,6 +454,11 @@ class LineContact:
         for i in np.argsort(loads, kind="stable"):
             grid = self._grid(float(loads[i]))
             result = self._solve_on(grid, self._predict(grid, history), warn=False)
+            if not result.converged and history:  # the prediction misled Newton: start cold
+                cold = self._solve_on(grid, None, warn=False)
+                cold.convolutions += result.convolutions  # count all the work done
+                cold.diagnostics["restarted_cold"] = True
+                result = cold
             history = (history + [(math.log(grid.hertz.load), _log_pressure(result))])[-4:]
             out[i] = result
             if progress is not None:
@@ -518,8 +527,9 @@ class LineContact:
         shape), by the Lagrange polynomial in ln f_N through the last ones; None if none."""
         if not history:
             return None
-        pts = history[-(SWEEP_PREDICTOR_ORDER + 1) :]
         t = math.log(grid.hertz.load)
+        order = SWEEP_PREDICTOR_ORDER if t - history[-1][0] <= PREDICTOR_MAX_STEP else 0
+        pts = history[-(order + 1) :]
         v = np.zeros(self.n)
         for i, (ti, vi) in enumerate(pts):
             weight = math.prod((t - tj) / (ti - tj) for j, (tj, _) in enumerate(pts) if j != i)

@@ -240,3 +240,25 @@ def test_per_n_caches_are_bounded():
     assert len(elastic._spectra) <= elastic.SPECTRA_KEPT
     assert len(elastic._strang) <= elastic.SPECTRA_KEPT
     assert len(elastic._local.plans) <= elastic.PLANS_KEPT
+
+
+# ---- sweeps with coarse load steps (found by the leak command's tests) -----------------------
+@pytest.mark.parametrize("num", [6, 8, 12])
+def test_coarse_sweep_converges(num):
+    """An O-ring sweep with load steps of ln 2 .. ln 4: cubic extrapolation over such steps
+    misled Newton (1e4 N/m did not converge); long steps now start from the rescaled previous
+    solution."""
+    E = fl.effective_modulus(10e6, 0.5, 210e9, 0.3)
+    psd = fl.SelfAffinePSD(0.3e-6, 0.85, 5e4, 5e5, 1e9)
+    res = fl.LineContact(psd, E, 1.5e-3, n=1024, warn=False).sweep(np.geomspace(10, 1e4, num))
+    assert all(r.converged for r in res), [r.load for r in res if not r.converged]
+
+
+def test_sweep_restarts_cold_when_the_prediction_fails(monkeypatch):
+    lc = fl.LineContact(SURFACES[0], E_STAR, RADIUS, n=256, max_iter=6, warn=False)
+    zigzag = np.tile([30.0, -30.0], lc.n // 2)  # ln p alternating by 60 between cells
+    poisoned = lambda grid, history: None if not history else zigzag  # noqa: E731
+    monkeypatch.setattr(lc, "_predict", poisoned)
+    res = lc.sweep([1e4, 1.2e4])
+    assert res[1].converged and res[1].diagnostics.get("restarted_cold")
+    assert res[1].p0 == pytest.approx(lc.solve(1.2e4).p0, rel=RTOL_CONTINUATION)
