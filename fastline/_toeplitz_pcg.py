@@ -261,19 +261,30 @@ def solve_newton_system(fft, kspec, strang, prefix, scale, K00, D, w, rhs, rtol,
     d = z.copy()
     Hd = np.empty(n)
     dp[:] = 0.0
-    its = 0
-    kapps = 0
+    its = kapps = 0
+    # the best iterate so far (by Jacobi residual) is what is returned: if round-off breaks CG
+    # down at a tight tolerance (the log kernel's constant mode has a large negative energy, so
+    # a tiny leak off zero load makes <d, H d> negative), nothing worse than it comes back
+    best_dp, best_res, best, best_its = dp.copy(), res.copy(), r0, 0
     while its < maxit and rz > 0.0:
         _convolve(d, n, kspec, fft, a, c, Hd)
         kapps += 1
         for i in range(n):
             Hd[i] = D[i] * d[i] + scale * Hd[i]
-        alpha = rz / np.dot(w * d, Hd)
+        dHd = np.dot(w * d, Hd)
+        if not dHd > 0.0:
+            break
+        alpha = rz / dHd
         dp += alpha * d
         res -= alpha * Hd
         its += 1
-        if _jacobi_norm(res, jac, s_jac) <= rtol * r0 or its >= maxit:
-            lam = np.dot(jac, res) / s_jac
+        rn = _jacobi_norm(res, jac, s_jac)
+        if rn < best:
+            best, best_its = rn, its
+            best_dp[:] = dp
+            best_res[:] = res
+        # stop when reduced by rtol, at maxit, or stagnant (round-off) for 20 iterations
+        if rn <= rtol * r0 or its - best_its >= 20:
             break
         circ += _precondition(res, z, sm, co, fft, a, c, tmp, r1)
         lam = np.dot(w, z) / s_m1
@@ -281,9 +292,12 @@ def solve_newton_system(fft, kspec, strang, prefix, scale, K00, D, w, rhs, rtol,
         rz_new = np.dot(w * res, z)
         d = z + (rz_new / rz) * d
         rz = rz_new
+    dp[:] = best_dp
+    lam = np.dot(jac, best_res) / s_jac  # the multiplier: Jacobi-weighted mean residual
+    dp -= (np.dot(w, dp) / s_m1) * m1  # back onto zero load (round-off drift)
     for i in range(n):  # frozen cells: the Jacobi update from the final residual
         if sm[0][i] == 0.0:
-            dp[i] = (res[i] - lam) / D[i]
+            dp[i] = (best_res[i] - lam) / D[i]
     return lam, its, kapps, circ
 
 
