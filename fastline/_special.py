@@ -4,6 +4,9 @@
           = gamma * E1(x0^2) / 2 + 3 (1 - gamma) * G(x0),
     G(x0) = int_{x0}^inf erf(x)^2 exp(-x^2) / x dx.
 
+(The printed-bracket variant of :mod:`fastline.variants` has ``1 - gamma`` for ``3 (1 - gamma)``;
+the coefficient is the ``b2`` argument of :func:`f_coefficients`.)
+
 With it the Yang-Persson separation is one quadrature over q per pressure:
 ``u(p) = sqrt(pi) int dq q^2 C(q) w(q) F(w(q) p / E*)``.
 
@@ -109,10 +112,15 @@ def G0() -> float:
 
 
 @functools.lru_cache(maxsize=16)
-def f_coefficients(gamma: float):
-    """Coefficient arrays ``(c1, c2, c3)`` of F for one value of gamma (read-only)."""
+def f_coefficients(gamma: float, b2: float | None = None):
+    """Coefficient arrays ``(c1, c2, c3)`` of F for one value of gamma (read-only).
+
+    ``b2`` is the coefficient of ``erf(x)^2`` in the bracket, ``F = gamma E1(x0^2)/2 + b2 G(x0)``:
+    ``3 (1 - gamma)`` (default, the energy derivation) or ``1 - gamma`` (the bracket as printed
+    in several papers; :mod:`fastline.variants`).
+    """
     c1a, c1b, c2a, c2b, c3 = _gamma_free_tables()
-    b = 3.0 * (1.0 - gamma)
+    b = 3.0 * (1.0 - gamma) if b2 is None else b2
     out = (gamma * c1a + b * c1b, gamma * c2a + b * c2b, (gamma + b) * c3)
     for arr in out:
         arr.setflags(write=False)
@@ -150,7 +158,7 @@ def _F_vec(x, gamma, c1, c2, c3, out):
         out[i] = _F(x[i], gamma, c1, c2, c3)
 
 
-def universal_F(x0, gamma: float = 0.45) -> np.ndarray:
+def universal_F(x0, gamma: float = 0.45, variant: str = "yang-persson-energy") -> np.ndarray:
     """Evaluate F(x0) (docs/theory.md section 3) for x0 > 0, vectorised.
 
     Parameters
@@ -158,19 +166,30 @@ def universal_F(x0, gamma: float = 0.45) -> np.ndarray:
     x0 : array_like
         Argument, ``x0 = w(q) p / E*`` (dimensionless), > 0.
     gamma : float
-        The Yang-Persson energy-correction parameter, in (0, 1].
+        The parameter of the correction S(P), in (0, 1].
+    variant : str
+        The variant of the theory (:mod:`fastline.variants`); for ``"wang-mueser"`` F is that
+        of :mod:`fastline._special_area` (gamma then in [0.05, 1]).
 
     Returns
     -------
     ndarray
         F(x0), same shape as ``x0``; ``F ~ -gamma ln x0`` at small x0 and
-        ``~ (3 - 2 gamma) exp(-x0^2) / (2 x0^2)`` at large x0.
+        ``~ (3 - 2 gamma) exp(-x0^2) / (2 x0^2)`` at large x0 (default variant).
     """
     from fastline._validate import in_range, positive_array
+    from fastline.variants import get_variant
 
+    var = get_variant(variant)
     gamma = in_range("gamma", gamma, 0.0, 1.0)
     x = positive_array("x0", x0)
     flat = np.ascontiguousarray(x.ravel())
     out = np.empty_like(flat)
-    _F_vec(flat, gamma, *f_coefficients(gamma), out)
+    if var.area_correction:
+        from fastline._special_area import area_functions
+
+        out = area_functions(flat, *var.correction(gamma))[1]
+    else:
+        b2 = var.bracket(gamma)[1]
+        _F_vec(flat, gamma, *f_coefficients(gamma, b2), out)
     return out.reshape(x.shape)

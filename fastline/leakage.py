@@ -209,9 +209,9 @@ _TOP_RATIO = 0.15
 @numba.njit(**JIT)
 def _panel(la, lb, m, s, t, w, fc, qtab, k, acc):
     """Add one Gauss-Legendre panel [la, lb] in ln tau to acc = (I0, I2, J);
-    ``fc = (gamma, c1, c2, c3)`` are F's parameters. Returns the Q-table hint."""
-    gamma, c1, c2, c3 = fc
-    b3 = 3.0 * (1.0 - gamma)
+    ``fc = (gamma, c1, c2, c3, b2)`` are F's parameters (bracket ``gamma + b2 erf^2``).
+    Returns the Q-table hint."""
+    gamma, c1, c2, c3, b3 = fc
     width = lb - la
     for i in range(t.shape[0]):
         tau = math.exp(la + width * t[i])
@@ -289,7 +289,7 @@ def _interface(m, p, E_star, band, rule, fc, qtab, acc):
     edge = 0.0
     if delta > 0.0 and s * s < 745.0 * delta:  # g(T^2)/q1, the boundary term at q1
         x = s / math.sqrt(delta)
-        edge = _F(max(x, 1e-300), *fc) / (math.sqrt(delta) * q1)
+        edge = _F(max(x, 1e-300), fc[0], fc[1], fc[2], fc[3]) / (math.sqrt(delta) * q1)
     dm = edge + 2.0 * acc[2]  # = -sqrt(pi) du_bar/dm at fixed s, >= 0
     if dm == 0.0:  # every scale in contact: nothing left to separate
         return P, u_bar, u_bar + two * acc[1]
@@ -371,10 +371,18 @@ class _Spectrum:
     """What the kernels need of one theory: the Q table, the tau rule, F's coefficients."""
 
     def __init__(self, theory):
+        if theory._area is not None:
+            raise ValueError(
+                f"leakage needs a theory whose contact area is erf(x): variant "
+                f"{theory.variant!r} corrects the contact-area recursion, which the "
+                "critical-junction interface (THEORY.md 8) does not; use 'yang-persson-energy' "
+                "or 'yang-persson-printed'"
+            )
         self.table = _MomentTable(theory.psd)
         r = _TauRule(theory.rtol)
         self.rule = (r.t, r.w, r.tg, r.wg, r.per_decade, r.levels)
-        self.coef = f_coefficients(theory.gamma)
+        self.b2 = theory._bracket[1]
+        self.coef = f_coefficients(theory.gamma, self.b2)
         self.E_star = theory.E_star
         self.gamma = theory.gamma
 
@@ -382,7 +390,7 @@ class _Spectrum:
         """(E*, band, rule, fc, qtab): what the interface kernels take after their arrays."""
         tb = self.table
         band = (tb.B1, tb.q1, tb.B_breaks)
-        return self.E_star, band, self.rule, (self.gamma, *self.coef), tb.arrays()
+        return self.E_star, band, self.rule, (self.gamma, *self.coef, self.b2), tb.arrays()
 
 
 def _state(theory) -> dict:

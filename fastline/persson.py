@@ -12,7 +12,8 @@ J. Phys.: Condens. Matter 20, 215214 (2008)), with ``A(q) = pi int_{q0}^q q'^3 C
 
   where F is the universal function of :mod:`fastline._special`. The bracket
   ``gamma + 3 (1 - gamma) P^2`` inside F is d/dP [P S] from the energy derivation; some papers
-  print it without the factor 3. fastline follows the derivation.
+  print it without the factor 3. fastline follows the derivation by default; ``variant=``
+  selects the printed bracket or Wang & Mueser's correction (:mod:`fastline.variants`).
 
 Numerics
 --------
@@ -44,8 +45,10 @@ from scipy.special import roots_legendre
 
 from fastline._jit import JIT
 from fastline._special import _F, EULER_GAMMA, G0, f_coefficients
+from fastline._special_area import _beta_area, _F_area, _Y_area, area_tables
 from fastline._validate import E_STAR_RANGE, finite_array, in_range, in_span, positive_array
 from fastline.spectra import PSD
+from fastline.variants import DEFAULT_VARIANT, get_variant
 
 __all__ = [
     "PerssonTheory",
@@ -142,9 +145,10 @@ def _separation_kernel(p, s, W, gamma, c1, c2, c3, out):
 
 
 @numba.njit(**JIT)
-def _lnu_nodes(v, s, W, gamma, c1, c2, c3, L, L1, L2):
-    """ln u and its first two v-derivatives at v = ln p (exact, from the quadrature)."""
-    b3 = 3.0 * (1.0 - gamma)
+def _lnu_nodes(v, s, W, gamma, b2, c1, c2, c3, L, L1, L2):
+    """ln u and its first two v-derivatives at v = ln p (exact, from the quadrature); the
+    bracket of F is ``gamma + b2 erf(x)^2``."""
+    b3 = b2
     for i in range(v.shape[0]):
         p = math.exp(v[i])
         u = 0.0
@@ -163,6 +167,52 @@ def _lnu_nodes(v, s, W, gamma, c1, c2, c3, L, L1, L2):
         L[i] = math.log(u)
         L1[i] = d1 / u
         L2[i] = d2 / u - L1[i] * L1[i]
+
+
+@numba.njit(**JIT)
+def _separation_area(p, s, W, at, out):
+    """:func:`_separation_kernel` for a variant with the area correction (F of
+    :mod:`fastline._special_area`, tables ``at``)."""
+    for i in range(p.shape[0]):
+        acc = 0.0
+        for j in range(s.shape[0] - 1, -1, -1):
+            x = s[j] * p[i]
+            if x > 27.3:
+                break
+            acc += W[j] * _F_area(max(x, 1e-300), at)
+        out[i] = acc
+
+
+@numba.njit(**JIT)
+def _lnu_nodes_area(v, s, W, at, correction, L, L1, L2):
+    """:func:`_lnu_nodes` for a variant with the area correction: ``du/dv = -sum W beta`` and
+    ``d2u/dv2 = -sum W beta x d ln(beta)/dx`` with ``beta = -x F'(x)``;
+    ``correction = (s0, s2, s4)`` of S."""
+    s0, s2, s4 = correction
+    for i in range(v.shape[0]):
+        p = math.exp(v[i])
+        u = 0.0
+        d1 = 0.0
+        d2 = 0.0
+        for j in range(s.shape[0] - 1, -1, -1):
+            x = s[j] * p
+            if x > 27.3:
+                break
+            x = max(x, 1e-300)
+            beta, dlog = _beta_area(x, at, s0, s2, s4)
+            u += W[j] * _F_area(x, at)
+            d1 -= W[j] * beta
+            d2 -= W[j] * beta * dlog
+        L[i] = math.log(u)
+        L1[i] = d1 / u
+        L2[i] = d2 / u - L1[i] * L1[i]
+
+
+@numba.njit(**JIT)
+def _area_fraction_vec(x, at, out):
+    """``erf(Y(x))``: the contact area of a variant with the area correction."""
+    for i in range(x.shape[0]):
+        out[i] = math.erf(_Y_area(x[i], at)) if x[i] > 0.0 else 0.0
 
 
 @numba.njit(**JIT)
@@ -456,11 +506,17 @@ class PerssonTheory:
     E_star : float
         Effective modulus E* in Pa (paper eq. 1), > 0.
     gamma : float, optional
-        The energy-correction parameter of Yang & Persson, in [0.05, 1] (default 0.45; below
-        0.05 the exponential law's beta ~ exp(3 (1 - gamma) G(0) / gamma) overflows).
+        The parameter of the correction S(P), in [0.05, 1] (below 0.05 the exponential law's
+        beta ~ exp(3 (1 - gamma) G(0) / gamma) overflows). Default: the variant's own, 0.45
+        for the Yang-Persson variants and 5/9 for ``"wang-mueser"``.
     rtol : float, optional
         Wanted relative accuracy of the tables (default 1e-6), in [1e-9, 1e-2]; it sizes the
         quadrature and the table grids.
+    variant : str, optional
+        Which correction S(P) and where it enters (:mod:`fastline.variants`):
+        ``"yang-persson-energy"`` (default; bracket ``gamma + 3 (1 - gamma) P^2``),
+        ``"yang-persson-printed"`` (bracket ``gamma + (1 - gamma) P^2``) or ``"wang-mueser"``
+        (S also in the contact-area recursion; changes ``contact_area`` too).
 
     Notes
     -----
@@ -468,15 +524,25 @@ class PerssonTheory:
     solver use the tables, whose error against ``separation`` is below ``rtol``.
     """
 
-    def __init__(self, psd: PSD, E_star, gamma=0.45, rtol=1e-6):
+    def __init__(self, psd: PSD, E_star, gamma=None, rtol=1e-6, *, variant=DEFAULT_VARIANT):
         if not isinstance(psd, PSD):
             raise ValueError(f"psd must be a fastline PSD, got {type(psd).__name__}")
+        var = get_variant(variant)
         self.psd = psd
         self.E_star = in_span("E_star", E_star, E_STAR_RANGE, "Pa")
+        gamma = var.default_gamma if gamma is None else gamma
         self.gamma = in_span("gamma", gamma, GAMMA_RANGE, "(dimensionless)")
         self.rtol = in_range("rtol", rtol, 1e-9, 1e-2, lo_open=False)
-        self.settings = TableSettings.for_rtol(self.rtol)
-        self._coef = f_coefficients(self.gamma)
+        self.variant = var.name
+        # the area-corrected F is steeper (Y ~ x / sqrt(gamma)): at rtol 1e-6 the default
+        # grids gave 1.1e-6 against the quad reference on a band of q1/q0 = 8, so one notch finer
+        self.settings = TableSettings.for_rtol(self.rtol * (0.1 if var.area_correction else 1.0))
+        self._bracket = var.bracket(self.gamma)
+        self._correction = var.correction(self.gamma)
+        if var.area_correction:  # F and the contact area of fastline._special_area
+            self._coef, self._area = None, area_tables(*self._correction)
+        else:  # F of fastline._special; the contact area erf(x)
+            self._coef, self._area = f_coefficients(self.gamma, self._bracket[1]), None
 
         q, dq, A = _q_quadrature(psd, self.settings)
         keep = A > 0.0
@@ -489,9 +555,14 @@ class PerssonTheory:
 
         # exponential law from the small-x expansion of F (docs/theory.md section 3)
         total = float(self._W.sum())
-        u0 = self.gamma * total
         ln_w_mean = float(np.dot(self._W, np.log(w))) / total
-        ln_beta = -ln_w_mean - 0.5 * EULER_GAMMA + 3.0 * (1.0 - self.gamma) * G0() / self.gamma
+        if self._area is None:  # F = -gamma ln x - gamma gamma_E / 2 + b2 G(0) + O(x^2)
+            u0 = self.gamma * total
+            ln_beta = -ln_w_mean - 0.5 * EULER_GAMMA + self._bracket[1] * G0() / self.gamma
+        else:  # F = -lam ln x + c0 + O(x^2 ln x), lam = sqrt(gamma)
+            lam, c0 = self._area[0], self._area[1]
+            u0 = lam * total
+            ln_beta = -ln_w_mean + c0 / lam
         self._fit = ExponentialFit(u0=u0, beta=math.exp(ln_beta), gamma_u=u0 / psd.h_rms)
         self._build_tables()
 
@@ -499,7 +570,10 @@ class PerssonTheory:
     def _u_direct(self, p: np.ndarray) -> np.ndarray:
         p = np.ascontiguousarray(p, dtype=np.float64)
         out = np.empty_like(p)
-        _separation_kernel(p, self._s, self._W, self.gamma, *self._coef, out)
+        if self._area is None:
+            _separation_kernel(p, self._s, self._W, self.gamma, *self._coef, out)
+        else:
+            _separation_area(p, self._s, self._W, self._area, out)
         return out
 
     def _build_tables(self):
@@ -523,7 +597,10 @@ class PerssonTheory:
         h = (math.log(p_hi) - v0) / (n - 1)
         v = v0 + h * np.arange(n)
         L, L1, L2 = np.empty(n), np.empty(n), np.empty(n)
-        _lnu_nodes(v, self._s, self._W, self.gamma, *self._coef, L, L1, L2)
+        if self._area is None:
+            _lnu_nodes(v, self._s, self._W, self.gamma, self._bracket[1], *self._coef, L, L1, L2)
+        else:
+            _lnu_nodes_area(v, self._s, self._W, self._area, self._correction, L, L1, L2)
         # continuation above: match ln u, its slope and curvature at p_hi
         k = -L2[-1] / (4.0 * p_hi * p_hi)
         kappa = np.array([k, -L1[-1] - 2.0 * k * p_hi * p_hi])
@@ -581,7 +658,8 @@ class PerssonTheory:
         return u.reshape(p.shape), d.reshape(p.shape)
 
     def contact_area(self, p, q=None) -> np.ndarray:
-        """Relative contact area ``P(q, p) = erf(w(q) p / E*)`` (dimensionless).
+        """Relative contact area ``P(q, p) = erf(w(q) p / E*)`` (dimensionless); for the
+        ``"wang-mueser"`` variant ``erf(Y(w(q) p / E*))`` (:mod:`fastline._special_area`).
 
         Parameters
         ----------
@@ -608,16 +686,21 @@ class PerssonTheory:
         x = np.where(np.isnan(x), 0.0, x)  # inf * 0 at q = q0, p = 0
         flat = np.ascontiguousarray(x.ravel())
         out = np.empty_like(flat)
-        _erf_vec(flat, out)
+        if self._area is None:
+            _erf_vec(flat, out)
+        else:
+            _area_fraction_vec(flat, self._area, out)
         return out.reshape(x.shape)
 
     def exponential_fit(self) -> ExponentialFit:
         """u0 and beta of ``p = beta E* exp(-u/u0)`` (paper eq. 5) from the theory itself.
 
         From the small-argument expansion ``F(x) = -gamma ln x - gamma gamma_E/2
-        + 3 (1-gamma) G(0) + O(x^2)``: ``u0 = sqrt(pi) gamma int dq q^2 C w`` and
-        ``ln beta = -<ln w> - gamma_E/2 + 3 (1-gamma) G(0)/gamma`` (the mean weighted by
-        ``q^2 C w``). The full u(p) approaches this law as p -> 0.
+        + b2 G(0) + O(x^2)`` (``b2 = 3 (1-gamma)``, or ``1 - gamma`` for the printed bracket):
+        ``u0 = sqrt(pi) gamma int dq q^2 C w`` and ``ln beta = -<ln w> - gamma_E/2 +
+        b2 G(0)/gamma`` (the mean weighted by ``q^2 C w``). For ``"wang-mueser"``,
+        ``F = -sqrt(gamma) ln x + c0 + O(x^2 ln x)``: gamma becomes sqrt(gamma) in u0 and
+        ``ln beta = -<ln w> + c0 / sqrt(gamma)``. The full u(p) approaches this law as p -> 0.
         """
         return self._fit
 
@@ -693,7 +776,8 @@ class PerssonTheory:
         return self.psd.rms_slope
 
     def __repr__(self):
-        return f"PerssonTheory({self.psd!r}, E_star={self.E_star!r}, gamma={self.gamma!r})"
+        extra = "" if self.variant == DEFAULT_VARIANT else f", variant={self.variant!r}"
+        return f"PerssonTheory({self.psd!r}, E_star={self.E_star!r}, gamma={self.gamma!r}{extra})"
 
     # -- the interface at magnification zeta: leakage (fastline.leakage, THEORY.md section 8) --
     # Issue 12's names: P(zeta) -> apparent_area, u_bar(zeta, p) -> mean_separation,

@@ -6,15 +6,18 @@ with SciPy ``quad`` so that the compiled kernels of fastline have an independent
 
 from __future__ import annotations
 
+import functools
 import math
 
 import numpy as np
-from scipy.integrate import quad
+from scipy.integrate import quad, solve_ivp
+from scipy.optimize import brentq
 from scipy.special import erf, exp1
 
 
-def universal_F(x0: float, gamma: float) -> float:
-    """F(x0) = int_{x0}^inf (1/x)[gamma + 3(1-gamma) erf(x)^2] exp(-x^2) dx.
+def universal_F(x0: float, gamma: float, b2: float | None = None) -> float:
+    """F(x0) = int_{x0}^inf (1/x)[gamma + b2 erf(x)^2] exp(-x^2) dx, b2 = 3(1-gamma) by default
+    (the printed bracket of fastline.variants has b2 = 1 - gamma).
 
     The gamma part is E1(x0^2)/2 (SciPy); the erf^2 part by quad on [x0, inf).
     """
@@ -26,15 +29,19 @@ def universal_F(x0: float, gamma: float) -> float:
         epsrel=1e-13,
         limit=200,
     )[0]
-    return gamma * exp1(x0 * x0) / 2.0 + 3.0 * (1.0 - gamma) * part_b
+    b2 = 3.0 * (1.0 - gamma) if b2 is None else b2
+    return gamma * exp1(x0 * x0) / 2.0 + b2 * part_b
 
 
-def separation(psd, E_star: float, p: float, gamma: float = 0.45, epsrel: float = 1e-10):
+def separation(psd, E_star: float, p: float, gamma: float = 0.45, epsrel: float = 1e-10, F=None):
     """u(p) by a direct double integral (docs/theory.md section 3), one pressure at a time.
 
     The outer integral over q is split at the kinks of C(q) and at every decade; on the first
-    interval the substitution q = q0 + L t^2 removes the (q - q0)^(-1/2) of w(q).
+    interval the substitution q = q0 + L t^2 removes the (q - q0)^(-1/2) of w(q). ``F`` is the
+    universal function (a callable of x0; default :func:`universal_F` at gamma).
     """
+    if F is None:
+        F = lambda x0: universal_F(x0, gamma)  # noqa: E731
 
     def A(q):
         return float(psd.cumulative(q))
@@ -46,7 +53,7 @@ def separation(psd, E_star: float, p: float, gamma: float = 0.45, epsrel: float 
         x0 = w * p / E_star
         if x0 > 27.0:
             return 0.0
-        return q * q * float(psd(q)) * w * universal_F(x0, gamma)
+        return q * q * float(psd(q)) * w * F(x0)
 
     q0, q1 = psd.q0, psd.q1
     cuts = [q0] + [b for b in psd.breakpoints() if q0 < b < q1] + [q1]
@@ -184,9 +191,9 @@ def _apparent(psd, E_star, a, p):
     return float(erf(y)), dP
 
 
-def mean_separation(psd, E_star, zeta, p, gamma=0.45, epsrel=1e-10):
+def mean_separation(psd, E_star, zeta, p, gamma=0.45, epsrel=1e-10, b2=None):
     """u_bar(zeta, p) of THEORY.md 8.2 written out with quad: the Yang-Persson separation of the
-    roughness from zeta q0 to q1 under the pressure p / P(zeta)."""
+    roughness from zeta q0 to q1 under the pressure p / P(zeta) (bracket gamma + b2 erf^2)."""
     a = zeta * psd.q0
     P, _ = _apparent(psd, E_star, a, p)
     s = p / (E_star * P)
@@ -198,12 +205,12 @@ def mean_separation(psd, E_star, zeta, p, gamma=0.45, epsrel=1e-10):
         x = w * s
         if x > 27.0:
             return 0.0
-        return q * q * float(psd(q)) * w * universal_F(x, gamma)
+        return q * q * float(psd(q)) * w * universal_F(x, gamma, b2)
 
     return math.sqrt(math.pi) * _band_integral(psd, a, integrand, epsrel)
 
 
-def edge_separation(psd, E_star, zeta, p, gamma=0.45, epsrel=1e-10):
+def edge_separation(psd, E_star, zeta, p, gamma=0.45, epsrel=1e-10, b2=None):
     """u1(zeta) = u_bar + u_bar'(zeta) P(zeta)/P'(zeta) (THEORY.md 8.2), zeta > 1.
 
     The derivative is taken under the integral in the q variable (an independent route from the
@@ -227,12 +234,13 @@ def edge_separation(psd, E_star, zeta, p, gamma=0.45, epsrel=1e-10):
         x = w * s
         if x > 27.0:
             return 0.0
-        e = math.exp(-x * x) * (gamma + 3.0 * (1.0 - gamma) * erf(x) ** 2)
-        F = universal_F(x, gamma)
+        bracket_b2 = 3.0 * (1.0 - gamma) if b2 is None else b2
+        e = math.exp(-x * x) * (gamma + bracket_b2 * erf(x) ** 2)
+        F = universal_F(x, gamma, b2)
         return q * q * float(psd(q)) * (0.5 * w**3 * dB * (F - e) - w * e * dlns)
 
     du = math.sqrt(math.pi) * _band_integral(psd, a, integrand, epsrel)
-    return mean_separation(psd, E_star, zeta, p, gamma, epsrel) + du * P / dP
+    return mean_separation(psd, E_star, zeta, p, gamma, epsrel, b2) + du * P / dP
 
 
 # ---- boundary-element references (fastline.bem) -----------------------------------------------
@@ -320,3 +328,90 @@ def reynolds_dense(gap, dx, dy, viscosity, pressure_drop):
         if (nx - 1, j) in index
     )
     return q * nx * dx / (ny * dy * pressure_drop)
+
+
+# ---- variants of the theory with the area correction (fastline.variants, "wang-mueser") -------
+def _s_poly(P, gamma, s2, s4):
+    return gamma + s2 * P**2 + s4 * P**4
+
+
+@functools.lru_cache(maxsize=4)
+def _area_ode(gamma: float, s2: float, s4: float):
+    """Dense solution in s = ln y of Phi(y) = int_y^inf 2 t^-3 / S(erf t) dt and of
+    Fy(y) = int_y^inf b(erf t) exp(-t^2) Phi(t)^(1/2) dt, b = d/dP [P S], by one ODE solve
+    downwards from y = 7 (Phi = 1/y^2, Fy = b(1) E1(y^2)/2 there)."""
+
+    def b(P):
+        return gamma + 3.0 * s2 * P**2 + 5.0 * s4 * P**4
+
+    def rhs(s, z):
+        y = math.exp(s)
+        P = float(erf(y))
+        return [
+            -2.0 / (y * y * _s_poly(P, gamma, s2, s4)),
+            -b(P) * math.exp(-y * y) * y * math.sqrt(z[0]),
+        ]
+
+    top = 7.0
+    z0 = [top**-2, b(1.0) * float(exp1(top * top)) / 2.0]
+    sol = solve_ivp(
+        rhs,
+        [math.log(top), math.log(1e-10)],
+        z0,
+        method="DOP853",
+        rtol=1e-13,
+        atol=1e-300,
+        dense_output=True,
+    )
+    return sol.sol, b(1.0)
+
+
+def area_functions(x0: float, gamma: float, s2: float, s4: float) -> tuple[float, float]:
+    """(Y(x0), F(x0)) of a variant whose S(P) = gamma + s2 P^2 + s4 P^4 enters the contact-area
+    recursion (fastline._special_area): Phi(Y) = 1/x0^2 by brentq on the ODE's dense output,
+    F = Fy(Y). For x0 > 6.5, Y = x0 and F = b(1) E1(x0^2)/2."""
+    dense, b1 = _area_ode(gamma, s2, s4)
+    if x0 > 6.5:
+        return x0, b1 * float(exp1(x0 * x0)) / 2.0
+    s = brentq(
+        lambda s: math.log(dense(s)[0]) + 2.0 * math.log(x0),
+        math.log(1e-10),
+        math.log(7.0),
+        xtol=1e-15,
+        rtol=1e-15,
+    )
+    return math.exp(s), float(dense(s)[1])
+
+
+def area_recursion(psd, E_star, p, gamma, s2, s4, rtol=1e-12):
+    """The contact-area recursion with the correction in it, solved as an ODE in ln q:
+    ``dA/dq = S(P) pi q^3 C(q)``, ``P = erf(p / (E* sqrt(A)))`` (A = 2 V / E*^2, from 0 at q0),
+    and the elastic energy ``U = (pi/2) E* int q^2 C P S dq``. Returns (P(q1, p), U(p))."""
+
+    def rhs(lq, z):
+        q = math.exp(lq)
+        A = z[0]
+        P = 1.0 if A <= 0.0 else float(erf(p / (E_star * math.sqrt(A))))
+        S = _s_poly(P, gamma, s2, s4)
+        C = float(psd(q))
+        return [S * math.pi * q**4 * C, 0.5 * math.pi * E_star * q**3 * C * P * S]
+
+    z = [0.0, 0.0]
+    A1 = float(psd.cumulative(psd.q1))  # scales for the absolute tolerance (A starts at 0)
+    atol = [1e-16 * A1, 1e-16 * E_star * A1 / psd.q1]
+    cuts = [psd.q0] + [b for b in psd.breakpoints() if psd.q0 < b < psd.q1] + [psd.q1]
+    for a, c in zip(cuts[:-1], cuts[1:], strict=False):
+        sol = solve_ivp(rhs, [math.log(a), math.log(c)], z, method="DOP853", rtol=rtol, atol=atol)
+        z = list(sol.y[:, -1])
+    return float(erf(p / (E_star * math.sqrt(z[0])))), z[1]
+
+
+def separation_from_energy(psd, E_star, p, gamma, s2, s4, epsrel=1e-9):
+    """u(p) = int_p^inf dp'/p' dU/dp' from the energy of :func:`area_recursion`, written as
+    ``u = (1/p) int_0^1 [U(p/t) - U(p)] dt`` (integration by parts; U(inf) is finite)."""
+    U = lambda pp: area_recursion(psd, E_star, pp, gamma, s2, s4)[1]  # noqa: E731
+    Up = U(p)
+    val = quad(
+        lambda t: U(p / t) - Up if t > 0.0 else 0.0, 0.0, 1.0, epsabs=0.0, epsrel=epsrel, limit=200
+    )[0]
+    return val / p
