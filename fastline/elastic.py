@@ -144,18 +144,21 @@ _spectra: OrderedDict[int, np.ndarray] = OrderedDict()
 _strang: OrderedDict[int, np.ndarray] = OrderedDict()
 _real_spectra: OrderedDict[int, np.ndarray] = OrderedDict()
 _prefixes: OrderedDict[int, np.ndarray] = OrderedDict()
+_strang_writable: OrderedDict[int, np.ndarray] = OrderedDict()
 _local = threading.local()
 
 
-def _cached(store: OrderedDict, n: int, build) -> np.ndarray:
-    """``store[n]``, built by ``build(n)`` and made read-only; at most ``SPECTRA_KEPT`` kept."""
+def _cached(store: OrderedDict, n: int, build, readonly: bool = True) -> np.ndarray:
+    """``store[n]``, built by ``build(n)`` (and made read-only unless ``readonly`` is False:
+    the compiled kernels' tables stay writable so that Numba compiles each kernel for one array
+    type; the kernels never write to them); at most ``SPECTRA_KEPT`` kept."""
     with _spectrum_lock:
         spec = store.get(n)
         if spec is not None:
             store.move_to_end(n)
             return spec
     spec = build(n)  # outside the lock: two threads may both build it, both results are equal
-    spec.flags.writeable = False
+    spec.flags.writeable = not readonly
     with _spectrum_lock:
         store[n] = spec
         store.move_to_end(n)
@@ -195,9 +198,9 @@ def _build_prefix(n: int) -> np.ndarray:
 def _compiled_tables(n: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """Real kernel spectrum / 2n (length n + 1), Strang spectrum and Toeplitz prefix sums."""
     return (
-        _cached(_real_spectra, n, _build_real_spectrum),
-        _strang_spectrum(n),
-        _cached(_prefixes, n, _build_prefix),
+        _cached(_real_spectra, n, _build_real_spectrum, readonly=False),
+        _cached(_strang_writable, n, _build_strang_spectrum, readonly=False),
+        _cached(_prefixes, n, _build_prefix, readonly=False),
     )
 
 
@@ -338,10 +341,9 @@ class LogKernelOperator:
             elif not isinstance(out, np.ndarray) or out.shape != (n,) or out.dtype != np.float64:
                 raise ValueError(f"out must be a float64 ndarray of shape ({n},)")
             x = np.ascontiguousarray(p, dtype=np.float64)
-            kspec = _cached(_real_spectra, n, _build_real_spectrum)
-            apply_kernel(
-                x if x is not out else x.copy(), kspec, self._scale, _fftw.plans(2 * n), out
-            )
+            kspec = _cached(_real_spectra, n, _build_real_spectrum, readonly=False)
+            x = x if x is not out else x.copy()
+            apply_kernel(x, kspec, self._scale, *_fftw.plans(2 * n), out)
             self.convolutions += 1
             return out
         head_in, cview, head_out, fwd, bwd, _, _ = _workspace(n)
@@ -390,7 +392,7 @@ class LogKernelOperator:
         kspec, strang, prefix = _compiled_tables(self.n)
         dp = np.empty(self.n)
         du1, its, kapps, circ = solve_newton_system(
-            _fftw.plans(2 * self.n),
+            *_fftw.plans(2 * self.n),
             kspec,
             strang,
             prefix,

@@ -35,6 +35,7 @@ Numerics
 from __future__ import annotations
 
 import math
+import threading
 from collections import namedtuple
 from dataclasses import dataclass
 
@@ -57,6 +58,8 @@ __all__ = [
 ]
 
 _SQRT_PI = math.sqrt(math.pi)
+#: guards the lazy build of table T2 (several threads may ask for p(u) at once)
+_T2_LOCK = threading.Lock()
 #: allowed range of the Yang-Persson parameter gamma
 GAMMA_RANGE = (0.05, 1.0)
 #: graded sub-panels towards q1; the integrand's pile-up there is ~1/(0.4 x^2) wide in ln q
@@ -160,9 +163,13 @@ def _lnu_nodes(v, s, W, gamma, c1, c2, c3, L, L1, L2):
             u += W[j] * _F(max(x, 1e-300), gamma, c1, c2, c3)
             d1 -= W[j] * b * e
             d2 += W[j] * e * (2.0 * x * x * b - 2.0 * b3 * er * _TWO_OVER_SQRT_PI * x * e)
-        L[i] = math.log(u)
-        L1[i] = d1 / u
-        L2[i] = d2 / u - L1[i] * L1[i]
+        if u > 0.0:
+            L[i] = math.log(u)
+            L1[i] = d1 / u
+            L2[i] = d2 / u - L1[i] * L1[i]
+        else:  # u underflowed (deep full contact): ln u = -inf, no slope
+            L[i] = -math.inf
+            L1[i] = L2[i] = 0.0
 
 
 @numba.njit(**JIT)
@@ -503,21 +510,22 @@ class PerssonTheory:
         return out
 
     def _build_tables(self):
+        """Table T1 (u of ln p) now; table T2 (p of u) on first use (:attr:`_t2`): a Newton solve
+        never needs it, and its kernels then need not be compiled or built (lazy tables)."""
         st = self.settings
         u0 = self._fit.u0
         E = self.E_star
         # low end: where the full u(p) meets the exponential law to within rtol/10
         law = lambda p: u0 * math.log(self._fit.beta * E / p)  # noqa: E731
         p_lo = 1e-6 * E
+        one = np.empty(1), np.empty(1), np.empty(1)
         while p_lo > 1e-40 * E:
-            u = float(self._u_direct(np.array([p_lo]))[0])
-            if abs(u - law(p_lo)) <= 0.1 * self.rtol * u0:
+            _lnu_nodes(np.array([math.log(p_lo)]), self._s, self._W, self.gamma, *self._coef, *one)
+            if abs(math.exp(one[0][0]) - law(p_lo)) <= 0.1 * self.rtol * u0:
                 break
             p_lo *= 1e-2
-        # high end: x = w(q1) p / E* = 12, u ~ exp(-144) h_rms: beyond any physical closure.
-        # T2 (the fast inverse) starts near x = 5 (P(q1, p) = erf(5)); above, p(u) inverts T1.
+        # high end: x = w(q1) p / E* = 12, u ~ exp(-144) h_rms: beyond any physical closure
         p_hi = 12.0 * E / self._w1
-        p_t2 = 5.0 * E / self._w1
         v0 = math.log(p_lo)
         n = int(math.ceil((math.log(p_hi) - v0) / st.h_v)) + 1
         h = (math.log(p_hi) - v0) / (n - 1)
@@ -528,11 +536,28 @@ class PerssonTheory:
         k = -L2[-1] / (4.0 * p_hi * p_hi)
         kappa = np.array([k, -L1[-1] - 2.0 * k * p_hi * p_hi])
         self._t1 = (v0, h, L, L1, L2, u0, kappa)
-        # T2 over whole binades of u, from the one holding u(x = 5) to the one holding u(p_lo)
+        self.p_range = (p_lo, p_hi)
+
+    @property
+    def _t2(self):
+        """Table T2 (module docstring), built on first use under a lock and kept."""
+        t2 = self.__dict__.get("_t2_table")
+        if t2 is None:
+            with _T2_LOCK:
+                t2 = self.__dict__.get("_t2_table")
+                if t2 is None:
+                    t2 = self.__dict__["_t2_table"] = self._build_t2()
+        return t2
+
+    def _build_t2(self):
+        """T2 over whole binades of u, from the one holding u(x = 5) (P(q1, p) = erf(5); above,
+        p(u) inverts T1) to the one holding u(p_lo)."""
+        v0, h, L, L1, L2, u0, kappa = self._t1
+        p_t2 = 5.0 * self.E_star / self._w1
         lu_t2, _ = _lnu_table(math.log(p_t2), v0, h, L, L1, L2, u0, kappa)
         e0 = max(math.frexp(math.exp(lu_t2))[1] - 1, -1022)  # subnormal u: T1 branch
         e1 = math.frexp(math.exp(L[0]))[1] - 1
-        logm = st.log2_cells_per_binade
+        logm = self.settings.log2_cells_per_binade
         ncell = (e1 - e0 + 1) << logm
         V, V1 = np.empty(ncell + 1), np.empty(ncell + 1)
         _build_inverse(e0, logm, ncell, v0, h, L, L1, L2, u0, kappa, V, V1)
@@ -545,8 +570,7 @@ class PerssonTheory:
         Cf[:, 2] = 3.0 * dV - hu * (2.0 * V1[:-1] + V1[1:])
         Cf[:, 3] = -2.0 * dV + hu * (V1[:-1] + V1[1:])
         base = (e0 + 1023) << logm
-        self._t2 = (Cf, base, logm, 1.0 / u0, math.exp(L[0]), v0, V[0], self._t1)
-        self.p_range = (p_lo, p_hi)
+        return (Cf, base, logm, 1.0 / u0, math.exp(L[0]), v0, V[0], self._t1)
 
     # -- public methods -------------------------------------------------------------------------
     def separation(self, p) -> np.ndarray:
@@ -635,8 +659,10 @@ class PerssonTheory:
             fit = self._fit
             lo, hi = self.p_range
             p = np.logspace(math.log10(lo), math.log10(hi), 400)
+            L, L1, L2 = np.empty(400), np.empty(400), np.empty(400)
+            _lnu_nodes(np.log(p), self._s, self._W, self.gamma, *self._coef, L, L1, L2)
             with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
-                u_full = self.separation(p)
+                u_full = np.exp(L)  # the direct quadrature (the kernel the tables use)
                 ok = np.abs(fit.u0 * np.log(fit.beta * self.E_star / p) - u_full) <= rtol * u_full
             bad = np.nonzero(~ok)[0]
             if not ok[0]:
