@@ -343,3 +343,78 @@ def separation_tabulated(
         live = x < 27.0
         out[k] = math.sqrt(math.pi) * np.sum(dm[live] * w[live] * universal_F_vec(x[live], gamma))
     return out
+
+
+# ------------------------------------------------------------------------------------------------
+# 1D spectra of isotropic surfaces (topography)
+# ------------------------------------------------------------------------------------------------
+def self_affine_1d(psd, k) -> np.ndarray:
+    """The two-sided 1D spectrum of a ``SelfAffinePSD`` in closed form (Abel forward transform).
+
+    ``C1D(k) = 2 int_k^inf C(q) q / sqrt(q^2 - k^2) dq`` (docs/theory.md section 2). The flat
+    part gives ``2 C0 [sqrt(b^2 - k^2) - sqrt(a^2 - k^2)]`` over ``[a, b] = [max(q0, k),
+    max(qr, k)]``; the power law ``C0 (q/qr)^(-2(1+H))`` on ``[max(qr, k), q1]`` gives, with
+    ``u = k^2/q^2``, ``C0 qr^(2+2H) k^(-1-2H) [B(k^2/max(qr,k)^2) - B(k^2/q1^2)]`` where B is the
+    incomplete beta function ``B(x; H + 1/2, 1/2)``. Zero for k >= q1.
+    """
+    from scipy.special import beta, betainc
+
+    k = np.asarray(k, dtype=float)
+    C0, H, q0, qr, q1 = psd.C0, psd.hurst, psd.q0, psd.qr, psd.q1
+    a, b = np.maximum(q0, k), np.maximum(qr, k)
+    flat = 2.0 * C0 * (np.sqrt(np.maximum(b * b - k * k, 0.0)) - np.sqrt(a * a - k * k))
+    alpha = H + 0.5
+
+    def incomplete(x):
+        return betainc(alpha, 0.5, x) * beta(alpha, 0.5)
+
+    with np.errstate(divide="ignore"):
+        power = (
+            C0 * qr ** (2 + 2 * H) * k ** (-1 - 2 * H)
+            * (incomplete((k / b) ** 2) - incomplete(np.minimum(k / q1, 1.0) ** 2))
+        )  # fmt: skip
+    return np.where(k < q1, flat + power, 0.0)
+
+
+def abel_forward_quad(psd, k: float, epsrel: float = 1e-12) -> float:
+    """``C1D(k) = 2 int_k^q1 C(q) q / sqrt(q^2 - k^2) dq`` by quad, with ``q = k cosh(t)``
+    (smooth integrand ``2 k C(k cosh t) cosh t``), split at the kinks of C."""
+    cuts = [max(k, b) for b in psd.breakpoints()] + [psd.q1]
+    t = sorted({math.acosh(c / k) for c in cuts if c >= k})
+    total = 0.0
+    for ta, tb in zip(t[:-1], t[1:], strict=False):
+        total += quad(
+            lambda x: 2.0 * k * float(psd(k * math.cosh(x))) * math.cosh(x),
+            ta,
+            tb,
+            epsabs=0.0,
+            epsrel=epsrel,
+            limit=200,
+        )[0]
+    return total
+
+
+def smooth_rolloff_pair(k, C0: float, qr: float, H: float):
+    """A spectrum without kinks and its 1D transform, both in closed form:
+    ``C(q) = C0 (1 + q^2/qr^2)^-(1+H)`` and, integrating over the other wavevector component
+    (``C1D(k) = int C(sqrt(k^2 + y^2)) dy``),
+    ``C1D(k) = C0 qr B(1/2, H + 1/2) (1 + k^2/qr^2)^-(H + 1/2)``."""
+    from scipy.special import beta
+
+    k = np.asarray(k, dtype=float)
+    C = C0 * (1.0 + (k / qr) ** 2) ** (-(1.0 + H))
+    C1D = C0 * qr * beta(0.5, H + 0.5) * (1.0 + (k / qr) ** 2) ** (-H - 0.5)
+    return C, C1D
+
+
+def periodogram_1d(h, dx: float, window) -> tuple[np.ndarray, np.ndarray]:
+    """``C1D(k_m) = dx^2/(2 pi L) |sum_j w_j h_j exp(-i k_m x_j)|^2`` for m = 1..N//2, written as
+    the explicit O(N^2) sum (x_j = j dx, L = N dx), for one profile."""
+    h = np.asarray(h, dtype=float)
+    n = h.size
+    L = n * dx
+    x = np.arange(n) * dx
+    m = np.arange(1, n // 2 + 1)
+    k = 2.0 * math.pi * m / L
+    phase = np.exp(-1j * np.outer(k, x))
+    return k, dx * dx / (2.0 * math.pi * L) * np.abs(phase @ (window * h)) ** 2
