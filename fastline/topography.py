@@ -341,9 +341,16 @@ def _noise_cutoff(k: np.ndarray, C: np.ndarray, floor: float) -> float:
     return math.inf if below.size == 0 else float(k[below[0]])
 
 
-def _usable(k_low: float, k_sampling: float, k_tip: float, k_noise: float, given):
-    """The range rule: (lo, hi) and which rule set each end."""
+def _usable(k_low: float, k_sampling: float, k_tip: float, k_noise: float, given, measured):
+    """The range rule: (lo, hi) and which rule set each end; ``given`` ends override the rule
+    but must lie inside the ``measured`` wavenumbers (2 pi / L .. pi / dx)."""
     lo_given, hi_given = given
+    for end in (lo_given, hi_given):
+        if end is not None and not measured[0] <= end <= measured[1] * (1 + 1e-12):
+            raise ValueError(
+                f"q_range end {end:g} 1/m lies outside the measured wavenumbers "
+                f"[{measured[0]:.4g}, {measured[1]:.4g}] 1/m (2 pi / L to pi / dx)"
+            )
     lo, lo_why = (lo_given, "given") if lo_given is not None else (k_low, "scan length")
     if hi_given is not None:
         hi, hi_why = hi_given, "given"
@@ -527,6 +534,7 @@ def psd_from_profile(
             math.inf if tip is None else _tip_cutoff(rows, dx, tip),
             k_noise,
             given,
+            (float(k[0]), float(k[-1])),
         )
     if bins_per_decade is None:
         keep = (k >= q_rng[0] * (1 - 1e-12)) & (k <= q_rng[1] * (1 + 1e-12))
@@ -809,6 +817,7 @@ def psd_from_map(
         math.inf if tip is None else _tip_cutoff(h, dx, tip),
         k_noise,
         given,
+        (2.0 * math.pi / max(nx * dx, ny * dy), float(q.max())),
     )
     qb, Cb, _ = _log_bins(q, C, bins_per_decade, lo, hi)
     qb, Cb = _span(qb, Cb, lo, hi)
@@ -878,6 +887,53 @@ def _model_h_rms(lnC0, H, lnqr, q0, q1) -> float:
     return math.sqrt(2.0 * math.pi * math.exp(lnC0) * (0.5 * (qr * qr - q0 * q0) + qr * qr * tail))
 
 
+def _fit_points(psd, q_range):
+    """(q, C) of a measured spectrum with C > 0 inside q_range, and its whole q range."""
+    if isinstance(psd, TabulatedPSD):
+        q_all, C_all = psd.q, psd.C
+    elif isinstance(psd, PSD):
+        raise TypeError("psd must be a TabulatedPSD or a (q, C) pair (a measured spectrum)")
+    else:
+        try:
+            q_all, C_all = psd
+        except (TypeError, ValueError):
+            raise TypeError("psd must be a TabulatedPSD or a (q, C) pair") from None
+        q_all, C_all = _table("q", q_all, "C", C_all, positive_values=False)
+    lo, hi = (None, None) if q_range is None else _range_argument(q_range)
+    keep = (C_all > 0.0) & (q_all >= (lo or 0.0)) & (q_all <= (hi or np.inf))
+    if keep.sum() < 4:
+        raise ValueError(f"need at least 4 points with C > 0 in the fitted range, got {keep.sum()}")
+    live = q_all[C_all > 0.0]
+    return q_all[keep], C_all[keep], (float(live[0]), float(live[-1]))
+
+
+def _best_rolloff(x, y, wts) -> float:
+    """ln qr minimising the profile least squares: a scan of 200 values, then Brent."""
+    from scipy.optimize import minimize_scalar
+
+    grid = np.linspace(x[0], x[-3], 200)
+    sse = np.array([_fit_at(x, y, wts, g)[2] for g in grid])
+    j = int(np.argmin(sse))
+    a, b = grid[max(j - 1, 0)], grid[min(j + 1, grid.size - 1)]
+    if b <= a:
+        return float(grid[j])
+    res = minimize_scalar(
+        lambda g: _fit_at(x, y, wts, g)[2], bounds=(a, b), method="bounded", options={"xatol": 1e-6}
+    )
+    return float(res.x)
+
+
+def _covariance(x, wts, H, xr, sse, free) -> np.ndarray:
+    """Covariance of (ln C0, H, ln qr) from the Jacobian of the model (``free`` columns)."""
+    J = np.column_stack(
+        [np.ones_like(x), -2.0 * np.maximum(x - xr, 0.0), 2.0 * (1.0 + H) * (x > xr)]
+    )[:, free]
+    cov = np.zeros((3, 3))
+    s2 = sse / max(x.size - len(free), 1)
+    cov[np.ix_(free, free)] = s2 * np.linalg.pinv(J.T @ (wts[:, None] * J))
+    return cov
+
+
 def fit_self_affine(psd, *, q_range=None, rolloff: bool = True, q0=None, q1=None) -> SelfAffineFit:
     """Fit the self-affine spectrum with roll-off to a measured one.
 
@@ -901,68 +957,29 @@ def fit_self_affine(psd, *, q_range=None, rolloff: bool = True, q0=None, q1=None
     -------
     SelfAffineFit
     """
-    from scipy.optimize import minimize_scalar
-
-    if isinstance(psd, PSD) and not isinstance(psd, TabulatedPSD):
-        raise TypeError("psd must be a TabulatedPSD or a (q, C) pair (a measured spectrum)")
-    if isinstance(psd, TabulatedPSD):
-        q_all, C_all = psd.q, psd.C
-    else:
-        try:
-            q_all, C_all = psd
-        except (TypeError, ValueError):
-            raise TypeError("psd must be a TabulatedPSD or a (q, C) pair") from None
-        q_all, C_all = _table("q", q_all, "C", C_all, positive_values=False)
-    lo, hi = (None, None) if q_range is None else _range_argument(q_range)
-    keep = (C_all > 0.0) & (q_all >= (lo or 0.0)) & (q_all <= (hi or np.inf))
-    if keep.sum() < 4:
-        raise ValueError(f"need at least 4 points with C > 0 in the fitted range, got {keep.sum()}")
-    q, C = q_all[keep], C_all[keep]
+    q, C, (lo, hi) = _fit_points(psd, q_range)
+    m0 = lo if q0 is None else positive("q0", q0, "1/m")
+    m1 = hi if q1 is None else positive("q1", q1, "1/m")
+    if m1 <= m0:
+        raise ValueError(f"q1 must be > q0 = {m0:g} 1/m, got {m1:g}")
     x, y = np.log(q), np.log(C)
     wts = np.gradient(x)
     wts = wts / wts.mean()
-    m0 = float(q_all[C_all > 0][0]) if q0 is None else positive("q0", q0, "1/m")
-    m1 = float(q_all[C_all > 0][-1]) if q1 is None else positive("q1", q1, "1/m")
-
-    if rolloff:
-        grid = np.linspace(x[0], x[-3], 200)
-        sse = np.array([_fit_at(x, y, wts, g)[2] for g in grid])
-        j = int(np.argmin(sse))
-        a_, b_ = grid[max(j - 1, 0)], grid[min(j + 1, grid.size - 1)]
-        if b_ > a_:
-            xr = minimize_scalar(
-                lambda g: _fit_at(x, y, wts, g)[2],
-                bounds=(a_, b_),
-                method="bounded",
-                options={"xatol": 1e-6},
-            ).x
-        else:
-            xr = grid[j]
-    else:
-        xr = x[0]
+    xr = _best_rolloff(x, y, wts) if rolloff else float(x[0])
     a, H, sse = _fit_at(x, y, wts, xr)
     xr = max(xr, math.log(m0))
     at_bound = H in _HURST_BOUNDS
-    # standard errors from the Jacobian of the model at the optimum
-    above = (x > xr).astype(float)
-    J = np.column_stack([np.ones_like(x), -2.0 * np.maximum(x - xr, 0.0), 2.0 * (1.0 + H) * above])
-    cols = [0, 2] if not rolloff else [0, 1, 2]
-    if at_bound:
-        cols = [c for c in cols if c != 1]
-    dof = max(x.size - len(cols), 1)
-    s2 = sse / dof
-    cov = np.zeros((3, 3))
-    sub = J[:, cols]
-    cov[np.ix_(cols, cols)] = s2 * np.linalg.pinv(sub.T @ (wts[:, None] * sub))
+    free = [c for c in (0, 1, 2) if not (c == 1 and at_bound) and not (c == 2 and not rolloff)]
+    cov = _covariance(x, wts, H, xr, sse, free)
+    p = np.array([a, H, xr])
+    grad = np.array(
+        [
+            (_model_h_rms(*(p + d), m0, m1) - _model_h_rms(*(p - d), m0, m1)) / 2e-6
+            for d in np.eye(3) * 1e-6
+        ]
+    )
     h_rms = _model_h_rms(a, H, xr, m0, m1)
-    grad = np.zeros(3)
-    for i, step in enumerate((1e-6, 1e-6, 1e-6)):
-        p = np.array([a, H, xr])
-        dp = np.zeros(3)
-        dp[i] = step
-        grad[i] = (_model_h_rms(*(p + dp), m0, m1) - _model_h_rms(*(p - dp), m0, m1)) / (2 * step)
-    qr = math.exp(xr)
-    model = SelfAffinePSD(h_rms, H, m0, min(max(qr, m0), m1 * (1 - 1e-12)), m1)
+    model = SelfAffinePSD(h_rms, H, m0, min(max(math.exp(xr), m0), m1 * (1 - 1e-12)), m1)
     return SelfAffineFit(
         psd=model,
         h_rms=h_rms,
@@ -971,7 +988,7 @@ def fit_self_affine(psd, *, q_range=None, rolloff: bool = True, q0=None, q1=None
         C0=model.C0,
         h_rms_err=float(math.sqrt(max(grad @ cov @ grad, 0.0))),
         hurst_err=float(math.sqrt(cov[1, 1])),
-        qr_err=float(qr * math.sqrt(cov[2, 2])),
+        qr_err=float(model.qr * math.sqrt(cov[2, 2])),
         rms_residual=float(math.sqrt(sse / np.sum(wts))),
         n_points=int(x.size),
         q_range=(float(q[0]), float(q[-1])),

@@ -101,9 +101,9 @@ def test_tilt_and_offset_do_not_change_the_spectrum():
     tilted = tp.psd_from_profile(h[:8] + 3e-3 * x + 5e-5, DX)
     np.testing.assert_allclose(tilted.C1D, plain.C1D, rtol=1e-9)
     np.testing.assert_allclose(tilted.k, plain.k, rtol=RTOL_EXACT)
-    flat = tp.psd_from_map(h, DX)
-    y = x[:, None]
-    plane = tp.psd_from_map(h + 2e-3 * x[None, :] - 1e-3 * y + 1e-5, DX)
+    block, xb = h[:256, :256], x[:256]
+    flat = tp.psd_from_map(block, DX)
+    plane = tp.psd_from_map(block + 2e-3 * xb[None, :] - 1e-3 * xb[:, None] + 1e-5, DX)
     np.testing.assert_allclose(plane.C, flat.C, rtol=1e-9)
 
 
@@ -454,10 +454,356 @@ def test_unit_slips_warn():
         tp.psd_from_profile(h[:4] * 1e6, DX)
     with pytest.warns(tp.TopographyWarning, match="rms slope"):
         tp.psd_from_profile(h[:4], DX * 1e6)  # spacing in um read as m: slopes ~1e-8
+    block = h[:128, :128]
     with pytest.warns(tp.TopographyWarning, match="wrong unit"):
-        tp.psd_from_map(h * 1e4, DX)  # h_rms 1 cm: still a spectrum fastline accepts
+        tp.psd_from_map(block * 1e4, DX)  # h_rms 1 cm: still a spectrum fastline accepts
     with pytest.warns(tp.TopographyWarning), pytest.raises(ValueError, match="units"):
-        tp.psd_from_map(h * 1e6, DX)  # h_rms 1 m: the spectrum is refused
+        tp.psd_from_map(block * 1e6, DX)  # h_rms 1 m: the spectrum is refused
     with warnings.catch_warnings():
         warnings.simplefilter("error", tp.TopographyWarning)
         tp.psd_from_profile(h[:4], DX)  # a plausible surface stays silent
+
+
+# ------------------------------------------------------------------------------------------------
+# the self-affine fit
+# ------------------------------------------------------------------------------------------------
+@pytest.mark.parametrize("H", [0.3, 0.8, 1.0])
+def test_fit_recovers_a_sampled_model(H):
+    psd = fl.SelfAffinePSD(2e-6, H, 1e3, 2e4, 1e8)
+    q = np.geomspace(1e3, 1e8, 101)
+    fit = tp.fit_self_affine(fl.TabulatedPSD(q, psd(q)))
+    assert fit.hurst == pytest.approx(H, rel=RTOL_FIT_EXACT)
+    assert fit.qr == pytest.approx(2e4, rel=RTOL_FIT_EXACT)
+    assert fit.h_rms == pytest.approx(2e-6, rel=RTOL_FIT_EXACT)
+    assert fit.rms_residual < 1e-6 and fit.hurst_err < 1e-6
+    assert isinstance(fit.psd, fl.SelfAffinePSD) and fit.psd.q1 == pytest.approx(1e8)
+    pure = tp.fit_self_affine((q[q > 3e4], psd(q[q > 3e4])), rolloff=False)
+    assert pure.hurst == pytest.approx(H, rel=RTOL_FIT_EXACT)
+
+
+def test_fit_errors_scale_with_the_scatter():
+    """Standard errors from the scatter: 10 % log-normal noise, 8 seeds: H within ~3 sigma of
+    the truth on average, and a quarter of the noise gives a quarter of the error."""
+    psd = fl.SelfAffinePSD(1e-6, 0.7, 1e3, 1e4, 1e7)
+    q = np.geomspace(1e3, 1e7, 81)
+    rng = np.random.default_rng(11)
+    z, errs = [], {}
+    for level in (0.1, 0.025):
+        fits = [
+            tp.fit_self_affine((q, psd(q) * np.exp(level * rng.standard_normal(q.size))))
+            for _ in range(8)
+        ]
+        errs[level] = np.mean([f.hurst_err for f in fits])
+        z += [(f.hurst - 0.7) / f.hurst_err for f in fits]
+    assert np.sqrt(np.mean(np.square(z))) < 3.0
+    assert errs[0.025] / errs[0.1] == pytest.approx(0.25, rel=0.3)
+
+
+# ------------------------------------------------------------------------------------------------
+# other codes' conventions
+# ------------------------------------------------------------------------------------------------
+PSD_ANALYTIC = fl.SelfAffinePSD(1e-6, 0.8, 1e3, 1e4, 1e8)
+
+
+def _integral(f, a, b):
+    edges = np.geomspace(a, b, 12)
+    return sum(
+        quad(f, lo, hi, limit=200, epsrel=1e-11)[0]
+        for lo, hi in zip(edges[:-1], edges[1:], strict=False)
+    )
+
+
+def test_convert_2d_conventions():
+    """SurfaceTopography's C_iso: h_rms^2 = (1/2 pi) int q C_iso dq, i.e. (2 pi)^2 x Persson."""
+    q0, q1 = PSD_ANALYTIC.q0, PSD_ANALYTIC.q1
+    st = lambda q: float(tp.convert_psd(PSD_ANALYTIC(q), q, "persson", "surfacetopography"))  # noqa: E731
+    h2 = _integral(lambda q: q * st(q), q0, q1) / (2.0 * math.pi)
+    assert h2 == pytest.approx(PSD_ANALYTIC.h_rms**2, rel=1e-8)
+    q = np.geomspace(q0, q1, 7)
+    C = PSD_ANALYTIC(q)
+    back = tp.convert_psd(tp.convert_psd(C, q, "persson", "contact.engineering"), q)
+    np.testing.assert_allclose(back, C, rtol=RTOL_EXACT)
+
+
+@pytest.mark.parametrize(
+    "name, parseval",
+    [
+        ("persson-1d", lambda C, a, b: 2.0 * _integral(C, a, b)),
+        ("surfacetopography-1d", lambda C, a, b: _integral(C, a, b) / math.pi),
+        ("one-sided-1d", lambda C, a, b: _integral(C, a, b)),
+        # per spatial frequency f = k / 2 pi: h^2 = int G_f(f) df = int G_f(k) dk / (2 pi)
+        ("one-sided-1d-frequency", lambda C, a, b: _integral(C, a, b) / (2.0 * math.pi)),
+    ],
+)
+def test_convert_1d_conventions(name, parseval):
+    """Each 1D convention's own Parseval statement on the analytic C1D gives h_rms^2."""
+    C1D = lambda k: float(naive.self_affine_1d(PSD_ANALYTIC, k))  # noqa: E731
+    conv = lambda k: float(tp.convert_psd(C1D(k), k, "persson-1d", name))  # noqa: E731
+    h2 = parseval(conv, 1e-2, PSD_ANALYTIC.q1)
+    assert h2 == pytest.approx(PSD_ANALYTIC.h_rms**2, rel=1e-6)
+
+
+def test_surfacetopography_agrees():
+    """SurfaceTopography's own estimators, converted, equal fastline's (same data, no window)."""
+    ST = pytest.importorskip("SurfaceTopography")
+    _, (h, *_), _ = _surfaces(0.8)
+    line = ST.UniformLineScan(h[0], SIDE, periodic=True)
+    q_st, C_st = line.power_spectrum_from_profile(resampling_method=None, window="None")
+    ours = tp.psd_from_profile(
+        h[0], DX, window="none", detrend="mean", q_range=None, bins_per_decade=None
+    )
+    np.testing.assert_allclose(q_st[1:], ours.k[: q_st.size - 1], rtol=1e-12)
+    converted = tp.convert_psd(
+        ours.C1D[: q_st.size - 1], ours.k[: q_st.size - 1], "persson-1d", "surfacetopography-1d"
+    )
+    np.testing.assert_allclose(C_st[1:], converted, rtol=1e-9)
+    topo = ST.Topography(h.T, (SIDE, SIDE), periodic=True)  # SurfaceTopography: x first
+    _, _, C_map = topo.power_spectrum_from_area(window="None", return_map=True)
+    q = np.hypot(_grid_q()[:, None], _grid_q()[None, :])
+    lo, hi = 4 * DQ, 2 * math.pi / (4 * DX)
+    theirs = tp._log_bins(q.ravel(), np.asarray(C_map).T.ravel(), 20, lo, hi)[1]
+    mine = tp.psd_from_map(h, DX, window="none", detrend="mean")
+    np.testing.assert_allclose(
+        tp.convert_psd(mine.C[1:-1], mine.q[1:-1], "persson", "surfacetopography"),
+        theirs,
+        rtol=1e-9,
+    )
+
+
+def test_shortcut_is_not_a_conversion():
+    with pytest.raises(ValueError, match="isotropic_from_1d"):
+        tp.convert_psd([1.0], [1.0], "persson-1d", "persson")
+    with pytest.raises(ValueError, match="from_ must be one of"):
+        tp.convert_psd([1.0], [1.0], "gwyddion", "persson")
+    with pytest.raises(ValueError, match="to must be one of"):
+        tp.convert_psd([1.0], [1.0], "persson", "iso")
+    with pytest.raises(ValueError, match="C must be finite"):
+        tp.convert_psd([-1.0], [1.0])
+    with pytest.raises(ValueError, match="q must be"):
+        tp.convert_psd([1.0], [0.0])
+    with pytest.raises(ValueError, match="same shape"):
+        tp.convert_psd([1.0, 2.0], [1.0])
+
+
+# ------------------------------------------------------------------------------------------------
+# files
+# ------------------------------------------------------------------------------------------------
+def test_read_profile_text_with_units(tmp_path):
+    """x in mm and heights in um, a header and a comment: heights and spacing come back in m."""
+    h = np.random.default_rng(1).normal(size=200) * 0.5  # um
+    x = np.arange(200) * 0.002 + 0.1  # mm, 2 um spacing
+    path = tmp_path / "scan.csv"
+    lines = ["Stylus export", "x [mm], z [um]"] + [
+        f"{a:.6f}, {b:.9g}" for a, b in zip(x, h, strict=True)
+    ]
+    path.write_text("\n".join(lines) + "\n# end\n")
+    prof = tp.read_profile(path, unit="um", x_unit="mm")
+    assert prof.dx == pytest.approx(2e-6, rel=1e-9)
+    np.testing.assert_allclose(prof.heights, h * 1e-6, rtol=1e-8)
+    assert isinstance(tp.read_topography(path, unit="um", x_unit="mm"), tp.Profile)
+
+
+def test_read_profile_one_column_npy_and_dropouts(tmp_path):
+    h = np.random.default_rng(2).normal(size=100) * 1e-7
+    (tmp_path / "h.txt").write_text(
+        "\n".join(["nan" if i == 5 else f"{v:.17g}" for i, v in enumerate(h)])
+    )
+    prof = tp.read_profile(tmp_path / "h.txt", dx=1e-6)
+    assert math.isnan(prof.heights[5]) and prof.dx == 1e-6
+    np.testing.assert_array_equal(np.delete(prof.heights, 5), np.delete(h, 5))
+    with pytest.raises(ValueError, match="dx .* is required"):
+        tp.read_profile(tmp_path / "h.txt")
+    np.save(tmp_path / "h.npy", h)
+    np.testing.assert_array_equal(tp.read_profile(tmp_path / "h.npy", dx=1e-6).heights, h)
+    np.save(tmp_path / "xh.npy", np.column_stack([np.arange(100) * 5e-7, h]))
+    assert tp.read_profile(tmp_path / "xh.npy").dx == pytest.approx(5e-7)
+
+
+def test_read_map_text_and_npy(tmp_path):
+    h = np.random.default_rng(3).normal(size=(40, 50)) * 1e-9
+    np.savetxt(tmp_path / "map.txt", h * 1e9)
+    m = tp.read_map(tmp_path / "map.txt", dx=1e-7, unit="nm")
+    np.testing.assert_allclose(m.heights, h, rtol=1e-12)
+    assert (m.dx, m.dy) == (1e-7, 1e-7)
+    np.save(tmp_path / "map.npy", h)
+    m = tp.read_topography(tmp_path / "map.npy", dx=2e-7)
+    assert isinstance(m, tp.Map) and m.heights.shape == (40, 50)
+    with pytest.raises(ValueError, match="needs dx"):
+        tp.read_map(tmp_path / "map.npy")
+    with pytest.raises(ValueError, match="read_map"):
+        tp.read_profile(tmp_path / "map.npy", dx=1e-7)
+
+
+def test_read_bad_files(tmp_path):
+    x = np.arange(100) * 1e-6
+    x[50:] += 0.3e-6  # a jump of a third of a spacing
+    np.savetxt(tmp_path / "jump.txt", np.column_stack([x, np.zeros(100)]))
+    with pytest.raises(ValueError, match="not uniformly spaced"):
+        tp.read_profile(tmp_path / "jump.txt")
+    (tmp_path / "ragged.csv").write_text("1, 2\n3, 4, 5\n")
+    with pytest.raises(ValueError, match="columns"):
+        tp.read_profile(tmp_path / "ragged.csv")
+    (tmp_path / "empty.txt").write_text("# nothing\nheader only\n")
+    with pytest.raises(ValueError, match="no numeric data"):
+        tp.read_profile(tmp_path / "empty.txt", dx=1e-6)
+    with pytest.raises(FileNotFoundError):
+        tp.read_profile(tmp_path / "missing.txt", dx=1e-6)
+    with pytest.raises(ValueError, match="unit must be one of"):
+        tp.read_profile(tmp_path / "jump.txt", unit="furlong")
+
+
+def test_height_file_is_not_a_spectrum(tmp_path):
+    """A profile (x from 0, signed heights) passed where a spectrum is read is refused."""
+    from fastline.io import SpectrumFileError, read_spectrum
+
+    _, (h, *_), _ = _surfaces(0.8)
+    np.savetxt(tmp_path / "profile.txt", np.column_stack([np.arange(N_GRID) * DX, h[0]]))
+    with pytest.raises(SpectrumFileError):
+        read_spectrum(tmp_path / "profile.txt")
+
+
+def test_instrument_file_via_surfacetopography(tmp_path):
+    """An X3P map written in micrometres comes back in metres."""
+    ST = pytest.importorskip("SurfaceTopography")
+    from SurfaceTopography.IO.X3P import write_x3p
+
+    h = np.random.default_rng(4).normal(size=(48, 64)) * 0.2  # um, rows along x here
+    topo = ST.Topography(h.T, (64 * 0.5, 48 * 0.5), unit="µm")  # 0.5 um spacing
+    write_x3p(topo, str(tmp_path / "map.x3p"))
+    m = tp.read_topography(tmp_path / "map.x3p")
+    assert isinstance(m, tp.Map)
+    assert m.dx == pytest.approx(0.5e-6, rel=1e-9) and m.dy == pytest.approx(0.5e-6, rel=1e-9)
+    np.testing.assert_allclose(m.heights, h * 1e-6, rtol=1e-6, atol=1e-15)
+
+
+def test_instrument_file_without_the_extra(tmp_path, monkeypatch):
+    import sys
+
+    (tmp_path / "scan.sur").write_bytes(b"\0\1")
+    monkeypatch.setitem(sys.modules, "SurfaceTopography", None)  # import fails
+    with pytest.raises(ImportError, match=r"pip install \"fastline-contact\[topography\]\""):
+        tp.read_topography(tmp_path / "scan.sur")
+
+
+# ------------------------------------------------------------------------------------------------
+# bad input, refused before any work with the parameter's name
+# ------------------------------------------------------------------------------------------------
+_ROW = np.random.default_rng(0).normal(size=256) * 1e-7
+
+
+@pytest.mark.parametrize(
+    "kwargs, match",
+    [
+        (dict(h=_ROW[:31]), "at least 32 points"),
+        (dict(h=np.zeros((2, 2, 40))), "h must be 1-dimensional or 2-dimensional"),
+        (dict(h=np.where(np.arange(256) == 3, np.inf, _ROW)), "h must not contain inf"),
+        (dict(h="abc"), "h must be an array"),
+        (dict(dx=0.0), "dx must be > 0"),
+        (dict(dx=math.nan), "dx must be finite"),
+        (dict(window="triangle-ish"), "window must be"),
+        (dict(detrend="cubic"), "detrend must be one of"),
+        (dict(nan="drop"), "nan must be one of"),
+        (dict(bins_per_decade=1), "bins_per_decade must be an integer >= 2"),
+        (dict(bins_per_decade=2.5), "bins_per_decade must be an integer"),
+        (dict(q_range="all"), "q_range must be 'auto'"),
+        (dict(q_range=(2e5, 1e5)), "lo < hi"),
+        (dict(q_range=(1e9, 1e10)), "outside the measured wavenumbers"),
+        (dict(q_range=(3e6, None)), "no usable wavenumbers"),
+        (dict(tip_radius=-1.0), "tip_radius must be > 0"),
+        (dict(noise=0.0), "noise must be > 0"),
+    ],
+)
+def test_psd_from_profile_rejects(kwargs, match):
+    args = dict(h=_ROW, dx=1e-6)
+    args.update(kwargs)
+    h, dx = args.pop("h"), args.pop("dx")
+    with pytest.raises(ValueError, match=match):
+        tp.psd_from_profile(h, dx, **args)
+
+
+@pytest.mark.parametrize(
+    "k, C1D, kwargs, match",
+    [
+        ([1.0, 2.0], [1.0, 0.5], {}, "at least 3 points"),
+        ([1.0, 2.0, 3.0], [1.0, 0.0, 0.1], {}, "C1D must be > 0"),
+        ([1.0, 3.0, 2.0], [1.0, 0.5, 0.2], {}, "strictly increasing"),
+        ([1.0, 2.0, math.nan], [1.0, 0.5, 0.2], {}, "finite"),
+        ([1.0, 2.0, 3.0], [1.0, 0.5], {}, "equal length"),
+        (np.geomspace(1, 100, 20), np.ones(20), {}, "does not fall off"),
+        (np.geomspace(1, 100, 20), np.geomspace(1, 1e-4, 20), dict(tail="power"), "tail must be"),
+        (np.geomspace(1, 100, 20), np.geomspace(1, 1e-4, 20), dict(tail=-0.5), "exponent < -1"),
+        (np.geomspace(1, 100, 20), np.geomspace(1, 1e-4, 20), dict(tail_decades=0), "tail_decades"),
+    ],
+)
+def test_isotropic_from_1d_rejects(k, C1D, kwargs, match):
+    with pytest.raises(ValueError, match=match):
+        tp.isotropic_from_1d(k, C1D, **kwargs)
+
+
+def test_extend_psd_rejects():
+    q = np.geomspace(1e3, 1e6, 31)
+    table = fl.TabulatedPSD(q, 1e-30 * (q / 1e3) ** -3.0)
+    with pytest.raises(TypeError, match="TabulatedPSD"):
+        tp.extend_psd(PSD_ANALYTIC, 1e9)
+    for q1 in (5e2, 1e14, -1.0, math.nan):
+        with pytest.raises(ValueError, match="q1 must"):
+            tp.extend_psd(table, q1)
+    rising = fl.TabulatedPSD(q, 1e-30 * (q / 1e3) ** -1.5)
+    with pytest.raises(ValueError, match="would not converge"):
+        tp.extend_psd(rising, 1e9)
+    with pytest.raises(ValueError, match="hurst must lie in"):
+        tp.extend_psd(table, 1e9, hurst=1.5)
+
+
+@pytest.mark.parametrize(
+    "h, kwargs, match",
+    [
+        (np.zeros((1, 512)), {}, "a single row is a profile"),
+        (np.zeros((20, 512)), {}, "at least 32 points in each direction"),
+        (np.zeros(512), {}, "h must be 2-dimensional or 3-dimensional"),
+        (np.where(np.eye(64) > 0, np.nan, 0.0) + _ROW[:64], {}, "NaN"),
+        (np.zeros((64, 64)) + _ROW[:64], dict(detrend="linear"), "detrend must be one of"),
+        (np.zeros((64, 64)) + _ROW[:64], dict(dy=0.0), "dy must be > 0"),
+        (np.zeros((64, 64)) + _ROW[:64], dict(bins_per_decade=None), "bins_per_decade"),
+    ],
+)
+def test_psd_from_map_rejects(h, kwargs, match):
+    with pytest.raises(ValueError, match=match):
+        tp.psd_from_map(h, 1e-6, **kwargs)
+
+
+def test_fit_and_generator_reject():
+    with pytest.raises(TypeError, match="measured spectrum"):
+        tp.fit_self_affine(PSD_ANALYTIC)
+    with pytest.raises(TypeError, match="TabulatedPSD or a"):
+        tp.fit_self_affine(3.0)
+    with pytest.raises(ValueError, match="at least 4 points"):
+        tp.fit_self_affine(([1e3, 1e4, 1e5], [1e-20, 1e-22, 1e-24]))
+    q = np.geomspace(1e3, 1e6, 20)
+    with pytest.raises(ValueError, match="q1 must be > q0"):
+        tp.fit_self_affine((q, q**-3.0), q0=1e6, q1=1e5)
+    with pytest.raises(TypeError, match="fastline PSD"):
+        tp.synthetic_surface(lambda q: q, 64, 1e-6)
+    with pytest.raises(ValueError, match="n must be an integer"):
+        tp.synthetic_surface(PSD_ANALYTIC, 1, 1e-6)
+    with pytest.raises(ValueError, match="dx must be > 0"):
+        tp.synthetic_surface(PSD_ANALYTIC, 64, -1e-6)
+
+
+def test_hermite_pieces_never_overshoot():
+    """The slopes of the 1D interpolant keep each cubic piece between its two end values (the
+    Fritsch-Carlson condition), on noisy data with many local extrema."""
+    from fastline._abel import hermite_slopes
+
+    rng = np.random.default_rng(8)
+    u = np.cumsum(rng.uniform(0.05, 0.3, 60))
+    v = -2.6 * u + 0.5 * rng.standard_normal(60)
+    m = hermite_slopes(u, v)
+    t = np.linspace(0.0, 1.0, 201)[:, None]
+    h, d = np.diff(u), np.diff(v) / np.diff(u)
+    c2, c3 = 3 * d - 2 * m[:-1] - m[1:], m[:-1] + m[1:] - 2 * d
+    piece = v[:-1] + h * t * (m[:-1] + t * (c2 + t * c3))
+    lo, hi = np.minimum(v[:-1], v[1:]), np.maximum(v[:-1], v[1:])
+    assert np.all(piece >= lo - 1e-12) and np.all(piece <= hi + 1e-12)
+    line = hermite_slopes(u, 3.0 - 2.0 * u)  # straight lines (power laws) are kept exactly
+    np.testing.assert_allclose(line, -2.0, rtol=1e-12)
