@@ -77,7 +77,7 @@ MAX_DROPOUT_FRACTION = 0.2
 PLAUSIBLE_H_RMS = 1e-3  # m
 PLAUSIBLE_SLOPE = (1e-6, 5.0)
 
-_INSTALL = 'pip install "fastline-contact[topography]"'
+_INSTALL = 'pip install "fastline-contact[topography]" (the optional SurfaceTopography)'
 
 
 class TopographyWarning(UserWarning):
@@ -1200,8 +1200,7 @@ def _surfacetopography(path: str):
         import SurfaceTopography
     except ImportError:
         raise ImportError(
-            f"reading {os.path.splitext(path)[1] or 'this'} files needs the optional package "
-            f"SurfaceTopography: {_INSTALL}"
+            f"reading {os.path.splitext(path)[1] or 'these'} files needs {_INSTALL}"
         ) from None
     topo = SurfaceTopography.read_topography(path)
     if not getattr(topo, "is_uniform", True):

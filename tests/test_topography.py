@@ -681,8 +681,9 @@ def test_instrument_file_without_the_extra(tmp_path, monkeypatch):
 
     (tmp_path / "scan.sur").write_bytes(b"\0\1")
     monkeypatch.setitem(sys.modules, "SurfaceTopography", None)  # import fails
-    with pytest.raises(ImportError, match=r"pip install \"fastline-contact\[topography\]\""):
+    with pytest.raises(ImportError, match="SurfaceTopography") as excinfo:
         tp.read_topography(tmp_path / "scan.sur")
+    assert tp._INSTALL in str(excinfo.value)
 
 
 # ------------------------------------------------------------------------------------------------
