@@ -144,8 +144,9 @@ def _detrend_rows(h: np.ndarray, dx: float, how: str):
 def _circle_residual(h: np.ndarray, dx: float, coef: np.ndarray, t: np.ndarray):
     """Rows minus their least-squares circle arc (a cylinder's own form), and its mean radius.
 
-    The arc ``yc + sigma sqrt(R^2 - (x - xc)^2)`` (sigma = -1 for a convex cap) is fitted to the
-    heights by Gauss-Newton (scipy ``least_squares``) from the parabola's vertex and radius.
+    The arc ``yc - sigma sqrt(R^2 - (x - xc)^2)`` (sigma the sign of the curvature: -1 for a
+    convex cap, whose centre lies below) is fitted to the heights by Gauss-Newton (scipy
+    ``least_squares``), started from the parabola's vertex and radius.
     """
     from scipy.optimize import least_squares
 
@@ -167,7 +168,7 @@ def _circle_residual(h: np.ndarray, dx: float, coef: np.ndarray, t: np.ndarray):
             )
         sigma = -1.0 if a2 < 0.0 else 1.0
         xc0 = -a1 / (2.0 * a2)
-        yc0 = (c[2] - a1**2 / (4.0 * a2)) + sigma * R0  # vertex height minus sigma R
+        yc0 = (c[2] - a1**2 / (4.0 * a2)) + sigma * R0  # the centre: vertex height + sigma R
 
         def arc(p, sigma=sigma):
             xc, yc, R = p
@@ -432,6 +433,39 @@ def _periodogram(h: np.ndarray, dx: float, w: np.ndarray):
     return k[1:], C[1:]
 
 
+def _profile_range(k, C, rows, dx, given, tip, noise):
+    """The usable range of a periodogram (k, C) of rows at spacing dx, and its reasons."""
+    measured = (float(k[0]), float(k[-1]))
+    if given == "all":
+        return measured, {"low": "all", "high": "all"}
+    k_noise = math.inf
+    if noise is not None:
+        kb, Cb, _ = _log_bins(k, C, 20, k[0], k[-1])
+        k_noise = _noise_cutoff(kb, Cb, noise * noise * dx / (2.0 * math.pi))
+    return _usable(
+        LOW_MODE * 2.0 * math.pi / (rows.shape[-1] * dx),
+        2.0 * math.pi / (POINTS_PER_WAVELENGTH * dx),
+        math.inf if tip is None else _tip_cutoff(rows, dx, tip),
+        k_noise,
+        given,
+        measured,
+    )
+
+
+def _profile_points(k, C, q_rng, bins_per_decade):
+    """The periodogram cut to q_rng, raw or binned with its end points; and the counts."""
+    if bins_per_decade is None:
+        keep = (k >= q_rng[0] * (1 - 1e-12)) & (k <= q_rng[1] * (1 + 1e-12))
+        k, C, counts = k[keep], C[keep], np.ones(int(keep.sum()), dtype=int)
+    else:
+        kb, C, counts = _log_bins(k, C, bins_per_decade, *q_rng)
+        k, C = _span(kb, C, *q_rng)
+        counts = np.concatenate([[0] * int(k[0] < kb[0]), counts, [0] * int(k[-1] > kb[-1])])
+    if k.size < 2:
+        raise ValueError(f"the usable range {q_rng} 1/m holds fewer than 2 spectrum points")
+    return k, C, counts
+
+
 def psd_from_profile(
     h,
     dx,
@@ -519,33 +553,9 @@ def psd_from_profile(
     slope = float(np.sqrt(np.mean((np.diff(rows, axis=-1) / dx) ** 2)))
     _check_plausible(h_rms, slope, "psd_from_profile")
     k, C = _periodogram(rows, dx, w)
-    n = rows.shape[-1]
-    L = n * dx
-    if given == "all":
-        q_rng, limits = (float(k[0]), float(k[-1])), {"low": "all", "high": "all"}
-    else:
-        k_noise = math.inf
-        if noise is not None:
-            kb, Cb, _ = _log_bins(k, C, 20, k[0], k[-1])
-            k_noise = _noise_cutoff(kb, Cb, noise * noise * dx / (2.0 * math.pi))
-        q_rng, limits = _usable(
-            LOW_MODE * 2.0 * math.pi / L,
-            2.0 * math.pi / (POINTS_PER_WAVELENGTH * dx),
-            math.inf if tip is None else _tip_cutoff(rows, dx, tip),
-            k_noise,
-            given,
-            (float(k[0]), float(k[-1])),
-        )
-    if bins_per_decade is None:
-        keep = (k >= q_rng[0] * (1 - 1e-12)) & (k <= q_rng[1] * (1 + 1e-12))
-        k, C, counts = k[keep], C[keep], np.ones(int(keep.sum()), dtype=int)
-    else:
-        k, C, counts = _log_bins(k, C, bins_per_decade, *q_rng)
-        k_end, C = _span(k, C, *q_rng)
-        counts = np.concatenate([[0] * int(k_end[0] < k[0]), counts, [0] * int(k_end[-1] > k[-1])])
-        k = k_end
-    if k.size < 2:
-        raise ValueError(f"the usable range {q_rng} 1/m holds fewer than 2 spectrum points")
+    L = rows.shape[-1] * dx
+    q_rng, limits = _profile_range(k, C, rows, dx, given, tip, noise)
+    k, C, counts = _profile_points(k, C, q_rng, bins_per_decade)
     return ProfileSpectrum(
         k=k,
         C1D=C,
@@ -724,6 +734,38 @@ def _detrend_map(h: np.ndarray, how: str) -> np.ndarray:
     return h - (V @ coef).reshape(h.shape)
 
 
+def _map_modes(maps, dx: float, dy: float, w: np.ndarray):
+    """|q| and C of every Fourier mode, averaged over the maps (module docstring)."""
+    ny, nx = maps[0].shape
+    power = np.mean([np.abs(np.fft.fft2(m * w)) ** 2 for m in maps], axis=0)
+    C = (dx * dy) ** 2 / ((2.0 * math.pi) ** 2 * (nx * dx * ny * dy)) * power
+    qx = 2.0 * math.pi * np.fft.fftfreq(nx, dx)
+    qy = 2.0 * math.pi * np.fft.fftfreq(ny, dy)
+    return np.hypot(qy[:, None], qx[None, :]).ravel(), C.ravel()
+
+
+def _map_range(q, C, maps, dx, dy, given, tip, noise):
+    """The usable range of a map's modes (the profile rule with L = min(Lx, Ly) and
+    dx = max(dx, dy); full rings only up to pi / max(dx, dy))."""
+    ny, nx = maps[0].shape
+    measured = (2.0 * math.pi / max(nx * dx, ny * dy), math.pi / max(dx, dy))
+    if given == "all":
+        return measured
+    k_noise = math.inf
+    if noise is not None:
+        qb, Cb, _ = _log_bins(q, C, 20, *measured)
+        k_noise = _noise_cutoff(qb, Cb, noise * noise * dx * dy / (2.0 * math.pi) ** 2)
+    (lo, hi), _ = _usable(
+        LOW_MODE * 2.0 * math.pi / min(nx * dx, ny * dy),
+        2.0 * math.pi / (POINTS_PER_WAVELENGTH * max(dx, dy)),
+        math.inf if tip is None else _tip_cutoff(np.concatenate(maps), dx, tip),
+        k_noise,
+        given,
+        measured,
+    )
+    return lo, hi
+
+
 def psd_from_map(
     h,
     dx,
@@ -759,10 +801,10 @@ def psd_from_map(
         NaN (dropouts) refused, or bridged linearly along x (at most 20 %).
     bins_per_decade : int
         Rings per decade of q (default 20), placed as in :func:`psd_from_profile`.
-    q_range : "auto" or (lo, hi)
+    q_range : "auto", None or (lo, hi)
         As :func:`psd_from_profile`, with ``L = min(Lx, Ly)`` and ``dx = max(dx, dy)``; the
         noise floor of white noise of rms ``noise`` is ``noise^2 dx dy / (2 pi)^2``; the tip
-        rule looks along x.
+        rule looks along x. None: all full rings, ``2 pi / max(Lx, Ly) .. pi / max(dx, dy)``.
     q1 : float, optional
         Cut at, or extend by a fitted power law to, q1 (:func:`extend_psd`).
     tip_radius, noise : float, optional
@@ -786,39 +828,20 @@ def psd_from_map(
     nan = _choice("nan", nan, ("raise", "interpolate"))
     bins_per_decade = integer("bins_per_decade", bins_per_decade, 2)
     given = _range_argument(q_range)
-    if given == "all":
-        given = (None, None)
     tip = None if tip_radius is None else positive("tip_radius", tip_radius, "m")
     noise = None if noise is None else positive("noise", noise, "m")
     ny, nx = stack.shape[1:]
     w = _window(window, ny)[:, None] * _window(window, nx)[None, :]
 
     maps = [_detrend_map(_fill_dropouts(m, nan), detrend) for m in stack]
-    h = maps[0]
     h_rms = float(np.sqrt(np.mean([np.mean(m**2) for m in maps])))
+    h = maps[0]
     slope = float(
         np.sqrt(np.mean((np.diff(h, axis=1) / dx) ** 2) + np.mean((np.diff(h, axis=0) / dy) ** 2))
     )
     _check_plausible(h_rms, slope, "psd_from_map")
-    area = nx * dx * ny * dy
-    power = np.mean([np.abs(np.fft.fft2(m * w)) ** 2 for m in maps], axis=0)
-    C = (dx * dy) ** 2 / ((2.0 * math.pi) ** 2 * area) * power
-    qx = 2.0 * math.pi * np.fft.fftfreq(nx, dx)
-    qy = 2.0 * math.pi * np.fft.fftfreq(ny, dy)
-    q = np.hypot(qy[:, None], qx[None, :]).ravel()
-    C = C.ravel()
-    k_noise = math.inf
-    if noise is not None:
-        qb, Cb, _ = _log_bins(q[q > 0], C[q > 0], 20, float(np.min(q[q > 0])), float(q.max()))
-        k_noise = _noise_cutoff(qb, Cb, noise * noise * dx * dy / (2.0 * math.pi) ** 2)
-    (lo, hi), _ = _usable(
-        LOW_MODE * 2.0 * math.pi / min(nx * dx, ny * dy),
-        2.0 * math.pi / (POINTS_PER_WAVELENGTH * max(dx, dy)),
-        math.inf if tip is None else _tip_cutoff(h, dx, tip),
-        k_noise,
-        given,
-        (2.0 * math.pi / max(nx * dx, ny * dy), float(q.max())),
-    )
+    q, C = _map_modes(maps, dx, dy, w)
+    lo, hi = _map_range(q, C, maps, dx, dy, given, tip, noise)
     qb, Cb, _ = _log_bins(q, C, bins_per_decade, lo, hi)
     qb, Cb = _span(qb, Cb, lo, hi)
     if qb.size < 2:

@@ -396,6 +396,22 @@ def test_tip_radius_limits_the_range():
         assert 2 * math.pi / (2 * m * DX) <= s.q_range[1] <= 2 * math.pi / (0.5 * m * DX)
 
 
+def test_map_range_rules():
+    psd, (h, *_), _ = _surfaces(0.8)
+    block = h[:256, :256]
+    auto = tp.psd_from_map(block, DX)
+    assert (auto.q0, auto.q1) == pytest.approx(
+        (4 * 2 * math.pi / (256 * DX), 2 * math.pi / (4 * DX))
+    )
+    whole = tp.psd_from_map(block, DX, q_range=None)
+    assert (whole.q0, whole.q1) == pytest.approx((2 * math.pi / (256 * DX), math.pi / DX))
+    sigma = math.sqrt(float(psd(5e5)) / 9.0) * 2.0 * math.pi / DX  # floor = C(5e5)/9
+    noisy = block + np.random.default_rng(6).normal(scale=sigma, size=block.shape)
+    cut = _quiet(tp.psd_from_map, noisy, DX, noise=sigma).q1
+    assert cut == pytest.approx(5e5, rel=0.3)
+    assert tp.psd_from_map(block, DX, tip_radius=1e-5).q1 < auto.q1
+
+
 def test_extension_restores_the_known_spectrum_above_the_range():
     psd, maps, _ = _surfaces(0.8)
     got = _recovered(0.8, "maps")
