@@ -1061,8 +1061,10 @@ def convert_psd(C, q, from_: str = "surfacetopography", to: str = "persson") -> 
 
     ``contact.engineering`` and ``contact.engineering-1d`` are the SurfaceTopography ones
     (T. D. B. Jacobs, T. Junge, L. Pastewka, Surf. Topogr.: Metrol. Prop. 5, 013001 (2017),
-    doi:10.1088/2051-672X/aa51f8; SurfaceTopography's ``power_spectrum_from_profile`` and
-    ``power_spectrum_from_area`` docstrings). For ``one-sided-1d-frequency`` tabulated against
+    doi:10.1088/2051-672X/aa51f8; the docstrings of SurfaceTopography's
+    ``power_spectrum_from_profile`` and ``power_spectrum_from_area``, version 1.27,
+    https://contactengineering.github.io/SurfaceTopography/; the tests hold both estimators,
+    converted, equal to fastline's). For ``one-sided-1d-frequency`` tabulated against
     f, pass ``q = 2 pi f``.
 
     A 1D and a 2D spectrum are not related point by point: the 2D spectrum of a line scan is
