@@ -4,7 +4,7 @@ Full Persson contact theory (compiled with Numba) and a fast line-contact solver
 (log-kernel convolution by zero-padded FFT). See README.md and docs/.
 """
 
-from fastline import io, paper, plotting  # light: matplotlib loads on first plot
+from fastline import io, paper, plotting, topography  # light: heavy deps load on first use
 from fastline.diagnostics import ValidityWarning, assess, warn_once
 from fastline.elastic import LogKernelOperator, influence_coefficients
 from fastline.laws import ExponentialLaw, PerssonLaw, PressureLaw, TabulatedLaw
@@ -75,6 +75,7 @@ __all__ = [
     "io",
     "paper",
     "plotting",
+    "topography",
     "leak_rate",
     "leak_rate_profile",
     "LeakResult",

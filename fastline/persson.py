@@ -45,8 +45,9 @@ from scipy.special import roots_legendre
 
 from fastline._jit import JIT
 from fastline._special import _F, EULER_GAMMA, G0, f_coefficients
+from fastline._tabulated import EtaRule, tabulated_quadrature
 from fastline._validate import E_STAR_RANGE, finite_array, in_range, in_span, positive_array
-from fastline.spectra import PSD
+from fastline.spectra import PSD, TabulatedPSD
 
 __all__ = [
     "PerssonTheory",
@@ -77,6 +78,7 @@ class TableSettings:
     graded_order: int  # points per graded sub-panel
     h_v: float  # T1 spacing in v = ln p
     log2_cells_per_binade: int  # T2: m, with 2^m cells in each binade [2^e, 2^(e+1)) of u
+    tabulated: EtaRule  # q quadrature of a TabulatedPSD (fastline._tabulated)
 
     @classmethod
     def for_rtol(cls, rtol: float) -> TableSettings:
@@ -89,6 +91,7 @@ class TableSettings:
                 graded_order=6,
                 h_v=0.2,
                 log2_cells_per_binade=4,
+                tabulated=EtaRule(order=8, edge_order=6, width=1.25, bins=24, top_levels=5),
             )
         if rtol >= 1e-6:
             return cls(
@@ -98,6 +101,7 @@ class TableSettings:
                 graded_order=10,
                 h_v=0.1,
                 log2_cells_per_binade=6,
+                tabulated=EtaRule(order=10, edge_order=10, width=1.0, bins=64, top_levels=6),
             )
         return cls(
             panels_per_decade=5,
@@ -106,6 +110,7 @@ class TableSettings:
             graded_order=14,
             h_v=0.05,
             log2_cells_per_binade=7,
+            tabulated=EtaRule(order=14, edge_order=12, width=1.0, bins=128, top_levels=8),
         )
 
 
@@ -394,10 +399,14 @@ def _erf_vec(x, out):
 # q quadrature
 # ----------------------------------------------------------------------------------------------
 def _q_quadrature(psd: PSD, settings: TableSettings):
-    """Nodes q_j and weights of ``int dq f(q)`` over [q0, q1], plus A(q_j).
+    """Nodes q_j and weights of ``int f(q) q^2 C(q) dq`` over [q0, q1], plus A(q_j).
 
-    Returns ``q, dq_weight, A`` sorted by increasing q.
+    Returns ``q, weight, A`` sorted by increasing q. A table takes the eta quadrature of
+    :mod:`fastline._tabulated` (cost independent of its size); the analytic spectra Gauss
+    panels in ln q split at their few kinks.
     """
+    if isinstance(psd, TabulatedPSD):
+        return tabulated_quadrature(psd, settings.tabulated)
     t_ref, w_ref = roots_legendre(settings.order)
     t_ref = 0.5 * (t_ref + 1.0)
     w_ref = 0.5 * w_ref
@@ -440,11 +449,8 @@ def _q_quadrature(psd: PSD, settings: TableSettings):
     q_rest = np.exp(lq)
     w_rest = np.concatenate([((lb - la) * w_ref).ravel(), ((gb - ga) * wg).ravel()]) * q_rest
     A_rest = psd.cumulative(q_rest)
-    return (
-        np.concatenate([q_first, q_rest]),
-        np.concatenate([w_first, w_rest]),
-        np.concatenate([A_first, A_rest]),
-    )
+    q = np.concatenate([q_first, q_rest])
+    return q, np.concatenate([w_first, w_rest]) * q * q * psd(q), np.concatenate([A_first, A_rest])
 
 
 # ----------------------------------------------------------------------------------------------
@@ -485,12 +491,12 @@ class PerssonTheory:
         self.settings = TableSettings.for_rtol(self.rtol)
         self._coef = f_coefficients(self.gamma)
 
-        q, dq, A = _q_quadrature(psd, self.settings)
+        q, dm, A = _q_quadrature(psd, self.settings)  # dm: weights of q^2 C dq
         keep = A > 0.0
-        q, dq, A = q[keep], dq[keep], A[keep]
+        q, dm, A = q[keep], dm[keep], A[keep]
         w = 1.0 / np.sqrt(A)
         self._q = q
-        self._W = np.ascontiguousarray(_SQRT_PI * q * q * psd(q) * w * dq)
+        self._W = np.ascontiguousarray(_SQRT_PI * dm * w)
         self._s = np.ascontiguousarray(w / self.E_star)  # x_j = s_j p
         self._w1 = 1.0 / math.sqrt(float(psd.cumulative(psd.q1)))
 
