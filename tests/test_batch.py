@@ -391,3 +391,93 @@ def test_warnings_once_per_cause():
         warnings.simplefilter("always")
         fl.sweep(rows, "serial", progress=False, chunksize=5, warn=False)
     assert not caught
+
+
+# ---- command line ------------------------------------------------------------------------
+def cli(argv) -> tuple[int, str, str]:
+    from contextlib import redirect_stderr, redirect_stdout
+    from io import StringIO
+
+    from fastline.cli import main
+
+    out, err = StringIO(), StringIO()
+    with redirect_stdout(out), redirect_stderr(err):
+        status = main([str(a) for a in argv])
+    return status, out.getvalue(), err.getvalue()
+
+
+SWEEP_ARGS = ["sweep", "--h-rms", "1e-6", "--n", N, "--loads-num", 24]
+
+
+def test_cli_sweep_on_workers_and_scheduler(tmp_path, dask_client):
+    """--workers 2, --workers 1 and --scheduler write the same file, byte for byte; it agrees
+    with the in-process continuation sweep to the solver tolerance."""
+    files = {}
+    for name, extra in [
+        ("pool", ["--workers", 2]),
+        ("one", ["--workers", 1]),
+        ("dask", ["--scheduler", dask_client.scheduler.address]),
+        ("plain", []),
+    ]:
+        files[name] = tmp_path / f"{name}.csv"
+        status, out, err = cli([*SWEEP_ARGS, *extra, "--chunksize", 5, "--csv", files[name]])
+        assert status == 0, err
+        warned = [ln for ln in err.splitlines() if ln.startswith("fastline: warning:")]
+        assert len(warned) == len(set(warned)) >= 1  # once per cause
+        assert "narrower than the longest roughness wavelength" in err
+    text = {k: f.read_bytes() for k, f in files.items()}
+    assert text["pool"] == text["one"] == text["dask"]
+    _, a = read_csv(files["pool"])
+    _, b = read_csv(files["plain"])
+    assert np.array_equal(a["load_N_per_m"], b["load_N_per_m"])
+    np.testing.assert_allclose(a["p0_ratio"], b["p0_ratio"], rtol=RTOL_CONTINUATION)
+
+
+def test_cli_batch(tmp_path):
+    lines = ["label,h_rms,hurst,q0,qr,q1,E_star,radius,load_N_per_m,n"]
+    for k, f in enumerate(np.geomspace(1e3, 1e6, 11)):
+        lines.append(f"s{k},1e-6,0.8,1e3,1e4,1e9,1.33e9,0.01,{float(f)!r},{N}")
+    lines.append("bad,1e-6,1.5,1e3,1e4,1e9,1.33e9,0.01,1e4,96")
+    (tmp_path / "scenes.csv").write_text("\n".join(lines) + "\n")
+    outs = []
+    for workers in (2, 1):
+        outs.append(tmp_path / f"out{workers}.csv")
+        argv = ["batch", tmp_path / "scenes.csv", "--out", outs[-1], "--workers", workers]
+        status, out, err = cli(argv)
+        assert status == 1  # a scene failed; the others are written
+        assert "12 scenes" in out and "11 converged, 0 not converged, 1 failed" in out
+        assert "1 of 12 scenes failed (rows 11)" in err and "hurst must lie in" in err
+    assert outs[0].read_bytes() == outs[1].read_bytes()
+    meta, cols = read_csv(outs[0])
+    assert meta["failed"] == "1" and list(cols["label"][:2]) == ["s0", "s1"]
+    assert cols["error"][11].startswith("ValueError: hurst must lie in (0; 1]")
+    assert np.all(cols["converged"][:11] == 1)
+
+
+@pytest.mark.parametrize(
+    "argv, message",
+    [
+        (["--workers", 2, "--scheduler", "tcp://127.0.0.1:1"], "either --workers or --scheduler"),
+        (["--workers", 0], "--workers: must be >= 1"),
+        (["--chunksize", "x"], "--chunksize: not an integer"),
+    ],
+)
+def test_cli_parallel_options_refused(argv, message, tmp_path):
+    status, out, err = cli([*SWEEP_ARGS, *argv, "--csv", tmp_path / "s.csv"])
+    assert status == 2 and message in err and not (tmp_path / "s.csv").exists()
+
+
+def test_cli_batch_refuses_bad_tables_before_work(tmp_path, monkeypatch):
+    (tmp_path / "bad.csv").write_text("h_rms,hurst,q0,qr,q1,E_star,radius,load,mu\n")
+    (tmp_path / "typo.csv").write_text("psd,E_star,radius,load\na.txt,1.33e9,0.01,heavy\n")
+    for name, message in [
+        ("bad.csv", "need a header row and at least one scene"),
+        ("typo.csv", "column 'load' must hold a real number; row 0 holds 'heavy'"),
+        ("missing.csv", "cannot read scene table"),
+    ]:
+        status, _, err = cli(["batch", tmp_path / name, "--out", tmp_path / "r.csv"])
+        assert status == 2 and message in err, err
+    assert not (tmp_path / "r.csv").exists()
+    monkeypatch.setitem(__import__("sys").modules, "distributed", None)
+    status, _, err = cli([*SWEEP_ARGS, "--scheduler", "tcp://127.0.0.1:1"])
+    assert status == 2 and 'pip install "fastline-contact[dask]"' in err
