@@ -755,8 +755,8 @@ class SweepStats:
     compute_seconds : float
         Time spent inside tasks, summed over tasks (s).
     wall_seconds : float
-        Wall time of the sweep from the first task sent to the last result in, including a
-        process pool's start-up when :func:`sweep` made the pool (s).
+        Wall time of the whole call: checking the table, planning, solving (including a
+        process pool's start-up when :func:`sweep` made the pool) and assembling (s).
     executor : str
         What ran the tasks.
     """
@@ -988,12 +988,12 @@ def sweep(
     """
     from fastline._validate import integer
 
+    t0 = time.perf_counter()
     cols = _normalise(scenes)
     size = len(cols["load"])
     chunk = default_chunksize(size) if chunksize is None else integer("chunksize", chunksize, 1)
     tasks = _plan(cols, chunk)
     engine = _engine(executor, workers, len(tasks))
-    t0 = time.perf_counter()
     outcomes = []
     try:
         with _progress_bar(size, progress) as bar:
@@ -1002,9 +1002,9 @@ def sweep(
                 bar.update(len(outcome.rows))
     finally:
         _close(engine)
-    wall = time.perf_counter() - t0
     table = _empty_table(cols)
     summary = _summary(table, _fill(table, outcomes))
+    wall = time.perf_counter() - t0
     stats = SweepStats(
         scenes=size,
         tasks=len(tasks),
