@@ -588,7 +588,8 @@ def _dask_client(address: str):
         from distributed import Client
     except ImportError:
         raise ImportError(
-            f'executor={address!r} needs dask.distributed: pip install "fastline-contact[dask]"'
+            f"executor={address!r} needs dask.distributed: "
+            'pip install "fastline-contact[dask]" (the dask extra)'
         ) from None
     return Client(address)
 
@@ -868,7 +869,7 @@ class SweepTable:
         try:
             import pandas as pd
         except ImportError:
-            raise ImportError("SweepTable.to_pandas needs pandas: pip install pandas") from None
+            raise ImportError("SweepTable.to_pandas needs pandas (not installed)") from None
         return pd.DataFrame({name: self.table[name] for name in self.columns})
 
 

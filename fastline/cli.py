@@ -251,7 +251,7 @@ def _parallel_options(parser: argparse.ArgumentParser, default: str) -> None:
         "--scheduler",
         metavar="ADDRESS",
         help="solve on the dask.distributed cluster whose scheduler is at ADDRESS, e.g. "
-        'tcp://host:8786 (needs dask: pip install "fastline-contact[dask]")',
+        'tcp://host:8786 (needs dask: pip install "fastline-contact[dask]" for the extra)',
     )
     g.add_argument(
         "--chunksize",
@@ -581,7 +581,8 @@ def _executor(args):
         from distributed import Client
     except ImportError:
         raise CLIError(
-            '--scheduler needs dask.distributed: pip install "fastline-contact[dask]"'
+            '--scheduler needs dask.distributed: pip install "fastline-contact[dask]" (the '
+            "dask extra)"
         ) from None
     try:
         client = Client(args.scheduler, timeout=10)

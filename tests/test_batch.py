@@ -495,4 +495,4 @@ def test_cli_batch_refuses_bad_tables_before_work(tmp_path, monkeypatch):
     assert not (tmp_path / "r.csv").exists()
     monkeypatch.setitem(__import__("sys").modules, "distributed", None)
     status, _, err = cli([*SWEEP_ARGS, "--scheduler", "tcp://127.0.0.1:1"])
-    assert status == 2 and 'pip install "fastline-contact[dask]"' in err
+    assert status == 2 and '"fastline-contact[dask]" (the dask extra)' in err
