@@ -305,6 +305,12 @@ BAD_TABLES = [
     ([GOOD, {**GOOD, "h_rms": None}], ValueError, "'h_rms' has no value in row 1"),
     ([{**GOOD, "load": "1e4"}], TypeError, "'load' must hold a real number; row 0 holds '1e4'"),
     ([{**GOOD, "E_star": True}], TypeError, "'E_star' must hold a real number"),
+    (
+        [GOOD, {**GOOD, "radius": True}],
+        TypeError,
+        "'radius' must hold a real number; row 1 holds T",
+    ),
+    ([GOOD, {**GOOD, "n": 96.0}, {**GOOD, "n": 96.5}], TypeError, "'n' must hold an integer"),
     ([{**GOOD, "n": 128.5}], TypeError, "'n' must hold an integer"),
     ([{**GOOD, "model": 3}], TypeError, "'model' must hold a string"),
     ([{**GOOD, "model": "Persson"}], ValueError, "'model' must be one of .*row 0 is 'Persson'"),
