@@ -175,7 +175,7 @@ def _cylinder(spec, psd, theory):
 #: ``solve(load)`` and ``sweep(loads)`` returning results with p0, p0_ratio, s, fwhm, w_over_s,
 #: alpha, converged, iterations, convolutions, residual and ``diagnostics``
 GEOMETRIES = {"cylinder": _cylinder}
-_CATEGORIES = {"geometry": tuple(GEOMETRIES), "model": _MODELS, "method": _METHODS}
+_CATEGORIES = {"geometry": GEOMETRIES, "model": _MODELS, "method": _METHODS}
 
 
 # ----------------------------------------------------------------------------------------------
@@ -290,7 +290,7 @@ def _type_error(col: _Column, i: int, v, what: str):
 
 
 def _check_category(name: str, values: list) -> None:
-    allowed = _CATEGORIES[name]
+    allowed = tuple(_CATEGORIES[name])  # GEOMETRIES read now: a geometry may be added later
     for i, v in enumerate(values):
         if v not in allowed:
             raise ValueError(f"scenes: column {name!r} must be one of {allowed}; row {i} is {v!r}")

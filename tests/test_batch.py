@@ -284,6 +284,23 @@ def test_missing_optional_cells_take_defaults():
     assert res["geometry"][0] == "cylinder" and res["max_iter"][0] == 0 and res.ok.all()
 
 
+def test_a_new_geometry_plugs_in(monkeypatch):
+    """The seam the sphere will use: a builder registered under a new ``geometry`` name gets
+    its own models and shares the spectrum's theory."""
+    built = []
+
+    def builder(spec, psd, theory):
+        built.append(spec.geometry)
+        return batch.GEOMETRIES["cylinder"](spec, psd, theory)
+
+    monkeypatch.setitem(batch.GEOMETRIES, "other", builder)
+    rows = [scene(10e-6, 0.8, f, geometry=g) for g in ("cylinder", "other") for f in (1e3, 1e4)]
+    res = run(rows)
+    assert built == ["other"] and list(res["geometry"]) == ["cylinder"] * 2 + ["other"] * 2
+    assert np.array_equal(res["p0"][:2], res["p0"][2:])
+    assert (res.stats.theory_builds, res.stats.model_builds) == (1, 2)
+
+
 # ---- bad tables: refused before any task is submitted -----------------------------------------
 class SpyExecutor(cf.Executor):
     def __init__(self):
