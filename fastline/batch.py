@@ -536,6 +536,7 @@ class _TaskOutcome:
     theories: int = 0
     models: int = 0
     seconds: float = 0.0
+    cpu_seconds: float = 0.0
 
 
 def _error_text(e: BaseException) -> str:
@@ -584,12 +585,12 @@ def _solve_piece(piece: _Piece, cache: _ModelCache, counts: dict) -> list[tuple]
 
 
 def _run_on(task: tuple[_Piece, ...], cache: _ModelCache) -> _TaskOutcome:
-    t0 = time.perf_counter()
+    t0, c0 = time.perf_counter(), time.thread_time()
     counts = {"theories": 0, "models": 0}
     rows = [row for piece in task for row in _solve_piece(piece, cache, counts)]
     worker = f"{socket.gethostname()}:{os.getpid()}"
-    seconds = time.perf_counter() - t0
-    return _TaskOutcome(rows, worker, counts["theories"], counts["models"], seconds)
+    seconds, cpu = time.perf_counter() - t0, time.thread_time() - c0
+    return _TaskOutcome(rows, worker, counts["theories"], counts["models"], seconds, cpu)
 
 
 def _run_task(task: tuple[_Piece, ...]) -> _TaskOutcome:
@@ -789,6 +790,9 @@ class SweepStats:
         already hold some from an earlier sweep).
     compute_seconds : float
         Time spent inside tasks, summed over tasks (s).
+    compute_cpu_seconds : float
+        CPU time of the threads running the tasks, summed over tasks (s): below
+        ``compute_seconds`` when the workers waited for a CPU (other jobs on the machine).
     wall_seconds : float
         Wall time of the whole call: checking the table, planning, solving (including a
         process pool's start-up when :func:`sweep` made the pool) and assembling (s).
@@ -803,6 +807,7 @@ class SweepStats:
     theory_builds: int
     model_builds: int
     compute_seconds: float
+    compute_cpu_seconds: float
     wall_seconds: float
     executor: str
 
@@ -1048,6 +1053,7 @@ def sweep(
         theory_builds=sum(o.theories for o in outcomes),
         model_builds=sum(o.models for o in outcomes),
         compute_seconds=sum(o.seconds for o in outcomes),
+        compute_cpu_seconds=sum(o.cpu_seconds for o in outcomes),
         wall_seconds=wall,
         executor=engine.description,
     )
