@@ -140,10 +140,10 @@ _NEEDS_THEORY = ("persson", "exponential")
 
 #: bounds of each worker's cache: spectra, Persson theories (about 150 kB each), models
 CACHE_SIZES = {"spectra": 64, "theories": 32, "models": 64}
-#: default plan: about this many tasks per table, each of ``[MIN, MAX]`` scenes. Measured on
-#: 10,000 paper-like scenes at n = 256 (docs/throughput.md, 2 workers): the engine costs 2-4 ms
-#: per task in a local pool and ~10 ms on dask, against 0.3-0.9 ms of solving per scene; 157
-#: scenes per task (the default there) keep the workers ~93% busy, 8 per task ~80%.
+#: default plan: about this many tasks per table, each of ``[MIN, MAX]`` scenes. Measured with
+#: 2 workers on paper-like scenes at n = 256 (0.4-0.6 ms of CPU per scene; docs/throughput.md):
+#: the engine costs 0.5-1.3 ms per task in a local pool and 4-13 ms on dask; with 157 scenes
+#: per task (10,000 scenes) the workers were 89-94% busy, with 8 per task 80-90% (pool).
 DEFAULT_TASKS, MIN_CHUNK, MAX_CHUNK = 64, 8, 256
 #: schemes of dask scheduler addresses accepted as ``executor``
 _SCHEDULER_SCHEMES = ("tcp://", "tls://", "ucx://", "ws://", "wss://", "inproc://")
