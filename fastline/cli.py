@@ -239,7 +239,7 @@ def _parallel_options(parser: argparse.ArgumentParser, default: str) -> None:
         "parallel execution",
         "Solve on several processes or a dask.distributed cluster (fastline.sweep): scenes of "
         "one model are cut into tasks of consecutive loads; the numbers do not depend on "
-        f"where they are solved. Default: {default}.",
+        f"where the tasks are solved. Default: {default}.",
     )
     g.add_argument(
         "--workers",
@@ -347,7 +347,11 @@ def build_parser() -> argparse.ArgumentParser:
     )
     p.add_argument("--plot", metavar="FILE", help="write a figure of w/s and p0 ratio vs alpha")
     _figure_options(p)
-    _parallel_options(p, "one continuation sweep in this process")
+    _parallel_options(
+        p,
+        "one continuation sweep in this process (its numbers differ from the tasks' within "
+        "the solver tolerance)",
+    )
 
     p = sub.add_parser(
         "batch",
