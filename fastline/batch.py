@@ -1017,6 +1017,10 @@ def sweep(
     ValueError, TypeError
         Before any work, for unknown or missing columns, a cell of the wrong type, an unknown
         geometry, model or method, a bad ``chunksize``, ``workers`` or ``executor``.
+    ImportError
+        For a scheduler address without dask installed.
+    OSError
+        When the dask scheduler at an address cannot be reached.
 
     Examples
     --------
