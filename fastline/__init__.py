@@ -5,6 +5,7 @@ Full Persson contact theory (compiled with Numba) and a fast line-contact solver
 """
 
 from fastline import io, paper, plotting, topography  # light: heavy deps load on first use
+from fastline.batch import SweepTable, sweep
 from fastline.diagnostics import ValidityWarning, assess, warn_once
 from fastline.elastic import LogKernelOperator, influence_coefficients
 from fastline.laws import ExponentialLaw, PerssonLaw, PressureLaw, TabulatedLaw
@@ -64,6 +65,8 @@ __all__ = [
     "WS_GAUSSIAN",
     "LineContact",
     "solve_line_contact",
+    "sweep",
+    "SweepTable",
     "profile",
     "w_over_s",
     "p0_ratio",

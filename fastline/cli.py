@@ -1,11 +1,13 @@
-"""Command-line interface: ``fastline paper | profile | sweep | leak`` (``python -m fastline``).
+"""Command-line interface: ``fastline paper | profile | sweep | leak | batch`` (``python -m
+fastline``).
 
 Argument parsing and printing only: the scenes of the paper live in :mod:`fastline.paper`,
 files in :mod:`fastline.io`, figures in :mod:`fastline.plotting`, validity checks in
 :mod:`fastline.diagnostics`.
 
-Exit status: 0 done; 1 a solve did not converge (results are still printed and written);
-2 bad usage or input (one ``fastline: error: ...`` line on stderr, nothing solved).
+Exit status: 0 done; 1 a solve did not converge or a scene of a batch failed (results are still
+printed and written); 2 bad usage or input (one ``fastline: error: ...`` line on stderr,
+nothing solved).
 
 SI units throughout: lengths in m, wavenumbers in 1/m, spectra C(q) in m^4, pressures and
 moduli in Pa, loads per unit cylinder length in N/m.
@@ -28,7 +30,8 @@ deviation s, full width at half maximum w) and how far it is from the smooth Her
 measured by alpha = h_rms / delta (delta = 4 f_N / (pi E*), the Hertz penetration).
 
 SI units everywhere: m, 1/m, m^4, Pa, N/m (load per unit cylinder length).
-Exit status: 0 done, 1 a solve did not converge, 2 bad usage or input."""
+Exit status: 0 done, 1 a solve did not converge (or a scene of a batch failed), 2 bad usage
+or input."""
 
 EPILOG = """\
 examples:
@@ -37,6 +40,8 @@ examples:
                    --load 500
   fastline sweep --h-rms 1e-6 --loads-from 1e3 --loads-to 1e6 --loads-num 30 --csv sweep.csv
   fastline leak --h-rms 1e-6 --load 1e4 --pressure-drop 1e4 --viscosity 1e-3 --plot leak.png
+  fastline sweep --loads-num 400 --workers 2 --csv sweep.csv
+  fastline batch scenes.csv --out results.csv --workers 2
   fastline paper --out figs/ --format pdf"""
 
 #: defaults of the self-affine spectrum options (the paper's surface 1)
@@ -238,8 +243,36 @@ def _figure_options(parser: argparse.ArgumentParser) -> None:
     )
 
 
+def _parallel_options(parser: argparse.ArgumentParser, default: str) -> None:
+    g = parser.add_argument_group(
+        "parallel execution",
+        "Solve on several processes or a dask.distributed cluster (fastline.sweep): scenes of "
+        "one model are cut into tasks of consecutive loads; the numbers do not depend on "
+        f"where the tasks are solved. Default: {default}.",
+    )
+    g.add_argument(
+        "--workers",
+        type=_count,
+        metavar="N",
+        help="solve on N local processes (1: in this process)",
+    )
+    g.add_argument(
+        "--scheduler",
+        metavar="ADDRESS",
+        help="solve on the dask.distributed cluster whose scheduler is at ADDRESS, e.g. "
+        'tcp://host:8786 (needs dask: pip install "fastline-contact[dask]" for the extra)',
+    )
+    g.add_argument(
+        "--chunksize",
+        type=_count,
+        metavar="K",
+        help="scenes per task at most (default: about 64 tasks, 8 to 256 scenes each)",
+    )
+
+
 def build_parser() -> argparse.ArgumentParser:
-    """The ``fastline`` argument parser (commands ``paper``, ``profile``, ``sweep``)."""
+    """The ``fastline`` argument parser (commands ``paper``, ``profile``, ``sweep``,
+    ``batch``)."""
     from fastline import __version__
 
     fmt = argparse.RawDescriptionHelpFormatter
@@ -323,6 +356,28 @@ def build_parser() -> argparse.ArgumentParser:
     )
     p.add_argument("--plot", metavar="FILE", help="write a figure of w/s and p0 ratio vs alpha")
     _figure_options(p)
+    _parallel_options(
+        p,
+        "one continuation sweep in this process (its numbers differ from the tasks' within "
+        "the solver tolerance)",
+    )
+
+    p = sub.add_parser(
+        "batch",
+        help="solve a table of scenes from a CSV file (in parallel)",
+        formatter_class=fmt,
+        description="Solve every scene (row) of a CSV file and write one row of results per "
+        "scene. Columns (header row; units in the name optional, e.g. E_star or E_star_Pa): "
+        "the spectrum as h_rms, hurst, q0, qr, q1 or as psd (a spectrum file, relative to the "
+        "CSV file); E_star [Pa], radius [m], load [N/m]; optional label, geometry (cylinder), "
+        "model, method, n, gamma, tol, max_iter, hardness [Pa]; an empty cell takes the "
+        "default. A scene that fails (a value out of range, an unreadable spectrum file) is "
+        "reported in its row's error column; the others are solved.",
+    )
+    p.add_argument("scenes", metavar="SCENES.csv", help="the scene table")
+    p.add_argument("--out", required=True, metavar="FILE", help="write the results (CSV) to FILE")
+    _parallel_options(p, "a local process per CPU")
+
     _leak_parser(sub, fmt)
     return parser
 
@@ -627,6 +682,79 @@ def cmd_profile(args) -> int:
     return _convergence_status([r])
 
 
+def _executor(args):
+    """(executor for fastline.sweep, a function that releases it) from --scheduler."""
+    if args.workers is not None and args.scheduler is not None:
+        raise CLIError("give either --workers or --scheduler, not both")
+    if args.scheduler is None:
+        return None, lambda: None
+    try:
+        from distributed import Client
+    except ImportError:
+        raise CLIError(
+            '--scheduler needs dask.distributed: pip install "fastline-contact[dask]" (the '
+            "dask extra)"
+        ) from None
+    try:
+        client = Client(args.scheduler, timeout=10)
+    except (OSError, ValueError, TypeError) as e:
+        raise CLIError(f"cannot connect to the dask scheduler at {args.scheduler}: {e}") from None
+    return client, client.close
+
+
+def _run_table(scenes, args):
+    """fastline.sweep on the executor the options name; bad tables are usage errors."""
+    from fastline.batch import sweep
+
+    executor, release = _executor(args)
+    try:
+        return sweep(
+            scenes,
+            executor,
+            workers=args.workers if executor is None else None,
+            chunksize=args.chunksize,
+            progress=None,
+            warn=False,
+        )
+    except TypeError as e:
+        raise CLIError(str(e)) from None
+    finally:
+        release()
+
+
+def _table_status(table) -> int:
+    """Print the failed and non-converged scenes of a sweep table (as errors); 0 or 1."""
+    status = 0
+    for cause, msg in table.warnings:
+        if cause in ("failed", "not_converged"):
+            print(f"fastline: error: {msg}", file=sys.stderr)
+            status = 1
+        else:
+            _warn(msg)
+    return status
+
+
+def _sweep_in_parallel(psd, E, args, loads):
+    """The loads of the sweep command as a scene table on --workers/--scheduler: rows with
+    the attributes of a result (load, alpha, p0, ...) and the table."""
+    import numpy as np
+
+    k = len(loads)
+    scenes = {
+        "psd": [psd] * k,
+        "E_star": [E] * k,
+        "radius": [args.radius] * k,
+        "load": [float(f) for f in loads],
+        "model": [args.model] * k,
+        "n": [args.n] * k,
+        "gamma": [args.gamma] * k,
+        "max_iter": [args.max_iter or 0] * k,
+        "hardness": [math.nan if args.hardness is None else args.hardness] * k,
+    }
+    table = _run_table(scenes, args)
+    return table.table.view(np.recarray), table
+
+
 def cmd_sweep(args) -> int:
     import numpy as np
 
@@ -638,9 +766,13 @@ def cmd_sweep(args) -> int:
     _check_outputs(args)
     loads = np.geomspace(args.loads_from, args.loads_to, args.loads_num)
     th = _theory(psd, E, args)
-    model = LineContact(psd, E, args.radius, model=args.model, **_solve_kwargs(args, th))
-    with _progress(len(loads), "sweep") as bar:
-        results = model.sweep(loads, progress=bar.update)
+    table = None
+    if args.workers is None and args.scheduler is None:
+        model = LineContact(psd, E, args.radius, model=args.model, **_solve_kwargs(args, th))
+        with _progress(len(loads), "sweep") as bar:
+            results = model.sweep(loads, progress=bar.update)
+    else:
+        results, table = _sweep_in_parallel(psd, E, args, loads)
     print(_spectrum_line(psd, source))
     print(
         f"{'load [N/m]':>12}{'alpha':>12}{'p0 [Pa]':>13}{'p0 ratio':>10}{'s [m]':>12}"
@@ -651,7 +783,8 @@ def cmd_sweep(args) -> int:
             f"{r.load:>12.4g}{r.alpha:>12.4g}{r.p0:>13.5g}{r.p0_ratio:>10.5f}{r.s:>12.4g}"
             f"{r.fwhm:>12.4g}{r.w_over_s:>8.4f}{'yes' if r.converged else 'NO':>6}"
         )
-    _report_warnings(results)
+    if table is None:
+        _report_warnings(results)
     if args.csv:
         from fastline.io import write_sweep_csv
 
@@ -661,7 +794,27 @@ def cmd_sweep(args) -> int:
 
         gu = th.exponential_fit().gamma_u if th is not None else None
         _save(plot_sweep(results, gamma_u=gu), args.plot, args)
-    return _convergence_status(results)
+    return _convergence_status(results) if table is None else _table_status(table)
+
+
+def cmd_batch(args) -> int:
+    from fastline.batch import read_scenes
+    from fastline.io import check_output_file
+
+    check_output_file(args.out)
+    table = _run_table(read_scenes(args.scenes), args)
+    table.to_csv(args.out)
+    st = table.stats
+    failed = int(table.failed.sum())
+    ok = int(table.ok.sum())
+    print(
+        f"fastline batch: {st.scenes} scenes from {args.scenes}: {ok} converged, "
+        f"{st.scenes - ok - failed} not converged, {failed} failed; {st.wall_seconds:.2f} s "
+        f"({st.scenes_per_second:.0f} scenes/s, {st.tasks} task(s)) on {st.executor}"
+    )
+    status = _table_status(table)
+    print(f"wrote {args.out}")
+    return status
 
 
 def _paper_files(data, args) -> list[str]:
@@ -996,8 +1149,13 @@ def cmd_leak(args) -> int:
     return _leak_one(args, psd, E, source, th)
 
 
-COMMANDS = {"paper": cmd_paper, "profile": cmd_profile, "sweep": cmd_sweep}
-COMMANDS["leak"] = cmd_leak
+COMMANDS = {
+    "paper": cmd_paper,
+    "profile": cmd_profile,
+    "sweep": cmd_sweep,
+    "leak": cmd_leak,
+    "batch": cmd_batch,
+}
 
 
 def main(argv: list[str] | None = None) -> int:
