@@ -320,3 +320,44 @@ def reynolds_dense(gap, dx, dy, viscosity, pressure_drop):
         if (nx - 1, j) in index
     )
     return q * nx * dx / (ny * dy * pressure_drop)
+
+
+# ----------------------------------------------------------------------------------------------
+# point contact (THEORY.md section 9): the ring kernel of Johnson eq. 3.96a
+# ----------------------------------------------------------------------------------------------
+def ring_kernel(r: float, rho: float) -> float:
+    """(4/pi) rho/(r + rho) K(k), k = 2 sqrt(r rho)/(r + rho): displacement at r per unit
+    pressure on the ring at rho (per unit rho), E* = 1. K is written with scipy's ``ellipkm1``
+    of 1 - k^2 = ((r - rho)/(r + rho))^2, exact near the log singularity at rho = r."""
+    from scipy.special import ellipkm1
+
+    if rho == r:
+        return 0.0  # the integrable singularity; never an interior quadrature node
+    return 4.0 / math.pi * rho / (r + rho) * float(ellipkm1(((r - rho) / (r + rho)) ** 2))
+
+
+def ring_cell_coefficient(i: int, j: int) -> float:
+    """Displacement averaged over cell i per unit pressure on cell j, dr = 1, E* = 1.
+
+    Cells: the disc r < 1/2 (j = 0) and the rings (j - 1/2, j + 1/2). Nested ``quad`` of the
+    ring kernel, each integral split where the integrand is singular or kinked.
+    """
+
+    def edges(k):
+        return (0.0 if k == 0 else k - 0.5), k + 0.5
+
+    (a, b), (c, d) = edges(i), edges(j)
+
+    def inner(r):
+        cuts = [c, r, d] if c < r < d else [c, d]
+        return sum(
+            quad(lambda rho: ring_kernel(r, rho), lo, hi, epsabs=0.0, epsrel=1e-13, limit=200)[0]
+            for lo, hi in zip(cuts[:-1], cuts[1:], strict=False)
+        )
+
+    cuts = sorted({a, b} | {x for x in (c, d) if a < x < b})
+    total = sum(
+        quad(lambda r: inner(r) * 2.0 * math.pi * r, lo, hi, epsabs=0.0, epsrel=1e-12, limit=200)[0]
+        for lo, hi in zip(cuts[:-1], cuts[1:], strict=False)
+    )
+    return total / (math.pi * (b * b - a * a))
