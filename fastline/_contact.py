@@ -119,6 +119,9 @@ class ContactModel:
     MAX_N = 2**22
     N_NOTE = ""
     HERTZ_EXTENT_TEXT = "Hertz half-width"
+    #: floor of ``1 - (x/a)^2`` in the Hertz part of the cold start (0: none, the Hertz part
+    #: vanishes outside the contact)
+    COLD_FLOOR = 0.0
 
     # -- construction stages ----------------------------------------------------------------
     def _check_settings(self, E_star, radius, method, n) -> None:
@@ -292,11 +295,12 @@ class ContactModel:
         if not math.isfinite(alpha):
             alpha = 2.0 * self._u0() / hz.delta
         gs = self._gaussian(hz.load)
+        floor = self.COLD_FLOOR
         # weights alpha/(alpha + 0.3) and 0.3/(alpha + 0.3), in logarithms (no 1 - 1 at huge alpha)
         ln_wh = math.log(0.3) - math.log(alpha + 0.3)
         ln_wg = math.log(alpha) - math.log(alpha + 0.3)
         with np.errstate(divide="ignore"):
-            lh = ln_wh + math.log(hz.p0) + 0.5 * np.log(np.maximum(1 - (x / hz.a) ** 2, 0))
+            lh = ln_wh + math.log(hz.p0) + 0.5 * np.log(np.maximum(1 - (x / hz.a) ** 2, floor))
         lg = ln_wg + math.log(gs.p0) - x * x / (2.0 * gs.s**2)
         return normalise(np.logaddexp(lh, lg), hz.load, grid.disc.weights)
 

@@ -361,3 +361,37 @@ def ring_cell_coefficient(i: int, j: int) -> float:
         for lo, hi in zip(cuts[:-1], cuts[1:], strict=False)
     )
     return total / (math.pi * (b * b - a * a))
+
+
+def point_contact_exponential(khat, E_star, radius, load, u0, beta, domain):
+    """Point contact with the exponential law p = beta E* exp(-u/u0): dense matrix, scipy root.
+
+    ``khat`` is the dimensionless ring matrix (checked against :func:`ring_cell_coefficient`
+    in the tests); cells are the disc r < dr/2 and rings of width dr = domain / (n - 1/2).
+    Unknowns v = ln p (n values) and u1; equations
+    u0 ln(beta E*/p_i) = u1 + <r^2/2R>_i + (dr/E*) (khat p)_i and sum(w p) = load.
+    Returns r, p.
+    """
+    from scipy.optimize import root
+
+    n = khat.shape[0]
+    dr = domain / (n - 0.5)
+    e = np.concatenate([[0.0], (np.arange(n) + 0.5) * dr])
+    w = math.pi * (e[1:] ** 2 - e[:-1] ** 2)
+    g = (e[1:] ** 2 + e[:-1] ** 2) / (4.0 * radius)
+    K = khat * (dr / E_star)
+    r = np.arange(n) * dr
+    s2 = radius * u0
+    v0 = np.log(load / (2.0 * math.pi * s2)) - r * r / (2.0 * s2)
+
+    def fun(z):
+        v, u1 = z[:-1], z[-1]
+        p = np.exp(v)
+        res = u0 * (math.log(beta * E_star) - v) - u1 - g - K @ p
+        return np.concatenate([res / u0, [w @ p / load - 1.0]])
+
+    z0 = np.concatenate([v0, [u0 * math.log(beta * E_star / (load / (2 * math.pi * s2)))]])
+    sol = root(fun, z0, method="hybr", tol=1e-13)
+    if not sol.success:
+        raise RuntimeError(sol.message)
+    return r, np.exp(sol.x[:-1])
