@@ -296,3 +296,15 @@ def test_bad_sweep_and_helper_input():
             res.load_radius(bad)
         with pytest.raises(ValueError, match="level"):
             res.pressure_radius(bad)
+
+
+def test_threads_share_one_model_bit_for_bit():
+    pc = fl.PointContact(SURFACES["surface3"], E_STAR, RADIUS, n=128, warn=False)
+    loads = np.geomspace(1e-2, 1e2, 8)
+    serial = [pc.solve(f).pressure for f in loads]
+    from concurrent.futures import ThreadPoolExecutor
+
+    with ThreadPoolExecutor(4) as pool:
+        threaded = list(pool.map(lambda f: pc.solve(f).pressure, loads))
+    for a, b in zip(serial, threaded, strict=True):
+        assert np.array_equal(a, b)
