@@ -40,7 +40,9 @@ import numpy as np
 
 __all__ = ["ConvergenceWarning", "Discretisation", "Outcome", "newton", "picard", "hard_contact"]
 
-_LN_TINY = math.log(1e-300)
+#: pressures below 1e-290 Pa are flushed to 0: with cell weights down to 1e-12 m the products
+#: w p stay normal numbers (subnormals are 10-100x slower in every operation)
+_LN_TINY = math.log(1e-290)
 ETA_MAX, ETA_FLOOR = 0.1, 1e-3  # inexact-Newton forcing term bounds
 MAX_CG = 400
 #: largest change of ln p per Newton step where p > 1e-6 max(p) (2 cost 5% more convolutions
@@ -53,6 +55,9 @@ ETA_RETRY_MIN = 1e-12
 #: round-off floor of the residual in units of eps * (size of the cancelling terms), see
 #: :func:`roundoff_floor` (6x the largest FFT error measured)
 ROUNDOFF_FACTOR = 16.0
+#: a line search that fails below this multiple of a raised (round-off) tolerance ends the solve
+#: as converged: the residual there is noise (seen at alpha 8e-14 and 8e-9, R = 1 km)
+FLOOR_STALL = 4.0
 #: the damped fixed point stops when its best residual improved by less than this fraction...
 PICARD_STAGNATION = 0.01
 #: ...over this many accepted sweeps
@@ -124,13 +129,15 @@ class Outcome:
 # shared pieces
 # ----------------------------------------------------------------------------------------------
 def normalise(v: np.ndarray, load: float, weights: np.ndarray) -> np.ndarray:
-    """Shift v so that ``sum(w exp(v)) = load`` exactly (log-sum-exp, no overflow)."""
+    """Shift v so that ``sum(w exp(v)) = load`` exactly (log-sum-exp, no overflow; terms below
+    e^-700 of the largest are left out rather than computed as slow subnormal numbers)."""
     vmax = v.max()
-    return v + (math.log(load) - (vmax + math.log(np.dot(weights, np.exp(v - vmax)))))
+    share = np.exp(np.maximum(v - vmax, -700.0))
+    return v + (math.log(load) - (vmax + math.log(np.dot(weights, share))))
 
 
 def pressure_of(v: np.ndarray) -> np.ndarray:
-    """exp(v), flushed to 0 below 1e-300 Pa (subnormals only slow the arithmetic down)."""
+    """exp(v), flushed to 0 below 1e-290 Pa (see ``_LN_TINY``)."""
     return np.where(v > _LN_TINY, np.exp(np.maximum(v, _LN_TINY)), 0.0)
 
 
@@ -207,6 +214,16 @@ class _Iterate:
     size: float  # largest term the residual subtracts, max(|g + K p|, |u1|) [m]
 
 
+def _newton_direction(disc: Discretisation, D: np.ndarray, r: np.ndarray, eta: float):
+    """``dp, du1, CG iterations`` of the Newton system: the operator's own compiled solver when
+    it has one (the line contact), projected PCG with its preconditioner otherwise."""
+    solve = getattr(disc.op, "solve_newton", None)
+    out = None if solve is None else solve(D, disc.weights, r, eta, MAX_CG)
+    if out is None:
+        out = _projected_pcg(disc.op, D, disc.weights, r, disc.op.preconditioner(D), eta, MAX_CG)
+    return out
+
+
 def _evaluate(disc: Discretisation, law, v: np.ndarray, u1: float | None) -> _Iterate:
     """Pressure, law, elastic displacement and residual at ``v`` (one K application).
 
@@ -259,6 +276,8 @@ def _message(ok: bool, res: float, tol: float, tol_eff: float, work: str, stalle
     """The outcome in words: converged or not, against which tolerance, after what work."""
     if ok:
         raised = "" if tol_eff == tol else f" (tol {tol:.1e} raised to the round-off floor)"
+        if stalled:
+            raised += ", where no step decreases it further"
         return f"converged: residual {res:.2e} < {tol_eff:.1e}{raised} after {work}"
     why = "line search failed" if stalled else "max_iter"
     return f"not converged: residual {res:.2e} (tol {tol_eff:.1e}) after {work} ({why})"
@@ -289,6 +308,10 @@ def newton(disc: Discretisation, law, v: np.ndarray, tol: float, max_iter: int) 
         res = float(np.max(np.abs(it.r))) / u_ref
         tol_eff = max(tol, roundoff_floor(it.size, u_ref))
         stalled = eta_cap < ETA_RETRY_MIN
+        # no descent left at the noise level of a raised tolerance: as converged as float64 allows
+        at_floor = stalled and tol_eff > tol and res < FLOOR_STALL * tol_eff
+        if at_floor:
+            tol_eff = FLOOR_STALL * tol_eff
         if res < tol_eff or steps >= max_iter or stalled:
             ok = res < tol_eff
             message = _message(ok, res, tol, tol_eff, f"{steps} Newton steps", stalled)
@@ -299,9 +322,7 @@ def newton(disc: Discretisation, law, v: np.ndarray, tol: float, max_iter: int) 
         D = np.minimum(np.maximum(-it.dU, 1e-300 * u_ref) / psafe, 1e300)
         eta = min(_forcing(res, res_prev, eta, tol_eff), eta_cap)
         res_prev = res
-        dp, du1, cg_its = _projected_pcg(
-            disc.op, D, disc.weights, it.r, disc.op.preconditioner(D), eta, MAX_CG
-        )
+        dp, du1, cg_its = _newton_direction(disc, D, it.r, eta)
         cg_total += cg_its
         it, t = _line_search(disc, law, it, dp / psafe, du1)
         history.append((res, cg_its, t))

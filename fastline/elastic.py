@@ -51,6 +51,8 @@ from collections import OrderedDict
 import numpy as np
 import pyfftw
 
+from fastline import _fftw
+from fastline._toeplitz_pcg import apply_kernel, solve_newton_system
 from fastline._validate import finite_scalar, integer, positive
 
 __all__ = [
@@ -140,6 +142,8 @@ PLANS_KEPT = 8
 _spectrum_lock = threading.Lock()
 _spectra: OrderedDict[int, np.ndarray] = OrderedDict()
 _strang: OrderedDict[int, np.ndarray] = OrderedDict()
+_real_spectra: OrderedDict[int, np.ndarray] = OrderedDict()
+_prefixes: OrderedDict[int, np.ndarray] = OrderedDict()
 _local = threading.local()
 
 
@@ -176,6 +180,25 @@ def _kernel_spectrum(n: int) -> np.ndarray:
     the float64 view of the complex spectrum (real and imaginary parts) in one real product.
     """
     return _cached(_spectra, n, _build_kernel_spectrum)
+
+
+def _build_real_spectrum(n: int) -> np.ndarray:
+    return _build_kernel_spectrum(n)[::2].copy()
+
+
+def _build_prefix(n: int) -> np.ndarray:
+    from fastline._toeplitz_pcg import prefix_sums
+
+    return prefix_sums(influence_coefficients(n))
+
+
+def _compiled_tables(n: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Real kernel spectrum / 2n (length n + 1), Strang spectrum and Toeplitz prefix sums."""
+    return (
+        _cached(_real_spectra, n, _build_real_spectrum),
+        _strang_spectrum(n),
+        _cached(_prefixes, n, _build_prefix),
+    )
 
 
 def _build_strang_spectrum(n: int) -> np.ndarray:
@@ -309,6 +332,18 @@ class LogKernelOperator:
         n = self.n
         if np.shape(p) != (n,):
             raise ValueError(f"p must have shape ({n},), got {np.shape(p)}")
+        if _fftw.AVAILABLE:
+            if out is None:
+                out = np.empty(n)
+            elif not isinstance(out, np.ndarray) or out.shape != (n,) or out.dtype != np.float64:
+                raise ValueError(f"out must be a float64 ndarray of shape ({n},)")
+            x = np.ascontiguousarray(p, dtype=np.float64)
+            kspec = _cached(_real_spectra, n, _build_real_spectrum)
+            apply_kernel(
+                x if x is not out else x.copy(), kspec, self._scale, _fftw.plans(2 * n), out
+            )
+            self.convolutions += 1
+            return out
         head_in, cview, head_out, fwd, bwd, _, _ = _workspace(n)
         np.copyto(head_in, p)
         fwd()
@@ -345,6 +380,34 @@ class LogKernelOperator:
         # the backward FFT is unnormalised: fold 1/(2n) into the inverse eigenvalues
         return CirculantInverse(self, np.repeat(1.0 / (eig * (2 * self.n)), 2))
 
+    def solve_newton(self, D, w, rhs, rtol, maxit):
+        """Solve the Newton system ``(D + K) dp + du1 = rhs``, ``sum(w dp) = 0`` in one compiled
+        call (:mod:`fastline._toeplitz_pcg`: projected CG, two-level preconditioner, FFTs
+        included). Returns ``dp, du1, iterations`` and counts the FFT convolutions; None if the
+        compiled FFT path is not available (the caller then uses :meth:`preconditioner`)."""
+        if not _fftw.AVAILABLE:
+            return None
+        kspec, strang, prefix = _compiled_tables(self.n)
+        dp = np.empty(self.n)
+        du1, its, kapps, circ = solve_newton_system(
+            _fftw.plans(2 * self.n),
+            kspec,
+            strang,
+            prefix,
+            self._scale,
+            self.diagonal,
+            D,
+            w,
+            rhs,
+            rtol,
+            maxit,
+            COARSE_AGGREGATES,
+            dp,
+        )
+        self.convolutions += kapps + circ
+        self.circulant_solves += circ
+        return dp, du1, its
+
     def preconditioner(self, D) -> BlockPreconditioner:
         """An approximate inverse of ``D + K`` for the Newton-Krylov core (:mod:`fastline._core`).
 
@@ -367,6 +430,8 @@ class LogKernelOperator:
 #: convolutions; at n = 8192, 10 did better (1738 vs 1873). 0.1 and 0.3 lost up to 2x at 1e-2.
 CORE_THETA = 3.0
 _CORE_MIN_CELLS = 8
+#: aggregates of the compiled solver's coarse space (:mod:`fastline._toeplitz_pcg`)
+COARSE_AGGREGATES = 16
 
 
 class BlockPreconditioner:

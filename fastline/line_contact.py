@@ -28,7 +28,9 @@ from fastline import _core
 from fastline._contact import (  # noqa: F401 (METHODS ... shared_theory: importable here as before)
     METHODS,
     MODELS,
+    PREDICTOR_MAX_STEP,
     SWEEP_PREDICTOR_ORDER,
+    SWEEP_WARM_ALPHA,
     ContactModel,
     fwhm,
     log_pressure,
@@ -301,13 +303,15 @@ class LineContact(ContactModel):
 
         The loads are solved in increasing order. Each solve starts from a prediction made
         from the solutions already found: ln p on the (relative) grid extrapolated in ln f_N
-        by a polynomial through the last ``SWEEP_PREDICTOR_ORDER + 1`` of them
-        (:mod:`fastline._contact`). Over the paper's 50-load sweeps this costs fewer FFT
-        convolutions than independent solves (docs/performance.md gives the figure); each
-        result is the converged solution at its load, equal to an independent solve to the
-        solver tolerance. Warnings are emitted once per cause for the whole sweep, naming the
-        loads concerned (:func:`fastline.diagnostics.warn_once`). ``progress``, if given, is
-        called with no argument after each solve (e.g. a tqdm bar's ``update``).
+        by a polynomial through the last ``SWEEP_PREDICTOR_ORDER + 1`` of them (degree 0 after
+        a step longer than ``PREDICTOR_MAX_STEP``; a cold start below ``SWEEP_WARM_ALPHA`` and
+        after a failed predicted start; :mod:`fastline._contact`). Over the paper's 50-load
+        sweeps this costs fewer FFT convolutions than independent solves
+        (docs/performance.md gives the figure); each result is the converged solution at its
+        load, equal to an independent solve to the solver tolerance. Warnings are emitted once
+        per cause for the whole sweep, naming the loads concerned
+        (:func:`fastline.diagnostics.warn_once`). ``progress``, if given, is called with no
+        argument after each solve (e.g. a tqdm bar's ``update``).
         """
         return self._sweep(loads, progress)
 

@@ -1,0 +1,167 @@
+"""FFTW called from compiled code: real transforms of length 2n for the line contact's kernels.
+
+The solver's inner loop (one conjugate-gradient iteration: two FFT convolutions and a few vector
+operations) is compiled as a whole, so the FFTs must be callable from Numba code. pyFFTW (a
+dependency) ships the FFTW library (``pyfftw.libs`` in its wheels) or links a system FFTW; this
+module loads that same library with ctypes, makes the plans and exposes
+
+* ``AVAILABLE`` - whether an FFTW library with the needed symbols was found;
+* :func:`plans` - ``(r2c, c2r, plan_forward, plan_backward)`` addresses (int64) for one length;
+* :func:`execute` - an intrinsic that calls ``fftw_execute_dft_r2c`` / ``_c2r`` (new-array
+  execute) at such an address from ``@njit`` code.
+
+Function and plan addresses are passed to the kernels as integers, never baked into the compiled
+code, so the kernels stay cacheable across processes (library addresses change with ASLR).
+FFTW's new-array execute functions are thread-safe; planning is not, and happens under a lock.
+Plans use ``FFTW_ESTIMATE`` (deterministic: the same results in every process) on 64-byte
+aligned buffers, and the kernels execute them on buffers aligned the same way
+(:func:`aligned_buffers`). If no library is found, fastline falls back to pyFFTW's Python
+interface (same results to round-off, slower).
+
+FFT normalisation: FFTW's transforms are unnormalised; the kernels fold the factor ``1/(2n)``
+into the spectra they multiply by.
+"""
+
+from __future__ import annotations
+
+import ctypes
+import ctypes.util
+import glob
+import importlib.util
+import os
+import sys
+import threading
+
+import numba
+import numpy as np
+from llvmlite import ir
+from numba import types
+from numba.extending import intrinsic
+
+from fastline._jit import JIT
+
+__all__ = ["AVAILABLE", "plans", "execute", "aligned_buffers", "library_path"]
+
+_FFTW_ESTIMATE = 1 << 6
+#: byte alignment of the buffers the plans are made on and executed with (AVX-512 safe)
+ALIGN = 64
+
+
+def _candidates() -> list[str]:
+    """Paths of the FFTW double-precision library, most specific first."""
+    out = []
+    spec = importlib.util.find_spec("pyfftw")
+    if spec is not None and spec.submodule_search_locations:
+        pkg = spec.submodule_search_locations[0]
+        site = os.path.dirname(pkg)
+        patterns = [
+            os.path.join(site, "pyfftw.libs", "libfftw3-*.so*"),  # Linux wheels (auditwheel)
+            os.path.join(pkg, ".dylibs", "libfftw3.*dylib"),  # macOS wheels (delocate)
+            os.path.join(pkg, "libfftw3-3.dll"),  # Windows wheels
+            os.path.join(site, "pyfftw.libs", "libfftw3-3*.dll"),
+        ]
+        for pattern in patterns:
+            out.extend(sorted(p for p in glob.glob(pattern) if "_omp" not in p))
+    for name in ("fftw3", "fftw3-3"):
+        found = ctypes.util.find_library(name)
+        if found:
+            out.append(found)
+    return out
+
+
+def _load():
+    for path in _candidates():
+        try:
+            lib = ctypes.CDLL(path)
+            for name in ("fftw_execute_dft_r2c", "fftw_execute_dft_c2r", "fftw_plan_dft_r2c_1d"):
+                getattr(lib, name)
+        except (OSError, AttributeError):
+            continue
+        return lib, path
+    return None, None
+
+
+_lib, library_path = (None, None) if os.environ.get("FASTLINE_PURE_PYFFTW") else _load()
+#: whether the compiled FFT path can be used (``FASTLINE_PURE_PYFFTW=1`` forces the fallback)
+AVAILABLE = _lib is not None
+if AVAILABLE:
+    _vp = ctypes.c_void_p
+    for _name in ("fftw_plan_dft_r2c_1d", "fftw_plan_dft_c2r_1d"):
+        getattr(_lib, _name).restype = _vp
+        getattr(_lib, _name).argtypes = [ctypes.c_int, _vp, _vp, ctypes.c_uint]
+    _R2C = ctypes.cast(_lib.fftw_execute_dft_r2c, _vp).value
+    _C2R = ctypes.cast(_lib.fftw_execute_dft_c2r, _vp).value
+
+_plan_lock = threading.Lock()
+_plans: dict[int, tuple[int, int, int, int]] = {}
+
+
+def aligned_empty(size: int, dtype=np.float64) -> np.ndarray:
+    """An uninitialised 1-D array whose data start on an ``ALIGN``-byte boundary."""
+    item = np.dtype(dtype).itemsize
+    raw = np.empty(size + ALIGN // item, dtype=dtype)
+    skip = (-raw.ctypes.data % ALIGN) // item
+    return raw[skip : skip + size]
+
+
+def plans(N: int) -> tuple[int, int, int, int]:
+    """``(r2c, c2r, forward plan, backward plan)`` addresses for real transforms of length N.
+
+    Made once per length under a lock and kept for the life of the process: a plan may be in
+    use in another thread at any time, so none is ever destroyed (an ``FFTW_ESTIMATE`` plan of
+    length N holds O(N) twiddle factors).
+    """
+    hit = _plans.get(N)
+    if hit is not None:
+        return hit
+    with _plan_lock:
+        hit = _plans.get(N)
+        if hit is None:
+            a = aligned_empty(N)
+            c = aligned_empty(N // 2 + 1, np.complex128)
+            pf = _lib.fftw_plan_dft_r2c_1d(N, a.ctypes.data, c.ctypes.data, _FFTW_ESTIMATE)
+            pb = _lib.fftw_plan_dft_c2r_1d(N, c.ctypes.data, a.ctypes.data, _FFTW_ESTIMATE)
+            if not pf or not pb:  # pragma: no cover - FFTW refused a plan
+                raise RuntimeError(f"FFTW could not plan a real transform of length {N}")
+            hit = (_R2C, _C2R, pf, pb)
+            _plans[N] = hit
+    return hit
+
+
+@intrinsic
+def execute(typingctx, fn, plan, src, dst):
+    """``fn(plan, src, dst)`` for an FFTW new-array execute function at address ``fn``
+    (all four arguments int64: function, plan and the two data addresses)."""
+    sig = types.void(fn, plan, src, dst)
+
+    def codegen(context, builder, signature, args):
+        fn_addr, plan_addr, src_addr, dst_addr = args
+        vp = ir.IntType(8).as_pointer()
+        fnty = ir.FunctionType(ir.VoidType(), [vp, vp, vp])
+        fptr = builder.inttoptr(fn_addr, fnty.as_pointer())
+        builder.call(
+            fptr,
+            [
+                builder.inttoptr(plan_addr, vp),
+                builder.inttoptr(src_addr, vp),
+                builder.inttoptr(dst_addr, vp),
+            ],
+        )
+        return context.get_dummy_value()
+
+    return sig, codegen
+
+
+@numba.njit(**JIT)
+def aligned_buffers(N):
+    """A real buffer of length N and a complex one of length N/2 + 1, both 64-byte aligned,
+    for executing the plans of :func:`plans` from compiled code."""
+    raw = np.empty(N + 8)
+    a = raw[(-raw.ctypes.data % 64) // 8 :][:N]
+    rawc = np.empty(N // 2 + 1 + 4, dtype=np.complex128)
+    c = rawc[(-rawc.ctypes.data % 64) // 16 :][: N // 2 + 1]
+    return a, c
+
+
+if __name__ == "__main__":  # pragma: no cover - a quick check of the set-up
+    print(AVAILABLE, library_path, file=sys.stderr)
