@@ -505,3 +505,78 @@ def periodogram_1d(h, dx: float, window) -> tuple[np.ndarray, np.ndarray]:
     k = 2.0 * math.pi * m / L
     phase = np.exp(-1j * np.outer(k, x))
     return k, dx * dx / (2.0 * math.pi * L) * np.abs(phase @ (window * h)) ** 2
+
+
+# ----------------------------------------------------------------------------------------------
+# point contact (THEORY.md section 9): the ring kernel of Johnson eq. 3.96a
+# ----------------------------------------------------------------------------------------------
+def ring_kernel(r: float, rho: float) -> float:
+    """(4/pi) rho/(r + rho) K(k), k = 2 sqrt(r rho)/(r + rho): displacement at r per unit
+    pressure on the ring at rho (per unit rho), E* = 1. K is written with scipy's ``ellipkm1``
+    of 1 - k^2 = ((r - rho)/(r + rho))^2, exact near the log singularity at rho = r."""
+    from scipy.special import ellipkm1
+
+    if rho == r:
+        return 0.0  # the integrable singularity; never an interior quadrature node
+    return 4.0 / math.pi * rho / (r + rho) * float(ellipkm1(((r - rho) / (r + rho)) ** 2))
+
+
+def ring_cell_coefficient(i: int, j: int) -> float:
+    """Displacement averaged over cell i per unit pressure on cell j, dr = 1, E* = 1.
+
+    Cells: the disc r < 1/2 (j = 0) and the rings (j - 1/2, j + 1/2). Nested ``quad`` of the
+    ring kernel, each integral split where the integrand is singular or kinked.
+    """
+
+    def edges(k):
+        return (0.0 if k == 0 else k - 0.5), k + 0.5
+
+    (a, b), (c, d) = edges(i), edges(j)
+
+    def inner(r):
+        cuts = [c, r, d] if c < r < d else [c, d]
+        return sum(
+            quad(lambda rho: ring_kernel(r, rho), lo, hi, epsabs=0.0, epsrel=1e-13, limit=200)[0]
+            for lo, hi in zip(cuts[:-1], cuts[1:], strict=False)
+        )
+
+    cuts = sorted({a, b} | {x for x in (c, d) if a < x < b})
+    total = sum(
+        quad(lambda r: inner(r) * 2.0 * math.pi * r, lo, hi, epsabs=0.0, epsrel=1e-12, limit=200)[0]
+        for lo, hi in zip(cuts[:-1], cuts[1:], strict=False)
+    )
+    return total / (math.pi * (b * b - a * a))
+
+
+def point_contact_exponential(khat, E_star, radius, load, u0, beta, domain):
+    """Point contact with the exponential law p = beta E* exp(-u/u0): dense matrix, scipy root.
+
+    ``khat`` is the dimensionless ring matrix (checked against :func:`ring_cell_coefficient`
+    in the tests); cells are the disc r < dr/2 and rings of width dr = domain / (n - 1/2).
+    Unknowns v = ln p (n values) and u1; equations
+    u0 ln(beta E*/p_i) = u1 + <r^2/2R>_i + (dr/E*) (khat p)_i and sum(w p) = load.
+    Returns r, p.
+    """
+    from scipy.optimize import root
+
+    n = khat.shape[0]
+    dr = domain / (n - 0.5)
+    e = np.concatenate([[0.0], (np.arange(n) + 0.5) * dr])
+    w = math.pi * (e[1:] ** 2 - e[:-1] ** 2)
+    g = (e[1:] ** 2 + e[:-1] ** 2) / (4.0 * radius)
+    K = khat * (dr / E_star)
+    r = np.arange(n) * dr
+    s2 = radius * u0
+    v0 = np.log(load / (2.0 * math.pi * s2)) - r * r / (2.0 * s2)
+
+    def fun(z):
+        v, u1 = z[:-1], z[-1]
+        p = np.exp(v)
+        res = u0 * (math.log(beta * E_star) - v) - u1 - g - K @ p
+        return np.concatenate([res / u0, [w @ p / load - 1.0]])
+
+    z0 = np.concatenate([v0, [u0 * math.log(beta * E_star / (load / (2 * math.pi * s2)))]])
+    sol = root(fun, z0, method="hybr", tol=1e-13)
+    if not sol.success:
+        raise RuntimeError(sol.message)
+    return r, np.exp(sol.x[:-1])
