@@ -343,7 +343,11 @@ class LogKernelOperator:
             x = np.ascontiguousarray(p, dtype=np.float64)
             kspec = _cached(_real_spectra, n, _build_real_spectrum, readonly=False)
             x = x if x is not out else x.copy()
-            apply_kernel(x, kspec, self._scale, *_fftw.plans(2 * n), out)
+            fft = _fftw.acquire(2 * n)
+            try:
+                apply_kernel(x, kspec, self._scale, *fft, out)
+            finally:
+                _fftw.release(2 * n)
             self.convolutions += 1
             return out
         head_in, cview, head_out, fwd, bwd, _, _ = _workspace(n)
@@ -391,21 +395,26 @@ class LogKernelOperator:
             return None
         kspec, strang, prefix = _compiled_tables(self.n)
         dp = np.empty(self.n)
-        du1, its, kapps, circ = solve_newton_system(
-            *_fftw.plans(2 * self.n),
-            kspec,
-            strang,
-            prefix,
-            self._scale,
-            self.diagonal,
-            D,
-            w,
-            rhs,
-            rtol,
-            maxit,
-            COARSE_AGGREGATES,
-            dp,
-        )
+        N = 2 * self.n
+        fft = _fftw.acquire(N)
+        try:
+            du1, its, kapps, circ = solve_newton_system(
+                *fft,
+                kspec,
+                strang,
+                prefix,
+                self._scale,
+                self.diagonal,
+                D,
+                w,
+                rhs,
+                rtol,
+                maxit,
+                COARSE_AGGREGATES,
+                dp,
+            )
+        finally:
+            _fftw.release(N)
         self.convolutions += kapps + circ
         self.circulant_solves += circ
         return dp, du1, its
