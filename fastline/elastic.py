@@ -419,6 +419,45 @@ class LogKernelOperator:
         self.circulant_solves += circ
         return dp, du1, its
 
+    def newton_compiled(self, gap, w, load, law_form, u_ref, v, tol, max_iter):
+        """The whole Newton iteration in one compiled call (:mod:`fastline._line_newton`) for a
+        law with a compiled form; ``v`` (ln p, normalised) is updated in place. Returns
+        ``(u1, residual, status, steps, cg_iterations, tol_effective, history)`` (status 0
+        converged, 1 max_iter, 2 line search failed) and counts the FFT convolutions; None if
+        the compiled FFT path is not available."""
+        if not _fftw.AVAILABLE:
+            return None
+        from fastline._line_newton import newton_line
+
+        kspec, strang, prefix = _compiled_tables(self.n)
+        hist = np.zeros((max_iter, 3))
+        N = 2 * self.n
+        fft = _fftw.acquire(N)
+        try:
+            u1, res, status, steps, cg, kapps, circ, tol_eff = newton_line(
+                fft,
+                kspec,
+                strang,
+                prefix,
+                self._scale,
+                self.diagonal,
+                gap,
+                w,
+                load,
+                law_form,
+                u_ref,
+                v,
+                tol,
+                max_iter,
+                COARSE_AGGREGATES,
+                hist,
+            )
+        finally:
+            _fftw.release(N)
+        self.convolutions += kapps + circ
+        self.circulant_solves += circ
+        return u1, res, status, steps, cg, tol_eff, hist[:steps]
+
     def preconditioner(self, D) -> BlockPreconditioner:
         """An approximate inverse of ``D + K`` for the Newton-Krylov core (:mod:`fastline._core`).
 
