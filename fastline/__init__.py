@@ -1,10 +1,13 @@
 """fastline: nominal contact pressure of a cylinder on a randomly rough elastic half-space.
 
 Full Persson contact theory (compiled with Numba) and a fast line-contact solver
-(log-kernel convolution by zero-padded FFT). See README.md and docs/.
+(log-kernel convolution by zero-padded FFT); the same for a sphere on a flat (point contact,
+axisymmetric ring operator). See README.md and docs/.
 """
 
-from fastline import io, paper, plotting  # light: matplotlib loads on first plot
+from fastline import io, paper, plotting, topography  # light: heavy deps load on first use
+from fastline.axisymmetric import RingKernelOperator
+from fastline.batch import SweepTable, sweep
 from fastline.diagnostics import ValidityWarning, assess, warn_once
 from fastline.elastic import LogKernelOperator, influence_coefficients
 from fastline.laws import ExponentialLaw, PerssonLaw, PressureLaw, TabulatedLaw
@@ -12,10 +15,14 @@ from fastline.leakage import CriticalGap, LeakageWarning, LeakResult, leak_rate,
 from fastline.limits import (
     WS_GAUSSIAN,
     WS_HERTZ,
+    WS_HERTZ_SPHERE,
     alpha,
     gaussian_line_contact,
+    gaussian_point_contact,
     hertz_line_contact,
+    hertz_point_contact,
     p0_ratio_gaussian,
+    p0_ratio_gaussian_sphere,
     penetration,
 )
 from fastline.line_contact import (
@@ -34,6 +41,7 @@ from fastline.persson import (
     pressure_at,
     separation_at,
 )
+from fastline.point_contact import PointContact, PointContactResult, solve_point_contact
 from fastline.spectra import PSD, SelfAffinePSD, SumPSD, TabulatedPSD, effective_modulus
 
 __version__ = "0.1.0"
@@ -64,10 +72,20 @@ __all__ = [
     "WS_GAUSSIAN",
     "LineContact",
     "solve_line_contact",
+    "sweep",
+    "SweepTable",
     "profile",
     "w_over_s",
     "p0_ratio",
     "LineContactResult",
+    "PointContact",
+    "solve_point_contact",
+    "PointContactResult",
+    "hertz_point_contact",
+    "gaussian_point_contact",
+    "p0_ratio_gaussian_sphere",
+    "WS_HERTZ_SPHERE",
+    "RingKernelOperator",
     "ConvergenceWarning",
     "ValidityWarning",
     "assess",
@@ -75,6 +93,7 @@ __all__ = [
     "io",
     "paper",
     "plotting",
+    "topography",
     "leak_rate",
     "leak_rate_profile",
     "LeakResult",

@@ -283,6 +283,24 @@ def _message(ok: bool, res: float, tol: float, tol_eff: float, work: str, stalle
     return f"not converged: residual {res:.2e} (tol {tol_eff:.1e}) after {work} ({why})"
 
 
+def _newton_compiled(disc: Discretisation, law, v, tol, max_iter) -> Outcome | None:
+    """The same iteration in one compiled call, when the operator and the law provide one
+    (the line contact with a shipped law: :mod:`fastline._line_newton`); None otherwise."""
+    run = getattr(disc.op, "newton_compiled", None)
+    form = getattr(law, "_compiled_form", None)
+    if run is None or form is None:
+        return None
+    v = np.array(v, dtype=np.float64)
+    out = run(disc.gap, disc.weights, disc.load, form(), law.u0, v, tol, max_iter)
+    if out is None:
+        return None
+    u1, res, status, steps, cg, tol_eff, hist = out
+    message = _message(status == 0, res, tol, tol_eff, f"{steps} Newton steps", status == 2)
+    history = [(float(h[0]), int(h[1]), float(h[2])) for h in hist]
+    info = {"cg_iterations": int(cg), "newton_history": history, "tol_effective": tol_eff}
+    return Outcome(v, u1, res, status == 0, steps, message, info, pressure_of(v))
+
+
 def newton(disc: Discretisation, law, v: np.ndarray, tol: float, max_iter: int) -> Outcome:
     """Newton-Krylov on ``v = ln p`` in the u(p) form.
 
@@ -299,6 +317,9 @@ def newton(disc: Discretisation, law, v: np.ndarray, tol: float, max_iter: int) 
     whose centres reach full contact (docs/theory.md, numerics notes).
     """
     u_ref = law.u0
+    fast = _newton_compiled(disc, law, v, tol, max_iter)
+    if fast is not None:
+        return fast
     it = _evaluate(disc, law, v, None)
     steps = cg_total = 0
     res_prev = eta = math.nan

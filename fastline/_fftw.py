@@ -6,7 +6,8 @@ dependency) ships the FFTW library (``pyfftw.libs`` in its wheels) or links a sy
 module loads that same library with ctypes, makes the plans and exposes
 
 * ``AVAILABLE`` - whether an FFTW library with the needed symbols was found;
-* :func:`plans` - ``(r2c, c2r, plan_forward, plan_backward)`` addresses (int64) for one length;
+* :func:`acquire` / :func:`release` - ``(r2c, c2r, plan_forward, plan_backward)`` addresses
+  (int64) for one length, pinned while a kernel runs (plans are LRU-bounded);
 * :func:`execute` - an intrinsic that calls ``fftw_execute_dft_r2c`` / ``_c2r`` (new-array
   execute) at such an address from ``@njit`` code.
 
@@ -31,6 +32,7 @@ import importlib.util
 import os
 import sys
 import threading
+from collections import OrderedDict
 
 import numba
 import numpy as np
@@ -40,7 +42,7 @@ from numba.extending import intrinsic
 
 from fastline._jit import JIT
 
-__all__ = ["AVAILABLE", "plans", "execute", "aligned_buffers", "library_path"]
+__all__ = ["AVAILABLE", "acquire", "release", "execute", "aligned_buffers", "library_path"]
 
 _FFTW_ESTIMATE = 1 << 6
 #: byte alignment of the buffers the plans are made on and executed with (AVX-512 safe)
@@ -89,11 +91,18 @@ if AVAILABLE:
     for _name in ("fftw_plan_dft_r2c_1d", "fftw_plan_dft_c2r_1d"):
         getattr(_lib, _name).restype = _vp
         getattr(_lib, _name).argtypes = [ctypes.c_int, _vp, _vp, ctypes.c_uint]
+    _lib.fftw_destroy_plan.restype = None
+    _lib.fftw_destroy_plan.argtypes = [_vp]
     _R2C = ctypes.cast(_lib.fftw_execute_dft_r2c, _vp).value
     _C2R = ctypes.cast(_lib.fftw_execute_dft_c2r, _vp).value
 
 _plan_lock = threading.Lock()
-_plans: dict[int, tuple[int, int, int, int]] = {}
+#: transform lengths whose plans are kept when not in use (least recently used out); a plan in
+#: use by a kernel in any thread is never destroyed. An FFTW_ESTIMATE plan of length N holds
+#: ~60 KB at N ~ 2000 (measured as RSS over 300 lengths).
+PLANS_KEPT = 16
+#: N -> [r2c, c2r, forward plan, backward plan, number of kernels using it now]
+_plans: OrderedDict[int, list] = OrderedDict()
 
 
 def aligned_empty(size: int, dtype=np.float64) -> np.ndarray:
@@ -104,28 +113,47 @@ def aligned_empty(size: int, dtype=np.float64) -> np.ndarray:
     return raw[skip : skip + size]
 
 
-def plans(N: int) -> tuple[int, int, int, int]:
-    """``(r2c, c2r, forward plan, backward plan)`` addresses for real transforms of length N.
+def _make(N: int) -> list:
+    a = aligned_empty(N)
+    c = aligned_empty(N // 2 + 1, np.complex128)
+    pf = _lib.fftw_plan_dft_r2c_1d(N, a.ctypes.data, c.ctypes.data, _FFTW_ESTIMATE)
+    pb = _lib.fftw_plan_dft_c2r_1d(N, c.ctypes.data, a.ctypes.data, _FFTW_ESTIMATE)
+    if not pf or not pb:  # pragma: no cover - FFTW refused a plan
+        raise RuntimeError(f"FFTW could not plan a real transform of length {N}")
+    return [_R2C, _C2R, pf, pb, 0]
 
-    Made once per length under a lock and kept for the life of the process: a plan may be in
-    use in another thread at any time, so none is ever destroyed (an ``FFTW_ESTIMATE`` plan of
-    length N holds O(N) twiddle factors).
-    """
-    hit = _plans.get(N)
-    if hit is not None:
-        return hit
+
+def acquire(N: int) -> tuple[int, int, int, int]:
+    """``(r2c, c2r, forward plan, backward plan)`` addresses for real transforms of length N,
+    pinned until :func:`release` (call it in a ``finally``). Planning and the bookkeeping
+    happen under a lock: FFTW's planner is not thread-safe, its execute functions are."""
     with _plan_lock:
-        hit = _plans.get(N)
-        if hit is None:
-            a = aligned_empty(N)
-            c = aligned_empty(N // 2 + 1, np.complex128)
-            pf = _lib.fftw_plan_dft_r2c_1d(N, a.ctypes.data, c.ctypes.data, _FFTW_ESTIMATE)
-            pb = _lib.fftw_plan_dft_c2r_1d(N, c.ctypes.data, a.ctypes.data, _FFTW_ESTIMATE)
-            if not pf or not pb:  # pragma: no cover - FFTW refused a plan
-                raise RuntimeError(f"FFTW could not plan a real transform of length {N}")
-            hit = (_R2C, _C2R, pf, pb)
-            _plans[N] = hit
-    return hit
+        entry = _plans.get(N)
+        if entry is None:
+            entry = _plans[N] = _make(N)
+        entry[4] += 1
+        _plans.move_to_end(N)
+        _evict()
+        return entry[0], entry[1], entry[2], entry[3]
+
+
+def release(N: int) -> None:
+    """Unpin the plans of length N (see :func:`acquire`)."""
+    with _plan_lock:
+        _plans[N][4] -= 1
+        _evict()
+
+
+def _evict() -> None:
+    """Destroy the least recently used plans not in use, beyond ``PLANS_KEPT`` (lock held)."""
+    for N in list(_plans):
+        if len(_plans) <= PLANS_KEPT:
+            break
+        entry = _plans[N]
+        if entry[4] == 0:
+            _lib.fftw_destroy_plan(entry[2])
+            _lib.fftw_destroy_plan(entry[3])
+            del _plans[N]
 
 
 @intrinsic
@@ -154,13 +182,13 @@ def execute(typingctx, fn, plan, src, dst):
 
 @numba.njit(**JIT)
 def aligned_buffers(N):
-    """A real buffer of length N and a complex one of length N/2 + 1, both 64-byte aligned,
-    for executing the plans of :func:`plans` from compiled code."""
-    raw = np.empty(N + 8)
-    a = raw[(-raw.ctypes.data % 64) // 8 :][:N]
-    rawc = np.empty(N // 2 + 1 + 4, dtype=np.complex128)
-    c = rawc[(-rawc.ctypes.data % 64) // 16 :][: N // 2 + 1]
-    return a, c
+    """A real buffer of length N and one of length N + 2 for the N/2 + 1 complex values as
+    interleaved (real, imaginary) pairs (FFTW's layout), both 64-byte aligned, one allocation;
+    for executing the plans of :func:`plans` from compiled code (no complex dtype needed)."""
+    raw = np.empty(N + (N + 2) + 16)
+    off = (-raw.ctypes.data % 64) // 8
+    off2 = off + N + (-N % 8)
+    return raw[off : off + N], raw[off2 : off2 + N + 2]
 
 
 if __name__ == "__main__":  # pragma: no cover - a quick check of the set-up

@@ -11,23 +11,29 @@ M-orthogonal projection onto zero-load increments (du1 is the multiplier), preco
 a two-level method:
 
 * smoother: Jacobi ``1/(D + K00)``, except on the loaded core (cells from the first to the last
-  with ``D < CORE_THETA K00``) where a Strang circulant of ``K + median(D) I`` is inverted by
-  FFT, scaled by ``S_i = sqrt((K00 + median)/(K00 + D_i))`` so that cells whose D departs from
-  the median keep their own diagonal (one FFT convolution per application);
+  with ``D < CORE_THETA K00``) where a Strang circulant of ``K + d I`` (d the geometric mean of
+  D there) is inverted by FFT, scaled by ``S_i = sqrt((K00 + d)/(K00 + D_i))`` so that cells
+  whose D departs from d keep their own diagonal (one FFT convolution per application);
 * coarse correction on the smooth modes of the wide block (cells with ``D < WIDE_THETA K00``:
   the core plus the contact edge, where D spans five decades and neither Jacobi nor a circulant
-  fits), ``NC`` piecewise-constant aggregates, applied multiplicatively:
+  fits), ``nc`` piecewise-constant aggregates, applied multiplicatively:
   ``B = C + (I - C H) S (I - H C)``, ``C = P (P^T H P)^-1 P^T``. ``H P`` comes from prefix sums
   of the Toeplitz coefficients (no FFT): ``sum_{j in [a, b)} khat_|i-j| = T[i-a+n] - T[i-b+n]``.
   The coarse matrix penalises its constant mode (the projection handles constants; the log
   kernel's constant mode is strongly negative).
+* cells with ``D > FROZEN_THETA K00`` are decoupled: CG leaves them out (``R B R``, R zeroing
+  them; their vectors would hold subnormal numbers ~r/D, D up to 1e300, which slowed FFTs and
+  dot products 10-100x) and they get the Jacobi update from the final residual.
 
-Dense analysis at n = 1024 (tests/scratch measurements in docs/performance.md): the condition
-number of the preconditioned system on zero-load increments falls from 5-32 (the circulant
-alone) to 1.3-4 (two-level); the limit at small alpha is the contact edge.
+Dense analysis at n = 1024: the condition number of the preconditioned system on zero-load
+increments falls from 5-32 (the circulant alone) to 1.3-4 (two-level, 32 aggregates). CG stops
+when the Jacobi-weighted norm of the projected residual fell by ``rtol`` (known before the next
+preconditioner application, which is then saved), and returns the best iterate it saw.
 
-CG stops when the Jacobi-weighted norm of the projected residual fell by ``rtol``: this is
-known before the next preconditioner application, which is then saved.
+Written in plain loops over arrays passed one by one (no tuples, no NumPy linear algebra, no
+sorting): Numba compiles that in a fraction of the time, and first-call compilation is a real
+cost to users (the first version, with ``np.linalg.cholesky``, ``np.median`` and tuples of
+arrays, took 18 s to compile cold).
 """
 
 from __future__ import annotations
@@ -45,41 +51,40 @@ CORE_THETA = 10.0
 _CORE_MIN_CELLS = 8
 #: wide block of the coarse correction: cells with D < WIDE_THETA K00
 WIDE_THETA = 100.0
-#: piecewise-constant aggregates of the coarse space (at most one per 4 cells)
-NC = 16
-#: cells with D > FROZEN_THETA K00 are decoupled: CG leaves them out (their vectors would hold
-#: subnormal numbers, ~r/D with D up to 1e300, which slowed FFTs and dot products 10-100x) and
-#: they get the Jacobi update dp = (res - du1)/D from the final residual
+#: decoupled cells, left out of CG: D > FROZEN_THETA K00
 FROZEN_THETA = 1e10
+#: CG stops when its residual has not improved for this many iterations (round-off)
+_STAGNATION = 20
 
 
 # ----------------------------------------------------------------------------------------------
 # FFT convolutions
 # ----------------------------------------------------------------------------------------------
 @numba.njit(**JIT)
-def _convolve(x, m, spec, fft, a, c, out):
+def _convolve(x, m, spec, fr2c, fc2r, pf, pb, a, c, out):
     """``out[:m] = (IFFT(spec * FFT([x[:m], 0...])))[:m]``: a linear convolution with the
     kernel whose real spectrum (normalisation included) is ``spec``; one FFT convolution."""
-    r2c, c2r, pf, pb = fft
     for i in range(m):
         a[i] = x[i]
     for i in range(m, a.shape[0]):
         a[i] = 0.0
-    execute(r2c, pf, a.ctypes.data, c.ctypes.data)
-    for k in range(c.shape[0]):
-        c[k] = c[k] * spec[k]
-    execute(c2r, pb, c.ctypes.data, a.ctypes.data)
+    execute(fr2c, pf, a.ctypes.data, c.ctypes.data)
+    for k in range(spec.shape[0]):  # c holds (re, im) pairs; spec is real
+        c[2 * k] *= spec[k]
+        c[2 * k + 1] *= spec[k]
+    execute(fc2r, pb, c.ctypes.data, a.ctypes.data)
     for i in range(m):
         out[i] = a[i]
 
 
 @numba.njit(**JIT)
-def apply_kernel(x, kspec, scale, fft, out):
+def apply_kernel(x, kspec, scale, fr2c, fc2r, pf, pb, out):
     """``out = K x`` with ``K = scale * toeplitz(khat)`` (``kspec``: spectrum of the zero-padded
     circulant embedding of khat, divided by 2n)."""
-    a, c = aligned_buffers(2 * x.shape[0])
-    _convolve(x, x.shape[0], kspec, fft, a, c, out)
-    for i in range(out.shape[0]):
+    n = x.shape[0]
+    a, c = aligned_buffers(2 * n)
+    _convolve(x, n, kspec, fr2c, fc2r, pf, pb, a, c, out)
+    for i in range(n):
         out[i] *= scale
 
 
@@ -87,225 +92,268 @@ def apply_kernel(x, kspec, scale, fft, out):
 # preconditioner set-up
 # ----------------------------------------------------------------------------------------------
 @numba.njit(**JIT)
-def _block(D, limit):
+def _first_last(D, limit):
     """First and one-past-last cell with ``D < limit`` (0, 0 if none)."""
-    i0, i1 = -1, 0
+    i0 = -1
+    i1 = 0
     for i in range(D.shape[0]):
         if D[i] < limit:
             if i0 < 0:
                 i0 = i
             i1 = i + 1
-    return (0, 0) if i0 < 0 else (i0, i1)
+    if i0 < 0:
+        return 0, 0
+    return i0, i1
 
 
 @numba.njit(**JIT)
-def _smoother(D, K00, scale, strang):
-    """Jacobi factors, core block, its diagonal scaling and inverse circulant spectrum."""
-    n = D.shape[0]
-    minv = 1.0 / (D + K00)
-    for i in range(n):
-        if D[i] > FROZEN_THETA * K00:
-            minv[i] = 0.0
-    i0, i1 = _block(D, CORE_THETA * K00)
-    if i1 - i0 < _CORE_MIN_CELLS:
-        return minv, 0, 0, np.empty(0), np.empty(0)
-    shift = np.median(D[i0:i1])
-    S = np.sqrt((K00 + shift) / (K00 + D[i0:i1]))
-    cinv = 1.0 / ((scale * strang + shift) * (2 * n))
-    return minv, i0, i1, S, cinv
-
-
-@numba.njit(**JIT)
-def _coarse(D, K00, scale, prefix, nc_max):
-    """Aggregate edges, ``H P`` (n x nc) and the Cholesky factor of the penalised P^T H P."""
-    n = D.shape[0]
-    j0, j1 = _block(D, WIDE_THETA * K00)
-    nc = min(nc_max, (j1 - j0) // 4)
-    if nc < 2:
-        return np.zeros(1, np.int64), np.empty((n, 0)), np.empty((0, 0))
-    e = np.empty(nc + 1, np.int64)
-    for k in range(nc + 1):
-        e[k] = j0 + int(round(k * (j1 - j0) / nc))
-    HP = np.empty((n, nc))
-    for k in range(nc):
-        a, b = e[k], e[k + 1]
-        for i in range(n):
-            HP[i, k] = scale * (prefix[i - a + n] - prefix[i - b + n])
-        for i in range(a, b):
-            HP[i, k] += D[i]
-    Hc = np.zeros((nc, nc))
-    for k in range(nc):
-        for i in range(e[k], e[k + 1]):
-            for m in range(nc):
-                Hc[k, m] += HP[i, m]
-    s = np.empty(nc)
-    for k in range(nc):
-        s[k] = e[k + 1] - e[k]
-    s /= math.sqrt(np.dot(s, s))
-    Hc = 0.5 * (Hc + Hc.T)
-    big = 2.0 * abs(np.dot(s, Hc @ s)) + nc * np.max(np.abs(np.diag(Hc)))
-    Hc += big * np.outer(s, s)
-    return e, HP, np.linalg.cholesky(Hc)
+def _chol_solve(L, nc, b):
+    """``b <- (L L^T)^-1 b`` for the leading nc x nc block, in place."""
+    for i in range(nc):
+        acc = b[i]
+        for j in range(i):
+            acc -= L[i, j] * b[j]
+        b[i] = acc / L[i, i]
+    for i in range(nc - 1, -1, -1):
+        acc = b[i]
+        for j in range(i + 1, nc):
+            acc -= L[j, i] * b[j]
+        b[i] = acc / L[i, i]
 
 
 # ----------------------------------------------------------------------------------------------
 # preconditioner application
 # ----------------------------------------------------------------------------------------------
 @numba.njit(**JIT)
-def _chol_solve(L, b):
-    """``(L L^T)^-1 b`` by forward and back substitution."""
-    nc = b.shape[0]
-    y = np.empty(nc)
-    for i in range(nc):
-        acc = b[i]
-        for j in range(i):
-            acc -= L[i, j] * y[j]
-        y[i] = acc / L[i, i]
-    for i in range(nc - 1, -1, -1):
-        acc = y[i]
-        for j in range(i + 1, nc):
-            acc -= L[j, i] * y[j]
-        y[i] = acc / L[i, i]
-    return y
-
-
-@numba.njit(**JIT)
-def _smooth(y, out, minv, i0, i1, S, cinv, fft, a, c, tmp):
-    """``out = S(y)``: Jacobi (0 on frozen cells, minv = 0), and the scaled circulant on the
-    core; returns the FFT count."""
-    for i in range(y.shape[0]):
-        out[i] = minv[i] * y[i]
-    m = i1 - i0
-    if m == 0:
-        return 0
-    for i in range(m):
-        tmp[i] = S[i] * y[i0 + i]
-    _convolve(tmp, m, cinv, fft, a, c, tmp)
-    for i in range(m):
-        out[i0 + i] = S[i] * tmp[i]
-    return 1
-
-
-@numba.njit(**JIT)
-def _precondition(y_in, out, sm, co, fft, a, c, tmp, r1):
-    """``out = R B R y`` (two-level, module docstring; R zeroes the frozen cells, so CG never
-    moves them and no subnormal number enters its vectors); returns the FFT count."""
-    minv, i0, i1, S, cinv = sm
-    e, HP, L = co
-    nc = HP.shape[1]
-    y = np.where(minv > 0.0, y_in, 0.0)
-    if nc == 0:
-        ffts = _smooth(y, out, minv, i0, i1, S, cinv, fft, a, c, tmp)
-        _restrict(out, minv)
-        return ffts
-    g = np.zeros(nc)
+def _precondition(
+    y, out, minv, i0, i1, S, cinv, nc, e, HP, L, fr2c, fc2r, pf, pb, a, c, tmp, r1, g1, g2
+):
+    """``out = R B R y`` (two-level, module docstring; R zeroes the frozen cells); returns the
+    number of FFT convolutions. ``a, c, tmp, r1, g1, g2``: work arrays."""
+    n = y.shape[0]
+    for i in range(n):  # R y, and the coarse right-hand side P^T R y
+        r1[i] = y[i] if minv[i] > 0.0 else 0.0
     for k in range(nc):
+        acc = 0.0
         for i in range(e[k], e[k + 1]):
-            g[k] += y[i]
-    c1 = _chol_solve(L, g)
-    for i in range(y.shape[0]):
-        acc = y[i]
+            acc += r1[i]
+        g1[k] = acc
+    _chol_solve(L, nc, g1)
+    for i in range(n):  # r1 = R y - H P c1
+        acc = r1[i]
         for k in range(nc):
-            acc -= HP[i, k] * c1[k]
+            acc -= HP[i, k] * g1[k]
         r1[i] = acc
-    ffts = _smooth(r1, out, minv, i0, i1, S, cinv, fft, a, c, tmp)
-    g[:] = 0.0
-    for i in range(y.shape[0]):
+    for i in range(n):  # smoother: Jacobi, and the scaled circulant on the core
+        out[i] = minv[i] * r1[i]
+    ffts = 0
+    m = i1 - i0
+    if m > 0:
+        for i in range(m):
+            tmp[i] = S[i] * r1[i0 + i] if minv[i0 + i] > 0.0 else 0.0
+        _convolve(tmp, m, cinv, fr2c, fc2r, pf, pb, a, c, tmp)
+        for i in range(m):
+            if minv[i0 + i] > 0.0:
+                out[i0 + i] = S[i] * tmp[i]
+        ffts = 1
+    for k in range(nc):  # c2 = (P^T H P)^-1 (H P)^T z1, out = z1 + P (c1 - c2)
+        g2[k] = 0.0
+    for i in range(n):
         for k in range(nc):
-            g[k] += HP[i, k] * out[i]
-    c2 = _chol_solve(L, g)
+            g2[k] += HP[i, k] * out[i]
+    _chol_solve(L, nc, g2)
     for k in range(nc):
-        d = c1[k] - c2[k]
+        d = g1[k] - g2[k]
         for i in range(e[k], e[k + 1]):
-            out[i] += d
-    _restrict(out, minv)
+            if minv[i] > 0.0:
+                out[i] += d
     return ffts
-
-
-@numba.njit(**JIT)
-def _restrict(x, minv):
-    """Zero the frozen cells (``minv == 0``)."""
-    for i in range(x.shape[0]):
-        if minv[i] == 0.0:
-            x[i] = 0.0
 
 
 # ----------------------------------------------------------------------------------------------
 # projected preconditioned conjugate gradients
 # ----------------------------------------------------------------------------------------------
 @numba.njit(**JIT)
-def solve_newton_system(fft, kspec, strang, prefix, scale, K00, D, w, rhs, rtol, maxit, nc, dp):
+def solve_newton_system(
+    fr2c, fc2r, pf, pb, kspec, strang, prefix, scale, K00, D, w, rhs, rtol, maxit, nc_max, dp
+):
     """Solve ``(D + K) dp + du1 = rhs``, ``sum(w dp) = 0`` (module docstring) into ``dp``.
 
-    Returns ``(du1, iterations, k_applications, circulant_solves)``.
+    Stages: set up the smoother and the coarse level, then projected PCG. Returns
+    ``(du1, iterations, k_applications, circulant_solves)``. (One function with plain loops:
+    every separate compiled function and NumPy convenience costs compile time.)
     """
     n = D.shape[0]
     a, c = aligned_buffers(2 * n)
-    tmp = np.empty(n)
-    r1 = np.empty(n)
-    sm = _smoother(D, K00, scale, strang)
-    co = _coarse(D, K00, scale, prefix, nc)
-    circ = 0
-    m1 = np.empty(n)
-    circ += _precondition(np.ones(n), m1, sm, co, fft, a, c, tmp, r1)
-    s_m1 = np.dot(w, m1)
-    jac = w * sm[0]  # 0 on frozen cells: their residual is theirs alone
-    s_jac = jac.sum()
-    res = rhs.copy()
-    z = np.empty(n)
-    circ += _precondition(res, z, sm, co, fft, a, c, tmp, r1)
-    lam = np.dot(w, z) / s_m1
-    z -= lam * m1
-    rz = np.dot(w * res, z)
+    tmp, r1, g1, g2 = np.empty(n), np.empty(n), np.empty(nc_max), np.empty(nc_max)
+    # -- smoother: Jacobi (0 on frozen cells), scaled circulant on the core -------------------
+    minv, S, cinv = np.empty(n), np.empty(n), np.empty(n + 1)
+    for i in range(n):
+        minv[i] = 0.0 if D[i] > FROZEN_THETA * K00 else 1.0 / (D[i] + K00)
+    i0, i1 = _first_last(D, CORE_THETA * K00)
+    if i1 - i0 < _CORE_MIN_CELLS:
+        i0 = i1 = 0
+    else:
+        logsum = 0.0
+        for i in range(i0, i1):
+            logsum += math.log(D[i])
+        shift = math.exp(logsum / (i1 - i0))  # geometric mean of D on the core
+        for i in range(i0, i1):
+            S[i - i0] = math.sqrt((K00 + shift) / (K00 + D[i]))
+        for k in range(n + 1):
+            cinv[k] = 1.0 / ((scale * strang[k] + shift) * (2 * n))
+    # -- coarse level: aggregates of the wide block, H P, Cholesky of penalised P^T H P -------
+    e = np.empty(nc_max + 1, np.int64)
+    HP, L = np.empty((n, nc_max)), np.empty((nc_max, nc_max))
+    j0, j1 = _first_last(D, WIDE_THETA * K00)
+    nc = min(nc_max, (j1 - j0) // 4)
+    if nc < 2:
+        nc = 0
+    else:
+        _coarse_matrices(D, scale, prefix, j0, j1, nc, e, HP, L)
+    # -- projected PCG ----------------------------------------------------------------------
+    m1, z, d, Hd, jac = np.empty(n), np.empty(n), np.empty(n), np.empty(n), np.empty(n)
+    res, best_dp, best_res = np.empty(n), np.empty(n), np.empty(n)
+    for i in range(n):
+        tmp[i] = 1.0
+    circ = _precondition(
+        tmp, m1, minv, i0, i1, S, cinv, nc, e, HP, L, fr2c, fc2r, pf, pb, a, c, tmp, r1, g1, g2
+    )
+    s_m1 = 0.0
+    s_jac = 0.0
+    for i in range(n):
+        s_m1 += w[i] * m1[i]
+        jac[i] = w[i] * minv[i]  # 0 on frozen cells: their residual is theirs alone
+        s_jac += jac[i]
+        res[i] = rhs[i]
+    circ += _precondition(
+        res, z, minv, i0, i1, S, cinv, nc, e, HP, L, fr2c, fc2r, pf, pb, a, c, tmp, r1, g1, g2
+    )
+    lam = 0.0
+    for i in range(n):
+        lam += w[i] * z[i]
+    lam /= s_m1
+    rz = 0.0
+    for i in range(n):
+        z[i] -= lam * m1[i]
+        d[i] = z[i]
+        dp[i] = 0.0
+        best_dp[i] = 0.0
+        best_res[i] = res[i]
+        rz += w[i] * res[i] * z[i]
     r0 = _jacobi_norm(res, jac, s_jac)
-    d = z.copy()
-    Hd = np.empty(n)
-    dp[:] = 0.0
-    its = kapps = 0
     # the best iterate so far (by Jacobi residual) is what is returned: if round-off breaks CG
     # down at a tight tolerance (the log kernel's constant mode has a large negative energy, so
     # a tiny leak off zero load makes <d, H d> negative), nothing worse than it comes back
-    best_dp, best_res, best, best_its = dp.copy(), res.copy(), r0, 0
+    best, best_its, its, kapps = r0, 0, 0, 0
     while its < maxit and rz > 0.0:
-        _convolve(d, n, kspec, fft, a, c, Hd)
+        _convolve(d, n, kspec, fr2c, fc2r, pf, pb, a, c, Hd)
         kapps += 1
+        dHd = 0.0
         for i in range(n):
             Hd[i] = D[i] * d[i] + scale * Hd[i]
-        dHd = np.dot(w * d, Hd)
+            dHd += w[i] * d[i] * Hd[i]
         if not dHd > 0.0:
             break
         alpha = rz / dHd
-        dp += alpha * d
-        res -= alpha * Hd
+        for i in range(n):
+            dp[i] += alpha * d[i]
+            res[i] -= alpha * Hd[i]
         its += 1
         rn = _jacobi_norm(res, jac, s_jac)
         if rn < best:
             best, best_its = rn, its
-            best_dp[:] = dp
-            best_res[:] = res
-        # stop when reduced by rtol, at maxit, or stagnant (round-off) for 20 iterations
-        if rn <= rtol * r0 or its - best_its >= 20:
+            for i in range(n):
+                best_dp[i] = dp[i]
+                best_res[i] = res[i]
+        if rn <= rtol * r0 or its - best_its >= _STAGNATION:
             break
-        circ += _precondition(res, z, sm, co, fft, a, c, tmp, r1)
-        lam = np.dot(w, z) / s_m1
-        z -= lam * m1
-        rz_new = np.dot(w * res, z)
-        d = z + (rz_new / rz) * d
+        circ += _precondition(
+            res, z, minv, i0, i1, S, cinv, nc, e, HP, L, fr2c, fc2r, pf, pb, a, c, tmp, r1, g1, g2
+        )
+        lam = 0.0
+        for i in range(n):
+            lam += w[i] * z[i]
+        lam /= s_m1
+        rz_new = 0.0
+        for i in range(n):
+            z[i] -= lam * m1[i]
+            rz_new += w[i] * res[i] * z[i]
+        beta = rz_new / rz
+        for i in range(n):
+            d[i] = z[i] + beta * d[i]
         rz = rz_new
-    dp[:] = best_dp
-    lam = np.dot(jac, best_res) / s_jac  # the multiplier: Jacobi-weighted mean residual
-    dp -= (np.dot(w, dp) / s_m1) * m1  # back onto zero load (round-off drift)
-    for i in range(n):  # frozen cells: the Jacobi update from the final residual
-        if sm[0][i] == 0.0:
+    # -- finish: the best iterate, back onto zero load, the frozen cells' Jacobi update ------
+    lam = 0.0
+    drift = 0.0
+    for i in range(n):
+        lam += jac[i] * best_res[i]
+        drift += w[i] * best_dp[i]
+    lam /= s_jac
+    drift /= s_m1
+    for i in range(n):
+        dp[i] = best_dp[i] - drift * m1[i]
+        if minv[i] == 0.0:
             dp[i] = (best_res[i] - lam) / D[i]
     return lam, its, kapps, circ
+
+
+@numba.njit(**JIT)
+def _coarse_matrices(D, scale, prefix, j0, j1, nc, e, HP, L):
+    """Aggregate edges ``e``, ``H P`` (n x nc) and the Cholesky factor ``L`` of ``P^T H P``
+    with its constant mode penalised."""
+    n = D.shape[0]
+    for k in range(nc + 1):
+        e[k] = j0 + (k * (j1 - j0) + nc // 2) // nc
+    for i in range(n):
+        for k in range(nc):
+            HP[i, k] = scale * (prefix[i - e[k] + n] - prefix[i - e[k + 1] + n])
+    for k in range(nc):
+        for i in range(e[k], e[k + 1]):
+            HP[i, k] += D[i]
+    for k in range(nc):
+        for m in range(nc):
+            L[k, m] = 0.0
+    for k in range(nc):
+        for i in range(e[k], e[k + 1]):
+            for m in range(nc):
+                L[k, m] += HP[i, m]
+    sizes = 0.0
+    energy = 0.0
+    diag_max = 0.0
+    for k in range(nc):
+        sizes += (e[k + 1] - e[k]) ** 2
+        diag_max = max(diag_max, abs(L[k, k]))
+        for m in range(k):
+            L[k, m] = L[m, k] = 0.5 * (L[k, m] + L[m, k])
+    for k in range(nc):
+        for m in range(nc):
+            energy += L[k, m] * (e[k + 1] - e[k]) * (e[m + 1] - e[m])
+    big = (2.0 * abs(energy) / sizes + nc * diag_max) / sizes
+    for k in range(nc):
+        for m in range(nc):
+            L[k, m] += big * (e[k + 1] - e[k]) * (e[m + 1] - e[m])
+    # in-place lower Cholesky factor
+    for j in range(nc):
+        acc = L[j, j]
+        for k in range(j):
+            acc -= L[j, k] * L[j, k]
+        L[j, j] = math.sqrt(acc)
+        for i in range(j + 1, nc):
+            acc = L[i, j]
+            for k in range(j):
+                acc -= L[i, k] * L[j, k]
+            L[i, j] = acc / L[j, j]
 
 
 @numba.njit(**JIT)
 def _jacobi_norm(res, jac, s_jac):
     """Jacobi-weighted norm of ``res`` with its Jacobi-weighted mean removed (the part the
     projection onto zero-load increments sees, as cheap as a dot product)."""
-    mean = np.dot(jac, res) / s_jac
+    mean = 0.0
+    for i in range(res.shape[0]):
+        mean += jac[i] * res[i]
+    mean /= s_jac
     acc = 0.0
     for i in range(res.shape[0]):
         r = res[i] - mean

@@ -1,11 +1,13 @@
-"""Command-line interface: ``fastline paper | profile | sweep | leak`` (``python -m fastline``).
+"""Command-line interface: ``fastline paper | profile | sweep | leak | batch`` (``python -m
+fastline``).
 
 Argument parsing and printing only: the scenes of the paper live in :mod:`fastline.paper`,
 files in :mod:`fastline.io`, figures in :mod:`fastline.plotting`, validity checks in
 :mod:`fastline.diagnostics`.
 
-Exit status: 0 done; 1 a solve did not converge (results are still printed and written);
-2 bad usage or input (one ``fastline: error: ...`` line on stderr, nothing solved).
+Exit status: 0 done; 1 a solve did not converge or a scene of a batch failed (results are still
+printed and written); 2 bad usage or input (one ``fastline: error: ...`` line on stderr,
+nothing solved).
 
 SI units throughout: lengths in m, wavenumbers in 1/m, spectra C(q) in m^4, pressures and
 moduli in Pa, loads per unit cylinder length in N/m.
@@ -27,8 +29,13 @@ result is the pressure profile p(x) across the contact line, its peak p0, width 
 deviation s, full width at half maximum w) and how far it is from the smooth Hertz solution,
 measured by alpha = h_rms / delta (delta = 4 f_N / (pi E*), the Hertz penetration).
 
-SI units everywhere: m, 1/m, m^4, Pa, N/m (load per unit cylinder length).
-Exit status: 0 done, 1 a solve did not converge, 2 bad usage or input."""
+With --geometry sphere (profile, sweep, paper) the same for a rigid sphere on the flat (a point
+contact): p(r), the FWHM w along a diameter, s^2 = int r^2 p dA / (2F), delta = a^2/R; the load
+is then the total load F on the sphere in N.
+
+SI units everywhere: m, 1/m, m^4, Pa, N/m (load per unit cylinder length), N (load on a sphere).
+Exit status: 0 done, 1 a solve did not converge (or a scene of a batch failed), 2 bad usage
+or input."""
 
 EPILOG = """\
 examples:
@@ -36,7 +43,10 @@ examples:
   fastline profile --psd examples/psd_example.txt --E1 2.1e11 --nu1 0.3 --E2 5e6 --nu2 0.49 \\
                    --load 500
   fastline sweep --h-rms 1e-6 --loads-from 1e3 --loads-to 1e6 --loads-num 30 --csv sweep.csv
+  fastline profile --geometry sphere --load 500 --E1 2.1e11 --nu1 0.3 --E2 7e10 --nu2 0.33
   fastline leak --h-rms 1e-6 --load 1e4 --pressure-drop 1e4 --viscosity 1e-3 --plot leak.png
+  fastline sweep --loads-num 400 --workers 2 --csv sweep.csv
+  fastline batch scenes.csv --out results.csv --workers 2
   fastline paper --out figs/ --format pdf"""
 
 #: defaults of the self-affine spectrum options (the paper's surface 1)
@@ -150,7 +160,7 @@ def _spectrum_options(parser: argparse.ArgumentParser) -> None:
     )
 
 
-def _material_options(parser: argparse.ArgumentParser, load: bool) -> None:
+def _material_options(parser: argparse.ArgumentParser, load: bool, geometry: bool = False) -> None:
     m = parser.add_argument_group(
         "material and geometry",
         "Give the effective modulus directly or the two solids' elastic constants "
@@ -167,6 +177,9 @@ def _material_options(parser: argparse.ArgumentParser, load: bool) -> None:
     m.add_argument("--nu1", type=_number, metavar="NU", help="Poisson ratio of solid 1 [-]")
     m.add_argument("--E2", type=_positive, metavar="PA", help="Young's modulus of solid 2 [Pa]")
     m.add_argument("--nu2", type=_number, metavar="NU", help="Poisson ratio of solid 2 [-]")
+    if geometry:
+        _geometry_options(m, load)
+        return
     m.add_argument(
         "--radius",
         type=_positive,
@@ -184,7 +197,9 @@ def _material_options(parser: argparse.ArgumentParser, load: bool) -> None:
         )
 
 
-def _numerics_options(parser: argparse.ArgumentParser, model: bool = True) -> None:
+def _numerics_options(
+    parser: argparse.ArgumentParser, model: bool = True, geometry: bool = False
+) -> None:
     s = parser.add_argument_group("model and numerics")
     if model:
         s.add_argument(
@@ -204,10 +219,12 @@ def _numerics_options(parser: argparse.ArgumentParser, model: bool = True) -> No
     s.add_argument(
         "--n",
         type=_count,
-        default=1024,
+        default=None if geometry else 1024,
         metavar="N",
-        help="grid points across the contact (default 1024, at least 16)",
-    )
+        help="grid points across the contact (default 1024, at least 16)"
+        + ("; with --geometry sphere: cells from the axis outwards (default 512, at most 4096)"
+           if geometry else ""),
+    )  # fmt: skip
     s.add_argument(
         "--max-iter",
         type=_count,
@@ -238,8 +255,36 @@ def _figure_options(parser: argparse.ArgumentParser) -> None:
     )
 
 
+def _parallel_options(parser: argparse.ArgumentParser, default: str) -> None:
+    g = parser.add_argument_group(
+        "parallel execution",
+        "Solve on several processes or a dask.distributed cluster (fastline.sweep): scenes of "
+        "one model are cut into tasks of consecutive loads; the numbers do not depend on "
+        f"where the tasks are solved. Default: {default}.",
+    )
+    g.add_argument(
+        "--workers",
+        type=_count,
+        metavar="N",
+        help="solve on N local processes (1: in this process)",
+    )
+    g.add_argument(
+        "--scheduler",
+        metavar="ADDRESS",
+        help="solve on the dask.distributed cluster whose scheduler is at ADDRESS, e.g. "
+        'tcp://host:8786 (needs dask: pip install "fastline-contact[dask]" for the extra)',
+    )
+    g.add_argument(
+        "--chunksize",
+        type=_count,
+        metavar="K",
+        help="scenes per task at most (default: about 64 tasks, 8 to 256 scenes each)",
+    )
+
+
 def build_parser() -> argparse.ArgumentParser:
-    """The ``fastline`` argument parser (commands ``paper``, ``profile``, ``sweep``)."""
+    """The ``fastline`` argument parser (commands ``paper``, ``profile``, ``sweep``,
+    ``batch``)."""
     from fastline import __version__
 
     fmt = argparse.RawDescriptionHelpFormatter
@@ -254,7 +299,10 @@ def build_parser() -> argparse.ArgumentParser:
         description="Reproduce Figs. 2-5 of Tiwari & Persson: C(q) of surfaces 1-3 (fig2_psd), "
         "p(x) rough vs Hertz at f_N = 1e4 N/m (fig3_profile), w/s vs alpha (fig4_ws) and "
         "p0(rough)/p0(Hertz) vs alpha with the Gaussian asymptote, eq. 14 (fig5_p0ratio). "
-        "E* = 1.33 GPa, R = 1 cm, q0 = 1e3 1/m, qr = 1e4 1/m.",
+        "E* = 1.33 GPa, R = 1 cm, q0 = 1e3 1/m, qr = 1e4 1/m. With --geometry sphere: their "
+        "sphere versions (fig3_profile_sphere, fig4_ws_sphere, fig5_p0ratio_sphere; R = 1 cm "
+        "the sphere's radius), loads F [N] chosen per surface so that alpha = h_rms / delta "
+        "(delta = a^2/R) is log-spaced over 1e-3..1e3.",
     )
     p.add_argument("--out", required=True, metavar="DIR", help="output directory (created)")
     p.add_argument(
@@ -262,7 +310,8 @@ def build_parser() -> argparse.ArgumentParser:
         type=_count,
         default=40,
         metavar="N",
-        help="loads per surface, log-spaced from 1e3 to 1.5e6 N/m (default 40)",
+        help="loads per surface, log-spaced from 1e3 to 1.5e6 N/m (default 40); with --geometry "
+        "sphere: loads F [N] log-spaced so that alpha runs over 1e-3..1e3",
     )
     p.add_argument(
         "--q1",
@@ -271,20 +320,31 @@ def build_parser() -> argparse.ArgumentParser:
         metavar="1/M",
         help="large-wavenumber cut-off q1 [1/m] (the paper does not state it; default 1e9)",
     )
-    _numerics_options(p, model=False)
+    p.add_argument(
+        "--geometry",
+        choices=GEOMETRIES,
+        default="cylinder",
+        help="cylinder on a flat (the paper's figures, default) or sphere on a flat",
+    )
+    _numerics_options(p, model=False, geometry=True)
     _figure_options(p)
 
     p = sub.add_parser(
         "profile",
         help="solve one scene: p(x), p0, widths, regime, diagnostics",
         formatter_class=fmt,
-        description="Solve one cylinder-on-flat scene and print the spectrum, the peak pressure, "
-        "widths, alpha, regime, validity diagnostics and solver convergence.",
+        description="Solve one cylinder-on-flat scene (or, with --geometry sphere, "
+        "sphere-on-flat) and print the spectrum, the peak pressure, widths, alpha, regime, "
+        "validity diagnostics and solver convergence.",
     )
     _spectrum_options(p)
-    _material_options(p, load=True)
-    _numerics_options(p)
-    p.add_argument("--csv", metavar="FILE", help="write x [m], p [Pa], u [m] columns to FILE")
+    _material_options(p, load=True, geometry=True)
+    _numerics_options(p, geometry=True)
+    p.add_argument(
+        "--csv",
+        metavar="FILE",
+        help="write x [m], p [Pa], u [m] columns to FILE (a sphere: r [m] from the axis)",
+    )
     p.add_argument("--plot", metavar="FILE", help="write a figure of p(x) with Hertz to FILE")
     _figure_options(p)
 
@@ -296,33 +356,55 @@ def build_parser() -> argparse.ArgumentParser:
         "s, w and w/s.",
     )
     _spectrum_options(p)
-    _material_options(p, load=False)
+    _material_options(p, load=False, geometry=True)
     p.add_argument(
         "--loads-from",
         type=_positive,
-        default=1e3,
-        metavar="N/M",
-        help="smallest load per unit length [N/m] (default 1e3)",
+        metavar="LOAD",
+        help="smallest load: per unit length [N/m] (default 1e3); with --geometry sphere the "
+        "total load F [N] (default 0.1)",
     )
     p.add_argument(
         "--loads-to",
         type=_positive,
-        default=1.5e6,
-        metavar="N/M",
-        help="largest load per unit length [N/m] (default 1.5e6)",
+        metavar="LOAD",
+        help="largest load: per unit length [N/m] (default 1.5e6); with --geometry sphere the "
+        "total load F [N] (default 1e3)",
     )
     p.add_argument(
         "--loads-num", type=_count, default=20, metavar="N", help="number of loads (default 20)"
     )
-    _numerics_options(p)
+    _numerics_options(p, geometry=True)
     p.add_argument(
         "--csv",
         metavar="FILE",
-        help="write the table (load [N/m], alpha, p0 [Pa], p0_ratio, s [m], w [m], "
-        "w_over_s, converged) to FILE",
+        help="write the table (load [N/m] or, for a sphere, [N], alpha, p0 [Pa], p0_ratio, "
+        "s [m], w [m], w_over_s, converged) to FILE",
     )
     p.add_argument("--plot", metavar="FILE", help="write a figure of w/s and p0 ratio vs alpha")
     _figure_options(p)
+    _parallel_options(
+        p,
+        "one continuation sweep in this process (its numbers differ from the tasks' within "
+        "the solver tolerance)",
+    )
+
+    p = sub.add_parser(
+        "batch",
+        help="solve a table of scenes from a CSV file (in parallel)",
+        formatter_class=fmt,
+        description="Solve every scene (row) of a CSV file and write one row of results per "
+        "scene. Columns (header row; units in the name optional, e.g. E_star or E_star_Pa): "
+        "the spectrum as h_rms, hurst, q0, qr, q1 or as psd (a spectrum file, relative to the "
+        "CSV file); E_star [Pa], radius [m], load [N/m]; optional label, geometry (cylinder), "
+        "model, method, n, gamma, tol, max_iter, hardness [Pa]; an empty cell takes the "
+        "default. A scene that fails (a value out of range, an unreadable spectrum file) is "
+        "reported in its row's error column; the others are solved.",
+    )
+    p.add_argument("scenes", metavar="SCENES.csv", help="the scene table")
+    p.add_argument("--out", required=True, metavar="FILE", help="write the results (CSV) to FILE")
+    _parallel_options(p, "a local process per CPU")
+
     _leak_parser(sub, fmt)
     return parser
 
@@ -505,9 +587,10 @@ def _convergence_status(results) -> int:
     if not bad:
         return 0
     loads = ", ".join(f"{r.load:.4g}" for r in bad[:5]) + (" ..." if len(bad) > 5 else "")
+    symbol, unit = getattr(bad[0], "LOAD_SYMBOL", "f_N"), getattr(bad[0], "LOAD_UNIT", "N/m")
     print(
-        f"fastline: error: {len(bad)} of {len(results)} solves did not converge (f_N = {loads} "
-        f"N/m): {bad[0].message}",
+        f"fastline: error: {len(bad)} of {len(results)} solves did not converge ({symbol} = "
+        f"{loads} {unit}): {bad[0].message}",
         file=sys.stderr,
     )
     return 1
@@ -561,6 +644,27 @@ def _result_lines(r, diag) -> list[str]:
         f"FWHM w           {r.fwhm:.6g} m ({diag['fwhm_cells']:.3g} grid cells)",
         f"w/s              {r.w_over_s:.6g}   (Hertz 3.464, Gaussian 2.355)",
     ]
+    lines += _asperity_lines(diag)
+    lines.append(f"half-width / R   {diag['half_width_over_radius']:.4g}")
+    if diag.get("longest_wavelength") is not None:
+        lines.append(
+            f"width / (2pi/q0) {diag['contact_width'] / diag['longest_wavelength']:.3g} "
+            "(contact width over the longest roughness wavelength; the theory wants >= 1)"
+        )
+    lines += _law_lines(diag)
+    lines += [
+        f"converged        {'yes' if r.converged else 'NO'} ({r.iterations} iterations, "
+        f"{r.convolutions} FFT convolutions, residual {r.residual:.3g})",
+        f"force error      {r.force_error:.3g} (relative); edge pressure {r.edge_pressure:.3g} p0",
+    ]
+    if r.message:
+        lines.append(f"solver message   {r.message}")
+    return lines
+
+
+def _asperity_lines(diag) -> list[str]:
+    """The elastic asperity pressure, the real area at the peak and the plasticity verdict."""
+    lines = []
     if diag.get("rms_slope") is not None:
         lines += [
             f"h' E*/2          {diag['asperity_pressure']:.6g} Pa (elastic mean asperity pressure)",
@@ -568,12 +672,12 @@ def _result_lines(r, diag) -> list[str]:
         ]
     if diag.get("plastic_likely") is not None:
         lines.append(f"plastic likely   {'yes' if diag['plastic_likely'] else 'no'}")
-    lines.append(f"half-width / R   {diag['half_width_over_radius']:.4g}")
-    if diag.get("longest_wavelength") is not None:
-        lines.append(
-            f"width / (2pi/q0) {diag['contact_width'] / diag['longest_wavelength']:.3g} "
-            "(contact width over the longest roughness wavelength; the theory wants >= 1)"
-        )
+    return lines
+
+
+def _law_lines(diag) -> list[str]:
+    """Where the peak sits against the exponential law, and whether that law holds."""
+    lines = []
     if "p0_over_beta_E_star" in diag:
         note = ""
         if diag.get("beyond_exponential_law"):
@@ -586,13 +690,6 @@ def _result_lines(r, diag) -> list[str]:
             f"exp. law valid   {'yes' if diag['exponential_valid'] else 'NO'} (pressures met "
             f"{lo:.3g}-{hi:.3g} Pa; law within 5% in u up to {vr[1]:.3g} Pa)"
         )
-    lines += [
-        f"converged        {'yes' if r.converged else 'NO'} ({r.iterations} iterations, "
-        f"{r.convolutions} FFT convolutions, residual {r.residual:.3g})",
-        f"force error      {r.force_error:.3g} (relative); edge pressure {r.edge_pressure:.3g} p0",
-    ]
-    if r.message:
-        lines.append(f"solver message   {r.message}")
     return lines
 
 
@@ -607,6 +704,8 @@ def _meta(psd, E_star, args, source):
 def cmd_profile(args) -> int:
     from fastline.line_contact import solve_line_contact
 
+    if _geometry_defaults(args) == "sphere":
+        return _sphere_profile(args)
     psd, E, source = _scene(args)
     _check_outputs(args)
     th = _theory(psd, E, args)
@@ -627,20 +726,99 @@ def cmd_profile(args) -> int:
     return _convergence_status([r])
 
 
+def _executor(args):
+    """(executor for fastline.sweep, a function that releases it) from --scheduler."""
+    if args.workers is not None and args.scheduler is not None:
+        raise CLIError("give either --workers or --scheduler, not both")
+    if args.scheduler is None:
+        return None, lambda: None
+    try:
+        from distributed import Client
+    except ImportError:
+        raise CLIError(
+            '--scheduler needs dask.distributed: pip install "fastline-contact[dask]" (the '
+            "dask extra)"
+        ) from None
+    try:
+        client = Client(args.scheduler, timeout=10)
+    except (OSError, ValueError, TypeError) as e:
+        raise CLIError(f"cannot connect to the dask scheduler at {args.scheduler}: {e}") from None
+    return client, client.close
+
+
+def _run_table(scenes, args):
+    """fastline.sweep on the executor the options name; bad tables are usage errors."""
+    from fastline.batch import sweep
+
+    executor, release = _executor(args)
+    try:
+        return sweep(
+            scenes,
+            executor,
+            workers=args.workers if executor is None else None,
+            chunksize=args.chunksize,
+            progress=None,
+            warn=False,
+        )
+    except TypeError as e:
+        raise CLIError(str(e)) from None
+    finally:
+        release()
+
+
+def _table_status(table) -> int:
+    """Print the failed and non-converged scenes of a sweep table (as errors); 0 or 1."""
+    status = 0
+    for cause, msg in table.warnings:
+        if cause in ("failed", "not_converged"):
+            print(f"fastline: error: {msg}", file=sys.stderr)
+            status = 1
+        else:
+            _warn(msg)
+    return status
+
+
+def _sweep_in_parallel(psd, E, args, loads):
+    """The loads of the sweep command as a scene table on --workers/--scheduler: rows with
+    the attributes of a result (load, alpha, p0, ...) and the table."""
+    import numpy as np
+
+    k = len(loads)
+    scenes = {
+        "psd": [psd] * k,
+        "E_star": [E] * k,
+        "radius": [args.radius] * k,
+        "load": [float(f) for f in loads],
+        "model": [args.model] * k,
+        "n": [args.n] * k,
+        "gamma": [args.gamma] * k,
+        "max_iter": [args.max_iter or 0] * k,
+        "hardness": [math.nan if args.hardness is None else args.hardness] * k,
+    }
+    table = _run_table(scenes, args)
+    return table.table.view(np.recarray), table
+
+
 def cmd_sweep(args) -> int:
     import numpy as np
 
     from fastline.line_contact import LineContact
 
+    if _geometry_defaults(args) == "sphere":
+        return _sphere_sweep(args)
     psd, E, source = _scene(args)
     if args.loads_to < args.loads_from:
         raise CLIError("--loads-to must be >= --loads-from")
     _check_outputs(args)
     loads = np.geomspace(args.loads_from, args.loads_to, args.loads_num)
     th = _theory(psd, E, args)
-    model = LineContact(psd, E, args.radius, model=args.model, **_solve_kwargs(args, th))
-    with _progress(len(loads), "sweep") as bar:
-        results = model.sweep(loads, progress=bar.update)
+    table = None
+    if args.workers is None and args.scheduler is None:
+        model = LineContact(psd, E, args.radius, model=args.model, **_solve_kwargs(args, th))
+        with _progress(len(loads), "sweep") as bar:
+            results = model.sweep(loads, progress=bar.update)
+    else:
+        results, table = _sweep_in_parallel(psd, E, args, loads)
     print(_spectrum_line(psd, source))
     print(
         f"{'load [N/m]':>12}{'alpha':>12}{'p0 [Pa]':>13}{'p0 ratio':>10}{'s [m]':>12}"
@@ -651,7 +829,8 @@ def cmd_sweep(args) -> int:
             f"{r.load:>12.4g}{r.alpha:>12.4g}{r.p0:>13.5g}{r.p0_ratio:>10.5f}{r.s:>12.4g}"
             f"{r.fwhm:>12.4g}{r.w_over_s:>8.4f}{'yes' if r.converged else 'NO':>6}"
         )
-    _report_warnings(results)
+    if table is None:
+        _report_warnings(results)
     if args.csv:
         from fastline.io import write_sweep_csv
 
@@ -661,7 +840,27 @@ def cmd_sweep(args) -> int:
 
         gu = th.exponential_fit().gamma_u if th is not None else None
         _save(plot_sweep(results, gamma_u=gu), args.plot, args)
-    return _convergence_status(results)
+    return _convergence_status(results) if table is None else _table_status(table)
+
+
+def cmd_batch(args) -> int:
+    from fastline.batch import read_scenes
+    from fastline.io import check_output_file
+
+    check_output_file(args.out)
+    table = _run_table(read_scenes(args.scenes), args)
+    table.to_csv(args.out)
+    st = table.stats
+    failed = int(table.failed.sum())
+    ok = int(table.ok.sum())
+    print(
+        f"fastline batch: {st.scenes} scenes from {args.scenes}: {ok} converged, "
+        f"{st.scenes - ok - failed} not converged, {failed} failed; {st.wall_seconds:.2f} s "
+        f"({st.scenes_per_second:.0f} scenes/s, {st.tasks} task(s)) on {st.executor}"
+    )
+    status = _table_status(table)
+    print(f"wrote {args.out}")
+    return status
 
 
 def _paper_files(data, args) -> list[str]:
@@ -752,6 +951,8 @@ def cmd_paper(args) -> int:
     from fastline import paper
     from fastline.io import spectrum_summary
 
+    if _geometry_defaults(args) == "sphere":
+        return _sphere_paper(args)
     _check_outputs(args)
     t0 = time.perf_counter()
     with _progress(len(paper.SURFACES) * args.loads, "paper") as bar:
@@ -996,8 +1197,268 @@ def cmd_leak(args) -> int:
     return _leak_one(args, psd, E, source, th)
 
 
-COMMANDS = {"paper": cmd_paper, "profile": cmd_profile, "sweep": cmd_sweep}
-COMMANDS["leak"] = cmd_leak
+# ----------------------------------------------------------------------------------------------
+# sphere on a flat (--geometry sphere)
+# ----------------------------------------------------------------------------------------------
+GEOMETRIES = ("cylinder", "sphere")
+#: defaults that depend on the geometry (loads in N/m for a cylinder, N for a sphere)
+GEOMETRY_DEFAULTS = {
+    "cylinder": {"load": 1e4, "loads_from": 1e3, "loads_to": 1.5e6, "n": 1024},
+    "sphere": {"load": 10.0, "loads_from": 0.1, "loads_to": 1e3, "n": 512},
+}
+
+
+def _geometry_options(m, load: bool) -> None:
+    """--geometry, --radius and (``load``) --load, whose unit follows the geometry."""
+    m.add_argument(
+        "--geometry",
+        choices=GEOMETRIES,
+        default="cylinder",
+        help="rigid cylinder on a flat (line contact, default) or sphere on a flat (point "
+        "contact); the load is per unit length [N/m] for a cylinder, the total load [N] for a "
+        "sphere",
+    )
+    m.add_argument(
+        "--radius",
+        type=_positive,
+        default=0.01,
+        metavar="M",
+        help="cylinder radius R [m], or the sphere's with --geometry sphere (default 0.01)",
+    )
+    if load:
+        m.add_argument(
+            "--load",
+            type=_positive,
+            metavar="LOAD",
+            help="normal load per unit cylinder length f_N [N/m] (default 1e4); with "
+            "--geometry sphere the total load F on the sphere [N] (default 10)",
+        )
+
+
+def _geometry_defaults(args) -> str:
+    """Fill the options whose default depends on the geometry; returns the geometry."""
+    geometry = getattr(args, "geometry", "cylinder")
+    for key, value in GEOMETRY_DEFAULTS[geometry].items():
+        if hasattr(args, key) and getattr(args, key) is None:
+            setattr(args, key, value)
+    return geometry
+
+
+def _sphere_result_lines(r, diag) -> list[str]:
+    a = r.hertz_radius
+    r99, r1 = r.load_radius(0.99), r.pressure_radius(0.01)
+    lines = [
+        f"model            {r.model} (method {r.method}, n = {r.diagnostics.get('n', '?')} "
+        "cells from the axis)",
+        "geometry         sphere on a flat (point contact)",
+        f"load F           {r.load:.6g} N (total load on the sphere)",
+        f"E*, R            {r.E_star:.6g} Pa, {r.radius:.6g} m (sphere radius)",
+        f"alpha            {r.alpha:.6g}   (h_rms / delta, delta = a^2/R = {r.delta:.6g} m)",
+        f"Hertz radius a   {a:.6g} m (Hertz contact diameter {2 * a:.6g} m)",
+        f"regime           {diag['regime']}",
+        f"peak pressure p0 {r.p0:.6g} Pa",
+        f"p0 / p0(Hertz)   {r.p0_ratio:.6g}",
+        f"std. dev. s      {r.s:.6g} m (s^2 = int r^2 p dA / 2F, along a diameter)",
+        f"FWHM w           {r.fwhm:.6g} m along a diameter ({diag['fwhm_cells']:.3g} grid cells)",
+        f"w/s              {r.w_over_s:.6g}   (Hertz sphere 3.873, Gaussian 2.355)",
+        f"99% of F within  r = {r99:.6g} m (diameter {2 * r99:.6g} m)",
+        f"p = 1% p0 at     r = {r1:.6g} m (diameter {2 * r1:.6g} m)",
+    ]
+    lines += _asperity_lines(diag)
+    lines.append(f"contact radius/R {diag['half_width_over_radius']:.4g}")
+    if diag.get("longest_wavelength") is not None:
+        lines.append(
+            f"width / (2pi/q0) {diag['contact_width'] / diag['longest_wavelength']:.3g} "
+            "(contact diameter over the longest roughness wavelength; the theory wants >= 1)"
+        )
+    lines += _law_lines(diag)
+    d = r.diagnostics
+    lines += [
+        f"converged        {'yes' if r.converged else 'NO'} ({r.iterations} iterations, "
+        f"{r.convolutions} operator applications: {d['k_applications']} products with K, "
+        f"{d['preconditioner_solves']} preconditioner solves; residual {r.residual:.3g})",
+        f"force error      {r.force_error:.3g} (relative); edge pressure {r.edge_pressure:.3g} p0",
+    ]
+    if r.message:
+        lines.append(f"solver message   {r.message}")
+    return lines
+
+
+def _sphere_meta(psd, E_star, args, source):
+    return {**_meta(psd, E_star, args, source), "geometry": "sphere"}
+
+
+def _sphere_profile(args) -> int:
+    from fastline.point_contact import solve_point_contact
+
+    psd, E, source = _scene(args)
+    _check_outputs(args)
+    th = _theory(psd, E, args)
+    r = solve_point_contact(
+        psd, E, args.radius, args.load, model=args.model, **_solve_kwargs(args, th)
+    )
+    print(_spectrum_line(psd, source))
+    print("\n".join(_sphere_result_lines(r, r.diagnostics)))
+    _report_warnings([r])
+    if args.csv:
+        from fastline.io import write_point_profile_csv
+
+        write_point_profile_csv(args.csv, r, _sphere_meta(psd, E, args, source))
+    if args.plot:
+        from fastline.plotting import plot_profile
+
+        _save(plot_profile(r), args.plot, args)
+    return _convergence_status([r])
+
+
+def _sphere_sweep(args) -> int:
+    import numpy as np
+
+    from fastline.point_contact import PointContact
+
+    psd, E, source = _scene(args)
+    if args.loads_to < args.loads_from:
+        raise CLIError("--loads-to must be >= --loads-from")
+    _check_outputs(args)
+    loads = np.geomspace(args.loads_from, args.loads_to, args.loads_num)
+    th = _theory(psd, E, args)
+    model = PointContact(psd, E, args.radius, model=args.model, **_solve_kwargs(args, th))
+    with _progress(len(loads), "sweep") as bar:
+        results = model.sweep(loads, progress=bar.update)
+    print(_spectrum_line(psd, source))
+    print(f"geometry         sphere on a flat, R = {args.radius:.6g} m; loads F in N")
+    print(
+        f"{'load F [N]':>12}{'alpha':>12}{'p0 [Pa]':>13}{'p0 ratio':>10}{'s [m]':>12}"
+        f"{'w [m]':>12}{'w/s':>8}{'conv':>6}"
+    )
+    for r in results:
+        print(
+            f"{r.load:>12.4g}{r.alpha:>12.4g}{r.p0:>13.5g}{r.p0_ratio:>10.5f}{r.s:>12.4g}"
+            f"{r.fwhm:>12.4g}{r.w_over_s:>8.4f}{'yes' if r.converged else 'NO':>6}"
+        )
+    _report_warnings(results)
+    if args.csv:
+        from fastline.io import write_point_sweep_csv
+
+        write_point_sweep_csv(args.csv, results, _sphere_meta(psd, E, args, source))
+    if args.plot:
+        from fastline.plotting import plot_sweep
+
+        gu = th.exponential_fit().gamma_u if th is not None else None
+        _save(plot_sweep(results, gamma_u=gu), args.plot, args)
+    return _convergence_status(results)
+
+
+def _sphere_paper_files(data, args) -> list[str]:
+    """The sphere versions of Figs. 3-5 and their CSVs; returns the file names."""
+    import os
+
+    from fastline import paper, plotting
+    from fastline.io import scene_metadata, sweep_rows, write_csv
+    from fastline.limits import hertz_point_contact, p0_ratio_gaussian_sphere
+
+    out, ext = args.out, args.format or "png"
+    meta = scene_metadata(
+        None, paper.E_STAR, paper.RADIUS, model="persson", gamma=args.gamma, n=args.n
+    )
+    meta.pop("spectrum")
+    meta.update(geometry="sphere", q0_1_per_m=paper.Q0, qr_1_per_m=paper.QR, q1_1_per_m=args.q1)
+    for s in data.surfaces:
+        meta[s.label.replace(" ", "_")] = f"h_rms {s.h_rms:g} m, H {s.hurst:g}"
+    written = []
+
+    def path(name, suffix):
+        written.append(f"{name}.{suffix}")
+        return os.path.join(out, f"{name}.{suffix}")
+
+    r3 = data.fig3
+    hz = hertz_point_contact(paper.E_STAR, paper.RADIUS, r3.load)
+    write_csv(
+        path("fig3_profile_sphere", "csv"),
+        ["r_m", "p_rough_Pa", "p_hertz_Pa"],
+        zip(r3.r, r3.pressure, hz.pressure(r3.r), strict=True),
+        {**meta, "load_N": r3.load, "alpha": r3.alpha},
+        title="Sphere version of Fig. 3: p(r) of surface 1, rough and smooth (Hertz)",
+    )
+    fig = plotting.plot_profile(r3, label="rough (surface 1)")
+    _save(fig, path("fig3_profile_sphere", ext), args)
+
+    header = ["surface", "h_rms_m", "hurst", "load_N", "alpha", "p0_Pa", "p0_ratio", "s_m"]
+    header += ["w_m", "w_over_s", "converged", "gamma_u", "p0_ratio_gaussian"]
+    rows = []
+    for i, s in enumerate(data.surfaces):
+        for row in sweep_rows(s.results):
+            gauss = float(p0_ratio_gaussian_sphere(row[1], s.gamma_u))
+            rows.append((str(i + 1), s.h_rms, s.hurst, *row, s.gamma_u, gauss))
+    lo, hi = paper.SPHERE_ALPHA_RANGE
+    title = (
+        f"Sphere versions of Figs. 4-5: loads F [N] per surface with alpha log-spaced over "
+        f"{lo:g}..{hi:g} (F = (4/3) E* R^(1/2) (h_rms/alpha)^(3/2)); p0_ratio_gaussian = "
+        "1/(3 gamma_u alpha)"
+    )
+    write_csv(path("fig4_ws_sphere", "csv"), header, rows, meta, title=title)
+    write_csv(path("fig5_p0ratio_sphere", "csv"), header, rows, meta, title=title)
+    series = {s.label: s.results for s in data.surfaces}
+    _save(plotting.plot_w_over_s(series), path("fig4_ws_sphere", ext), args)
+    fig = plotting.plot_p0_ratio(series, gamma_u={s.label: s.gamma_u for s in data.surfaces})
+    _save(fig, path("fig5_p0ratio_sphere", ext), args)
+    return written
+
+
+def _sphere_paper(args) -> int:
+    from fastline import paper
+    from fastline.io import spectrum_summary
+
+    _check_outputs(args)
+    t0 = time.perf_counter()
+    with _progress(len(paper.SURFACES) * args.loads, "paper (sphere)") as bar:
+        data = paper.sphere_paper_data(
+            q1=args.q1,
+            loads=args.loads,
+            n=args.n,
+            gamma=args.gamma,
+            max_iter=args.max_iter,
+            hardness=args.hardness,
+            progress=lambda _label: bar.update(),
+        )
+    elapsed = time.perf_counter() - t0
+    written = _sphere_paper_files(data, args)
+    lo, hi = paper.SPHERE_ALPHA_RANGE
+    print(
+        f"fastline paper (sphere): E* = {paper.E_STAR:g} Pa, R = {paper.RADIUS:g} m (sphere), "
+        f"q0 = {paper.Q0:g} 1/m, qr = {paper.QR:g} 1/m, q1 = {args.q1:g} 1/m, gamma = "
+        f"{args.gamma:g}, n = {args.n}; {args.loads} loads per surface, alpha {lo:g}..{hi:g}; "
+        f"solved in {elapsed:.2f} s"
+    )
+    print(
+        f"{'surface':<10}{'h_rms [m]':>10}{'H':>5}{'gamma_u':>9}{'load F range [N]':>23}"
+        f"{'w/s range':>17}{'p0 ratio range':>21}{'not conv.':>10}"
+    )
+    for s in data.surfaces:
+        rs = s.results
+        f, ws, pr = ([getattr(r, k) for r in rs] for k in ("load", "w_over_s", "p0_ratio"))
+        bad = sum(not r.converged for r in rs)
+        print(
+            f"{s.label:<10}{s.h_rms:>10.3g}{s.hurst:>5.2g}{s.gamma_u:>9.4f}"
+            f"{min(f):>11.3g}-{max(f):<11.3g}{min(ws):>8.4f}-{max(ws):<8.4f}"
+            f"{min(pr):>10.4g}-{max(pr):<10.4g}{bad:>10d}"
+        )
+    print(
+        f"spectra          q {paper.Q0:g}-{args.q1:g} 1/m (longest wavelength "
+        f"{spectrum_summary(data.surfaces[0].psd)['longest_wavelength']:.3g} m)"
+    )
+    _report_warnings(data.results)
+    print(f"wrote {', '.join(written)} to {args.out}")
+    return _convergence_status(data.results)
+
+
+COMMANDS = {
+    "paper": cmd_paper,
+    "profile": cmd_profile,
+    "sweep": cmd_sweep,
+    "leak": cmd_leak,
+    "batch": cmd_batch,
+}
 
 
 def main(argv: list[str] | None = None) -> int:

@@ -1,7 +1,9 @@
 """Validity diagnostics of a solved line contact (docs/theory.md sections 6 and 7).
 
-:func:`assess` looks at a :class:`~fastline.line_contact.LineContactResult` and reports which regime
-the scene is in (information) and which model assumptions fail (warnings):
+:func:`assess` looks at a :class:`~fastline.line_contact.LineContactResult` (or a
+:class:`~fastline.point_contact.PointContactResult`: there "half-width" reads "radius", the
+Hertz half-width is the Hertz contact radius and the width is a diameter) and reports which
+regime the scene is in (information) and which model assumptions fail (warnings):
 
 * **regime** from ``alpha = h_rms / delta``: ``"Hertz-like"`` for alpha < 0.01,
   ``"Gaussian-like"`` for alpha > 10, ``"transition"`` in between (paper, section 3);
@@ -26,7 +28,7 @@ Warnings reach the user once: :func:`assess` lists them (``warning_causes``,
 :func:`warn_once` emits one :class:`ValidityWarning` per cause naming the loads concerned,
 and :func:`summarise_warnings` returns those messages without emitting them.
 
-SI units throughout: Pa, m, N/m.
+SI units throughout: Pa, m, N/m (N for a point contact).
 """
 
 from __future__ import annotations
@@ -103,19 +105,28 @@ def _exponential_validity(theory, fit, p_lo_met: float, p_hi_met: float) -> dict
     }
 
 
-def _half_space(out, result, msgs) -> None:
-    from fastline.limits import hertz_line_contact
+def _hertz_half_width(result) -> float:
+    """The result's Hertz half-width (its ``hertz_radius`` if it has one: a point contact)."""
+    a = getattr(result, "hertz_radius", None)
+    if a is None:
+        from fastline.limits import hertz_line_contact
 
-    a_hertz = hertz_line_contact(result.E_star, result.radius, result.load).a
-    half = a_hertz
+        a = hertz_line_contact(result.E_star, result.radius, result.load).a
+    return a
+
+
+def _half_space(out, result, msgs) -> None:
+    half = _hertz_half_width(result)
     if math.isfinite(result.fwhm):
         half = max(half, 0.5 * result.fwhm)
     out["half_width"] = float(half)
     out["half_width_over_radius"] = float(half / result.radius)
     out["half_space_ok"] = bool(half <= HALF_WIDTH_LIMIT * result.radius)
     if not out["half_space_ok"]:
+        word = getattr(result, "EXTENT_WORD", "half-width")
+        body = "the sphere's radius" if word == "radius" else "the radius"
         msgs["half_space"] = (
-            f"contact half-width {half:.3g} m is {100 * half / result.radius:.3g}% of the radius "
+            f"contact {word} {half:.3g} m is {100 * half / result.radius:.3g}% of {body} "
             f"R = {result.radius:.3g} m (> {100 * HALF_WIDTH_LIMIT:g}%): the elastic half-space "
             "assumption is strained"
         )
@@ -131,15 +142,19 @@ def _mean_field(out, result, psd, msgs) -> None:
     out["longest_wavelength"] = lam
     out["mean_field_ok"] = bool(width >= lam)
     if width < lam:
+        wide = "wide, max of FWHM and the Hertz width 2a"
+        if getattr(result, "EXTENT_WORD", "half-width") == "radius":
+            wide = "across, max of FWHM and the Hertz diameter 2a"
         msgs["narrow_contact"] = (
-            f"the contact ({width:.3g} m wide, max of FWHM and the Hertz width 2a) is narrower "
+            f"the contact ({width:.3g} m {wide}) is narrower "
             f"than the longest roughness wavelength 2 pi/q0 = {lam:.3g} m: the theory's "
             "mean-field assumption (pressure varying slowly on that scale) is not met"
         )
 
 
 def _resolution(out, result, msgs) -> None:
-    cells = result.fwhm / result.dx if result.dx > 0 else float("nan")
+    step = result.dr if hasattr(result, "dr") else result.dx  # a point contact's ring width
+    cells = result.fwhm / step if step > 0 else float("nan")
     out["fwhm_cells"] = float(cells)
     out["resolution_ok"] = bool(cells >= RESOLUTION_CELLS)
     if not out["resolution_ok"]:
@@ -190,12 +205,13 @@ def _exponential(out, result, theory, msgs) -> None:
 
 
 def assess(result, theory=None, hardness=None, *, psd=None, warn=True) -> dict:
-    """Regime and validity checks of a solved line contact.
+    """Regime and validity checks of a solved line or point contact.
 
     Parameters
     ----------
-    result : LineContactResult
-        A solve from :func:`fastline.line_contact.solve_line_contact`.
+    result : LineContactResult or PointContactResult
+        A solve from :func:`fastline.line_contact.solve_line_contact` or
+        :func:`fastline.point_contact.solve_point_contact`.
     theory : PerssonTheory, optional
         The theory the scene was solved with (needed for the rms slope, the real contact area,
         the exponential-law checks and the roughness wavelength). If omitted and ``psd`` is
@@ -257,15 +273,16 @@ def assess(result, theory=None, hardness=None, *, psd=None, warn=True) -> dict:
     return out
 
 
-def _loads_text(loads: list[float], total: int) -> str:
-    """``"f_N = 1e4 N/m"`` or ``"3 of 30 solves: f_N from 1e5 to 1.5e6 N/m"``."""
+def _loads_text(loads: list[float], total: int, symbol: str = "f_N", unit: str = "N/m") -> str:
+    """``"f_N = 1e4 N/m"`` or ``"3 of 30 solves: f_N from 1e5 to 1.5e6 N/m"`` (``F`` and ``N``
+    for a point contact)."""
     if total == 1:
-        return f"f_N = {loads[0]:.4g} N/m"
+        return f"{symbol} = {loads[0]:.4g} {unit}"
     distinct = sorted(set(loads))
-    head = f"{len(loads)} of {total} solves: f_N"
+    head = f"{len(loads)} of {total} solves: {symbol}"
     if len(distinct) <= 4:
-        return f"{head} = {', '.join(f'{f:.4g}' for f in distinct)} N/m"
-    return f"{head} from {distinct[0]:.4g} to {distinct[-1]:.4g} N/m"
+        return f"{head} = {', '.join(f'{f:.4g}' for f in distinct)} {unit}"
+    return f"{head} from {distinct[0]:.4g} to {distinct[-1]:.4g} {unit}"
 
 
 def summarise_warnings(results: Iterable) -> list[tuple[str, str]]:
@@ -296,7 +313,10 @@ def summarise_warnings(results: Iterable) -> list[tuple[str, str]]:
         rs = sorted(found[c], key=lambda r: r.load)
         worst = rs[0] if c in _WORST_AT_SMALL_LOAD else rs[-1]
         msg = worst.diagnostics["warning_messages"][c]
-        out.append((c, f"{msg} [{_loads_text([r.load for r in rs], len(results))}]"))
+        symbol = getattr(worst, "LOAD_SYMBOL", "f_N")
+        unit = getattr(worst, "LOAD_UNIT", "N/m")
+        loads = _loads_text([r.load for r in rs], len(results), symbol, unit)
+        out.append((c, f"{msg} [{loads}]"))
     return out
 
 

@@ -144,18 +144,21 @@ _spectra: OrderedDict[int, np.ndarray] = OrderedDict()
 _strang: OrderedDict[int, np.ndarray] = OrderedDict()
 _real_spectra: OrderedDict[int, np.ndarray] = OrderedDict()
 _prefixes: OrderedDict[int, np.ndarray] = OrderedDict()
+_strang_writable: OrderedDict[int, np.ndarray] = OrderedDict()
 _local = threading.local()
 
 
-def _cached(store: OrderedDict, n: int, build) -> np.ndarray:
-    """``store[n]``, built by ``build(n)`` and made read-only; at most ``SPECTRA_KEPT`` kept."""
+def _cached(store: OrderedDict, n: int, build, readonly: bool = True) -> np.ndarray:
+    """``store[n]``, built by ``build(n)`` (and made read-only unless ``readonly`` is False:
+    the compiled kernels' tables stay writable so that Numba compiles each kernel for one array
+    type; the kernels never write to them); at most ``SPECTRA_KEPT`` kept."""
     with _spectrum_lock:
         spec = store.get(n)
         if spec is not None:
             store.move_to_end(n)
             return spec
     spec = build(n)  # outside the lock: two threads may both build it, both results are equal
-    spec.flags.writeable = False
+    spec.flags.writeable = not readonly
     with _spectrum_lock:
         store[n] = spec
         store.move_to_end(n)
@@ -195,9 +198,9 @@ def _build_prefix(n: int) -> np.ndarray:
 def _compiled_tables(n: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """Real kernel spectrum / 2n (length n + 1), Strang spectrum and Toeplitz prefix sums."""
     return (
-        _cached(_real_spectra, n, _build_real_spectrum),
-        _strang_spectrum(n),
-        _cached(_prefixes, n, _build_prefix),
+        _cached(_real_spectra, n, _build_real_spectrum, readonly=False),
+        _cached(_strang_writable, n, _build_strang_spectrum, readonly=False),
+        _cached(_prefixes, n, _build_prefix, readonly=False),
     )
 
 
@@ -338,10 +341,13 @@ class LogKernelOperator:
             elif not isinstance(out, np.ndarray) or out.shape != (n,) or out.dtype != np.float64:
                 raise ValueError(f"out must be a float64 ndarray of shape ({n},)")
             x = np.ascontiguousarray(p, dtype=np.float64)
-            kspec = _cached(_real_spectra, n, _build_real_spectrum)
-            apply_kernel(
-                x if x is not out else x.copy(), kspec, self._scale, _fftw.plans(2 * n), out
-            )
+            kspec = _cached(_real_spectra, n, _build_real_spectrum, readonly=False)
+            x = x if x is not out else x.copy()
+            fft = _fftw.acquire(2 * n)
+            try:
+                apply_kernel(x, kspec, self._scale, *fft, out)
+            finally:
+                _fftw.release(2 * n)
             self.convolutions += 1
             return out
         head_in, cview, head_out, fwd, bwd, _, _ = _workspace(n)
@@ -389,24 +395,68 @@ class LogKernelOperator:
             return None
         kspec, strang, prefix = _compiled_tables(self.n)
         dp = np.empty(self.n)
-        du1, its, kapps, circ = solve_newton_system(
-            _fftw.plans(2 * self.n),
-            kspec,
-            strang,
-            prefix,
-            self._scale,
-            self.diagonal,
-            D,
-            w,
-            rhs,
-            rtol,
-            maxit,
-            COARSE_AGGREGATES,
-            dp,
-        )
+        N = 2 * self.n
+        fft = _fftw.acquire(N)
+        try:
+            du1, its, kapps, circ = solve_newton_system(
+                *fft,
+                kspec,
+                strang,
+                prefix,
+                self._scale,
+                self.diagonal,
+                D,
+                w,
+                rhs,
+                rtol,
+                maxit,
+                COARSE_AGGREGATES,
+                dp,
+            )
+        finally:
+            _fftw.release(N)
         self.convolutions += kapps + circ
         self.circulant_solves += circ
         return dp, du1, its
+
+    def newton_compiled(self, gap, w, load, law_form, u_ref, v, tol, max_iter):
+        """The whole Newton iteration in one compiled call (:mod:`fastline._line_newton`) for a
+        law with a compiled form; ``v`` (ln p, normalised) is updated in place. Returns
+        ``(u1, residual, status, steps, cg_iterations, tol_effective, history)`` (status 0
+        converged, 1 max_iter, 2 line search failed) and counts the FFT convolutions; None if
+        the compiled FFT path is not available."""
+        if not _fftw.AVAILABLE:
+            return None
+        from fastline._line_newton import newton_line
+
+        kspec, strang, prefix = _compiled_tables(self.n)
+        hist = np.zeros((max_iter, 3))
+        N = 2 * self.n
+        fft = _fftw.acquire(N)
+        try:
+            u1, res, status, steps, cg, kapps, circ, tol_eff = newton_line(
+                fft,
+                kspec,
+                strang,
+                prefix,
+                self._scale,
+                self.diagonal,
+                gap,
+                w,
+                load,
+                law_form,
+                u_ref,
+                v,
+                tol,
+                max_iter,
+                COARSE_AGGREGATES,
+                hist,
+            )
+        finally:
+            _fftw.release(N)
+        self.convolutions += kapps + circ
+        self.circulant_solves += circ
+        return u1, res, status, steps, cg, tol_eff, hist[:steps]
 
     def preconditioner(self, D) -> BlockPreconditioner:
         """An approximate inverse of ``D + K`` for the Newton-Krylov core (:mod:`fastline._core`).

@@ -41,10 +41,27 @@ __all__ = [
     "leak_sweep_rows",
     "LEAK_COLUMNS",
     "LEAK_SWEEP_COLUMNS",
+    "POINT_PROFILE_COLUMNS",
+    "POINT_SWEEP_COLUMNS",
+    "write_point_profile_csv",
+    "write_point_sweep_csv",
 ]
 
 #: columns of :func:`write_profile_csv`
 PROFILE_COLUMNS = ("x_m", "p_Pa", "u_m")
+#: columns of :func:`write_point_profile_csv` (a point contact: r from the axis)
+POINT_PROFILE_COLUMNS = ("r_m", "p_Pa", "u_m")
+#: columns of :func:`write_point_sweep_csv` (the load F on a sphere in N)
+POINT_SWEEP_COLUMNS = (
+    "load_N",
+    "alpha",
+    "p0_Pa",
+    "p0_ratio",
+    "s_m",
+    "w_m",
+    "w_over_s",
+    "converged",
+)
 #: columns of :func:`write_sweep_csv`
 SWEEP_COLUMNS = (
     "load_N_per_m",
@@ -319,6 +336,38 @@ def sweep_rows(results: Iterable) -> list[tuple]:
 def write_sweep_csv(path, results: Sequence, meta: Mapping | None = None) -> None:
     """Write a load sweep: one row per result, columns :data:`SWEEP_COLUMNS`."""
     write_csv(path, SWEEP_COLUMNS, sweep_rows(results), meta, title="fastline sweep")
+
+
+def write_point_profile_csv(path, result, meta: Mapping | None = None) -> None:
+    """Write p(r) of a point contact: columns ``r_m, p_Pa, u_m``; ``meta`` as the header.
+
+    The load F [N], alpha, p0, widths (s, the FWHM along a diameter w), the Hertz radius, the
+    radius holding 99 % of the load and the radius where p falls to 1 % of p0 are added to the
+    header.
+    """
+    info = dict(meta or {})
+    info.update(
+        geometry="sphere",
+        load_N=result.load,
+        alpha=result.alpha,
+        p0_Pa=result.p0,
+        s_m=result.s,
+        w_m=result.fwhm,
+        w_over_s=result.w_over_s,
+        hertz_radius_m=result.hertz_radius,
+        load_radius_99_m=result.load_radius(0.99),
+        pressure_radius_1pct_m=result.pressure_radius(0.01),
+        converged=result.converged,
+    )
+    rows = zip(result.r, result.pressure, result.separation, strict=True)
+    write_csv(path, POINT_PROFILE_COLUMNS, rows, info, title="fastline profile: p(r) and u(r)")
+
+
+def write_point_sweep_csv(path, results: Sequence, meta: Mapping | None = None) -> None:
+    """Write a point-contact load sweep: one row per result, columns
+    :data:`POINT_SWEEP_COLUMNS` (the same numbers as :func:`sweep_rows`, the load in N)."""
+    info = {**(meta or {}), "geometry": "sphere"}
+    write_csv(path, POINT_SWEEP_COLUMNS, sweep_rows(results), info, title="fastline sweep")
 
 
 def read_csv(path: str | os.PathLike) -> tuple[dict, dict]:

@@ -161,6 +161,12 @@ class PerssonLaw(PressureLaw):
     def real_area(self, p):
         return self.theory.contact_area(p)
 
+    def _compiled_form(self):
+        """``(kind, prm, A, B, C, E)`` for the compiled line-contact Newton
+        (:mod:`fastline._line_newton`): table T1."""
+        v0, h, L, L1, L2, u0, kappa = self.theory._t1
+        return 0, np.array([v0, h, u0]), L, L1, L2, kappa
+
 
 class ExponentialLaw(PressureLaw):
     """``p = beta E* exp(-u/u0)`` (paper eq. 5; Persson, PRL 99, 125502 (2007)).
@@ -229,6 +235,11 @@ class ExponentialLaw(PressureLaw):
 
     def real_area(self, p):
         return None if self.theory is None else self.theory.contact_area(p)
+
+    def _compiled_form(self):
+        """``(kind, prm, ...)`` for the compiled line-contact Newton: u0 and ln(beta E*)."""
+        dummy = np.zeros(1)
+        return 1, np.array([self.u0, self._lnpb]), dummy, dummy, dummy, dummy
 
 
 # ----------------------------------------------------------------------------------------------
@@ -417,6 +428,10 @@ class TabulatedLaw(PressureLaw):
 
     def pressure(self, u):
         return np.exp(self.log_pressure(u))
+
+    def _compiled_form(self):
+        """``(kind, prm, V, U, S, -)`` for the compiled line-contact Newton."""
+        return 2, np.zeros(1), self._V, self._U, self._S, np.zeros(1)
 
     def real_area(self, p):
         if self._area is None:

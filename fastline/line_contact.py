@@ -9,7 +9,8 @@ rigid approach ``u1`` with
 (:mod:`fastline.laws`). What is cylinder-specific lives here: the grid and its sizing, the gap
 ``x^2/2R``, the Hertz reference, alpha, the initial guess and the profile measures (p0, s, FWHM).
 The Newton-Krylov core that solves the discrete equations is shared with other geometries
-(:mod:`fastline._core`).
+(:mod:`fastline._core`), and so are the settings, the law, the solve and sweep loop, the cold
+start and the peak and FWHM measures (:mod:`fastline._contact`).
 
 :class:`LineContact` is the reusable model (theory tables, law and settings built once, many
 loads solved); :func:`solve_line_contact` is a one-call wrapper around it.
@@ -18,26 +19,27 @@ loads solved); :func:`solve_line_contact` is a one-call wrapper around it.
 from __future__ import annotations
 
 import math
-import threading
-import warnings
 from collections.abc import Callable, Iterable, Sequence
 from dataclasses import dataclass, field
 
 import numpy as np
 
 from fastline import _core
-from fastline._core import ConvergenceWarning, Discretisation, normalise
-from fastline._validate import (
-    E_STAR_RANGE,
-    RADIUS_RANGE,
-    finite_scalar,
-    in_span,
-    integer,
-    positive,
+from fastline._contact import (  # noqa: F401 (METHODS ... shared_theory: importable here as before)
+    METHODS,
+    MODELS,
+    PREDICTOR_MAX_STEP,
+    SWEEP_PREDICTOR_ORDER,
+    SWEEP_WARM_ALPHA,
+    ContactModel,
+    fwhm,
+    log_pressure,
+    peak,
+    shared_theory,
 )
-from fastline.diagnostics import assess, warn_once
+from fastline._core import ConvergenceWarning, Discretisation
 from fastline.elastic import LogKernelOperator, log_reference_shift
-from fastline.laws import ExponentialLaw, PerssonLaw, PressureLaw, check_law
+from fastline.laws import PressureLaw
 from fastline.limits import HertzLineContact, gaussian_line_contact, hertz_line_contact
 from fastline.persson import PerssonTheory
 from fastline.spectra import PSD
@@ -52,15 +54,11 @@ __all__ = [
     "p0_ratio",
 ]
 
-MODELS = ("persson", "exponential", "hertz")
-METHODS = ("newton", "picard")
 DEFAULT_N = 1024
 #: largest grid (about 2 GB of working arrays)
 MAX_N = 2**22
 #: loads per unit length accepted, in units of E* R
 LOAD_RANGE = (1e-12, 1e4)
-_MAX_NEWTON = 100
-_MAX_PICARD_SWEEPS = 5000
 
 
 @dataclass
@@ -156,55 +154,8 @@ class LineContactResult:
 
 
 # ----------------------------------------------------------------------------------------------
-# theories shared by the one-call functions: seal codes call them thousands of times with the
-# same spectrum. The spectrum object keeps them (a private attribute), so they live exactly as
-# long as it does; one lock guards the look-up.
+# profile measures (peak and FWHM are shared with the other geometries: fastline._contact)
 # ----------------------------------------------------------------------------------------------
-_shared_lock = threading.Lock()
-
-
-def shared_theory(psd: PSD, E_star: float, gamma: float) -> PerssonTheory:
-    """The :class:`PerssonTheory` of ``(psd, E_star, gamma)``, built once per spectrum object.
-
-    Thread-safe. The theories are kept on the spectrum (dropped with it, left out of pickles).
-    """
-    key = (float(E_star), float(gamma))
-    with _shared_lock:
-        hit = psd._theories.get(key)
-    if hit is not None:
-        return hit
-    theory = PerssonTheory(psd, E_star, gamma=gamma)  # outside the lock (milliseconds)
-    with _shared_lock:
-        return psd._theories.setdefault(key, theory)
-
-
-# ----------------------------------------------------------------------------------------------
-# profile measures
-# ----------------------------------------------------------------------------------------------
-def _peak(p: np.ndarray) -> float:
-    """Peak value by a parabola through the three points around the discrete maximum."""
-    i = int(np.argmax(p))
-    if 0 < i < p.size - 1:
-        a, b, c = p[i - 1], p[i], p[i + 1]
-        den = a - 2.0 * b + c
-        if den < 0.0:
-            t = 0.5 * (a - c) / den
-            return float(b - 0.25 * (a - c) * t)
-    return float(p[i])
-
-
-def _fwhm(x: np.ndarray, p: np.ndarray, p0: float) -> float:
-    """Width between the outermost half-maximum crossings (linear interpolation)."""
-    half = 0.5 * p0
-    above = np.nonzero(p >= half)[0]
-    i, j = above[0], above[-1]
-    if i == 0 or j == p.size - 1:
-        return float("nan")
-    xl = x[i - 1] + (half - p[i - 1]) * (x[i] - x[i - 1]) / (p[i] - p[i - 1])
-    xr = x[j] + (half - p[j]) * (x[j + 1] - x[j]) / (p[j + 1] - p[j])
-    return float(xr - xl)
-
-
 def _std(x: np.ndarray, p: np.ndarray, dx: float) -> float:
     """Standard deviation of piecewise-constant p about its centroid (cell-exact)."""
     m0 = p.sum()
@@ -235,49 +186,14 @@ def _build_grid(n: int, half_width: float, radius: float, E_star: float, hz) -> 
     return _LineGrid(x, dx, half_width, hz, disc)
 
 
-#: degree of the polynomial (in ln f_N) that predicts each solve of a sweep from the previous
-#: ones. Over the paper's three 50-load sweeps (n = 1024) the total convolutions were
-#: 6252 independent, 5018 / 4495 / 4244 with degree 1 / 2 / 3.
-SWEEP_PREDICTOR_ORDER = 3
-#: largest step in ln f_N over which the polynomial extrapolates; a longer step starts from the
-#: previous solution rescaled (degree 0). An O-ring sweep of 6-12 loads over 10..1e4 N/m (steps
-#: of ln 2-ln 4) failed to converge from cubic predictions and converged from degree 0.
-PREDICTOR_MAX_STEP = math.log(1.5)
-#: below this alpha a sweep starts each solve cold (Hertz-Gaussian blend) instead of from the
-#: prediction: in the Hertz-like regime the blend's error, though large, is removed by the
-#: first Newton step, while the prediction's small error sits at the contact edge and costs
-#: more steps (surface 3, n = 1024: 35 cold vs 40 predicted convolutions at alpha 7e-4, 45 vs
-#: 43 at 5.6e-3, 37 vs 23 at 0.13).
-SWEEP_WARM_ALPHA = 5e-3
-
-
-def _log_pressure(result: LineContactResult) -> np.ndarray:
-    return np.log(np.maximum(result.pressure, 1e-300))
-
-
-def _warn_sweep(results: list) -> None:
-    """One ConvergenceWarning for the loads that did not converge, one ValidityWarning per
-    cause (the caller of ``sweep`` sees them)."""
-    failed = [r.load for r in results if not r.converged]
-    if failed:
-        loads = ", ".join(f"{f:.4g}" for f in failed)
-        warnings.warn(
-            f"fastline: {len(failed)} of {len(results)} solves did not converge "
-            f"(loads {loads} N/m); see each result's message",
-            ConvergenceWarning,
-            stacklevel=3,
-        )
-    warn_once(results, stacklevel=3)
-
-
 def _rescaled_start(grid: _LineGrid, initial: LineContactResult) -> np.ndarray:
     """ln p of a neighbouring solution at the same relative position in the domain (the default
     domain scales with the contact), interpolated onto this grid; the load is restored later."""
     xi = initial.x / (0.5 * initial.x.size * initial.dx)
-    return np.interp(grid.x / grid.half_width, xi, _log_pressure(initial))
+    return np.interp(grid.x / grid.half_width, xi, log_pressure(initial))
 
 
-class LineContact:
+class LineContact(ContactModel):
     """A reusable line-contact model: one spectrum, material, cylinder and law, many loads.
 
     It owns what every solve reuses: the Persson theory and its tables, the pressure law, the
@@ -352,61 +268,18 @@ class LineContact:
         hardness: float | None = None,
         warn: bool = True,
     ):
-        self.E_star = in_span("E_star", E_star, E_STAR_RANGE, "Pa")
-        self.radius = in_span("radius", radius, RADIUS_RANGE, "m")
-        if method not in METHODS:
-            raise ValueError(f"method must be one of {METHODS}, got {method!r}")
-        self.method = method
-        self.n = integer("n", n, 16, MAX_N, " (a solve needs about 500 bytes per cell)")
-        self.half_width = None
-        if half_width is not None:
-            self.half_width = in_span("half_width", half_width, (0.0, 1e3 * self.radius), "m")
-        self.tol = finite_scalar("tol", tol)
-        if not 0.0 < self.tol <= 1e-2:
-            raise ValueError(f"tol must lie in (0, 1e-2], got {tol!r}")
-        self.max_iter = None if max_iter is None else integer("max_iter", max_iter, 1)
-        self.hardness = None if hardness is None else positive("hardness", hardness, "Pa")
-        self.warn = bool(warn)
-        if psd is not None and not isinstance(psd, PSD):
-            raise TypeError(f"psd must be a fastline PSD or None, got {type(psd).__name__}")
-        if theory is not None and not isinstance(theory, PerssonTheory):
-            raise TypeError(f"theory must be a PerssonTheory or None, got {type(theory).__name__}")
-        self.psd = psd
-        self._theory, self._law = self._resolve_model(model, psd, theory, gamma, u0, beta)
-        self.model = "hertz" if self._law is None else self._law.name
+        self._check_settings(E_star, radius, method, n)
+        self.half_width = self._check_extent("half_width", half_width)
+        self._check_rest(psd, model, gamma, tol, max_iter, u0, beta, theory, hardness, warn)
 
-    # -- construction stages ----------------------------------------------------------------
-    def _resolve_model(self, model, psd, theory, gamma, u0, beta):
-        """(theory or None, law or None for hertz) from the ``model`` argument."""
-        if isinstance(model, str):
-            if model not in MODELS:
-                raise ValueError(f"model must be one of {MODELS} or a pressure law, got {model!r}")
-            if model == "hertz":
-                return None, None
-            if psd is None:
-                raise ValueError(f"psd must be a PSD for model={model!r} (None only for 'hertz')")
-            if theory is None:
-                theory = shared_theory(psd, self.E_star, finite_scalar("gamma", gamma))
-            elif theory.psd is not psd or theory.E_star != self.E_star:
-                raise ValueError("theory must be built for the same psd and E_star")
-            if model == "persson":
-                return theory, PerssonLaw(theory)
-            return theory, ExponentialLaw.from_theory(theory, u0, beta)
-        law = check_law(model)
-        if theory is None and isinstance(law, PerssonLaw | ExponentialLaw):
-            theory = law.theory
-        return theory, law
-
-    # -- public attributes --------------------------------------------------------------------
-    @property
-    def theory(self) -> PerssonTheory | None:
-        """The Persson theory (None for ``model="hertz"`` and user laws without one)."""
-        return self._theory
-
-    @property
-    def law(self) -> PressureLaw | None:
-        """The pressure law the solver uses (None for ``model="hertz"``)."""
-        return self._law
+    # -- what the shared machinery (fastline._contact.ContactModel) needs --------------------
+    RESULT = LineContactResult
+    LOAD_UNIT = "N/m"
+    LOAD_RANGE = LOAD_RANGE
+    LOAD_SCALE_TEXT = "E* R"
+    MAX_N = MAX_N
+    N_NOTE = " (a solve needs about 500 bytes per cell)"
+    HERTZ_EXTENT_TEXT = "Hertz half-width"
 
     def __repr__(self):
         return (
@@ -421,23 +294,7 @@ class LineContact:
         Stages: check the load, size the grid, make the initial guess, run the core method,
         measure the profile, run the diagnostics.
         """
-        load = self._check_load("load", load)
-        if initial is not None and not isinstance(initial, LineContactResult):
-            raise TypeError(
-                f"initial must be a LineContactResult or None, got {type(initial).__name__}"
-            )
-        grid = self._grid(load)
-        start = None if initial is None else _rescaled_start(grid, initial)
-        return self._solve_on(grid, start, self.warn)
-
-    def _solve_on(self, grid: _LineGrid, start: np.ndarray | None, warn: bool) -> LineContactResult:
-        """Run the core from ``start`` (ln p; None: cold) and finish the result."""
-        outcome = self._run(grid, start)
-        result = self._result(grid, outcome)
-        if not result.converged and warn:
-            warnings.warn(f"fastline: {result.message}", ConvergenceWarning, stacklevel=3)
-        result.diagnostics.update(assess(result, self._theory, self.hardness, warn=warn))
-        return result
+        return self._solve(load, initial)
 
     def sweep(
         self, loads: Iterable[float], progress: Callable[[], object] | None = None
@@ -446,112 +303,29 @@ class LineContact:
 
         The loads are solved in increasing order. Each solve starts from a prediction made
         from the solutions already found: ln p on the (relative) grid extrapolated in ln f_N
-        by a polynomial through the last ``SWEEP_PREDICTOR_ORDER + 1`` of them. Over the
-        paper's 50-load sweeps this costs fewer FFT convolutions than independent solves
+        by a polynomial through the last ``SWEEP_PREDICTOR_ORDER + 1`` of them (degree 0 after
+        a step longer than ``PREDICTOR_MAX_STEP``; a cold start below ``SWEEP_WARM_ALPHA`` and
+        after a failed predicted start; :mod:`fastline._contact`). Over the paper's 50-load
+        sweeps this costs fewer FFT convolutions than independent solves
         (docs/performance.md gives the figure); each result is the converged solution at its
         load, equal to an independent solve to the solver tolerance. Warnings are emitted once
         per cause for the whole sweep, naming the loads concerned
         (:func:`fastline.diagnostics.warn_once`). ``progress``, if given, is called with no
         argument after each solve (e.g. a tqdm bar's ``update``).
         """
-        loads = self._check_loads(loads)
-        out: list[LineContactResult | None] = [None] * loads.size
-        history: list[tuple[float, np.ndarray]] = []  # (ln f_N, ln p on the grid)
-        for i in np.argsort(loads, kind="stable"):
-            grid = self._grid(float(loads[i]))
-            result = self._solve_on(grid, self._predict(grid, history), warn=False)
-            if not result.converged and history:  # the prediction misled Newton: start cold
-                cold = self._solve_on(grid, None, warn=False)
-                cold.convolutions += result.convolutions  # count all the work done
-                cold.diagnostics["restarted_cold"] = True
-                result = cold
-            history = (history + [(math.log(grid.hertz.load), _log_pressure(result))])[-4:]
-            out[i] = result
-            if progress is not None:
-                progress()
-        if self.warn:
-            _warn_sweep(out)
-        return out  # type: ignore[return-value]
-
-    def _check_load(self, name: str, load) -> float:
-        """A load per unit length in [1e-12, 1e4] E* R (N/m): the Hertz half-width stays
-        between 1e-6 R and ~100 R, where every quantity of the solve is representable."""
-        lo, hi = LOAD_RANGE
-        scale = self.E_star * self.radius
-        return in_span(name, load, (lo * scale, hi * scale), f"N/m ([{lo:g}, {hi:g}] E* R)")
-
-    def _check_loads(self, loads) -> np.ndarray:
-        arr = np.asarray(loads if isinstance(loads, np.ndarray) else list(loads), dtype=float)
-        if arr.ndim != 1 or arr.size == 0:
-            raise ValueError("loads must be a non-empty 1-D sequence of loads in N/m")
-        for f in arr:
-            self._check_load("loads", f)
-        return arr
+        return self._sweep(loads, progress)
 
     # -- solve stages -------------------------------------------------------------------------
-    def _u0(self) -> float:
-        return 0.0 if self._law is None else self._law.u0
-
     def _grid(self, load: float) -> _LineGrid:
         hz = hertz_line_contact(self.E_star, self.radius, load)
-        half = self.half_width
-        if half is None:
-            half = 1.25 * hz.a + 8.0 * math.sqrt(self.radius * self._u0())
-        elif half < hz.a:
-            raise ValueError(
-                f"half_width = {half:.6g} m cuts the contact: at load {load:.6g} N/m the Hertz "
-                f"half-width alone is a = {hz.a:.6g} m; give half_width >= a (the default, "
-                "None, sizes the domain as 1.25 a + 8 sqrt(R u0))"
-            )
+        half = self._extent("half_width", self.half_width, hz, load)
         return _build_grid(self.n, half, self.radius, self.E_star, hz)
 
-    def _alpha(self, delta: float) -> float:
-        """h_rms / delta; 0 for smooth surfaces (hertz without a spectrum), NaN when unknown."""
-        if self.psd is None:
-            return 0.0 if self._law is None else float("nan")
-        return self.psd.h_rms / delta
+    def _gaussian(self, load: float):
+        return gaussian_line_contact(self._u0(), self.radius, load)
 
-    def _cold_start(self, grid: _LineGrid) -> np.ndarray:
-        """ln p to start from without a neighbour: Hertz and Gaussian profiles blended."""
-        x, load, hz = grid.x, grid.hertz.load, grid.hertz
-        if self._law is None:  # hard contact: uniform pressure on the central third
-            return np.where(np.abs(x) <= grid.half_width / 3.0, 0.0, -np.inf)
-        alpha = self._alpha(hz.delta)
-        if not math.isfinite(alpha):
-            alpha = 2.0 * self._u0() / hz.delta
-        gs = gaussian_line_contact(self._u0(), self.radius, load)
-        # weights alpha/(alpha + 0.3) and 0.3/(alpha + 0.3), in logarithms (no 1 - 1 at huge alpha)
-        ln_wh = math.log(0.3) - math.log(alpha + 0.3)
-        ln_wg = math.log(alpha) - math.log(alpha + 0.3)
-        with np.errstate(divide="ignore"):
-            lh = ln_wh + math.log(hz.p0) + 0.5 * np.log(np.maximum(1 - (x / hz.a) ** 2, 0))
-        lg = ln_wg + math.log(gs.p0) - x * x / (2.0 * gs.s**2)
-        return normalise(np.logaddexp(lh, lg), load, grid.disc.weights)
-
-    def _predict(self, grid: _LineGrid, history: list[tuple[float, np.ndarray]]):
-        """ln p at this load extrapolated from earlier solutions of this model (same grid
-        shape), by the Lagrange polynomial in ln f_N through the last ones; None if none."""
-        if not history or self._alpha(grid.hertz.delta) < SWEEP_WARM_ALPHA:
-            return None
-        t = math.log(grid.hertz.load)
-        order = SWEEP_PREDICTOR_ORDER if t - history[-1][0] <= PREDICTOR_MAX_STEP else 0
-        pts = history[-(order + 1) :]
-        v = np.zeros(self.n)
-        for i, (ti, vi) in enumerate(pts):
-            weight = math.prod((t - tj) / (ti - tj) for j, (tj, _) in enumerate(pts) if j != i)
-            v += weight * vi
-        return v
-
-    def _run(self, grid: _LineGrid, start: np.ndarray | None) -> _core.Outcome:
-        v = self._cold_start(grid) if start is None else start
-        if self._law is None:
-            max_iter = self.max_iter or 10 * self.n
-            p = _core.pressure_of(v)  # exactly 0 off the predicted contact
-            return _core.hard_contact(grid.disc, p, grid.hertz.delta, self.tol, max_iter)
-        v = normalise(v, grid.hertz.load, grid.disc.weights)
-        if self.method == "newton":
-            return _core.newton(grid.disc, self._law, v, self.tol, self.max_iter or _MAX_NEWTON)
-        return _core.picard(grid.disc, self._law, v, self.tol, self.max_iter or _MAX_PICARD_SWEEPS)
+    def _rescaled_start(self, grid: _LineGrid, initial: LineContactResult) -> np.ndarray:
+        return _rescaled_start(grid, initial)
 
     def _result(self, grid: _LineGrid, out: _core.Outcome) -> LineContactResult:
         x, dx, hz = grid.x, grid.dx, grid.hertz
@@ -561,9 +335,9 @@ class LineContact:
         else:
             separation = self._law.separation_and_slope(out.v)[0]
             real = self._law.real_area(p)
-        p0 = _peak(p)
+        p0 = peak(p)
         s = _std(x, p, dx)
-        w = _fwhm(x, p, p0)
+        w = fwhm(x, p, p0)
         op = grid.disc.op
         return LineContactResult(
             x=x,

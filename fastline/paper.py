@@ -10,7 +10,15 @@ Scene (paper section 3): a rigid cylinder of radius ``R = 1 cm`` on an elastic h
 large-wavenumber cut-off q1; fastline uses 1e9 1/m by default (docs/reproduction.md shows how
 little the reported numbers move with it).
 
-SI units throughout: m, 1/m, Pa, N/m.
+The sphere versions (:func:`sphere_paper_data`, ``fastline paper --geometry sphere``) keep the
+scene (E*, R = 1 cm as the sphere's radius, the three spectra) and choose the loads F [N] per
+surface so that alpha = h_rms / delta (delta = a^2 / R) runs log-spaced over
+:data:`SPHERE_ALPHA_RANGE` (:func:`sphere_load_for_alpha`), the same alphas for the three
+surfaces. The paper has no point-contact sweep; the smallest alphas need contacts wider than
+the half-space assumption allows (a > 0.1 R below alpha = h_rms / (0.01 R): 0.1 for surfaces 1
+and 2, 0.01 for surface 3), which the diagnostics report.
+
+SI units throughout: m, 1/m, Pa, N/m (N for a sphere).
 
 Reference: A. Tiwari and B.N.J. Persson, *Cylinder-flat contact mechanics with surface
 roughness*.
@@ -39,6 +47,10 @@ __all__ = [
     "load_for_alpha",
     "paper_loads",
     "paper_data",
+    "SPHERE_ALPHA_RANGE",
+    "SPHERE_FIG3_ALPHA",
+    "sphere_load_for_alpha",
+    "sphere_paper_data",
 ]
 
 #: effective modulus E* of the paper's scene [Pa]
@@ -53,6 +65,10 @@ Q1 = 1e9
 FIG3_LOAD = 1e4
 #: smallest and largest load of the sweeps of Figs. 4-5 [N/m]
 LOAD_RANGE = (1e3, 1.5e6)
+#: alphas covered by the sphere versions of Figs. 4-5 (log-spaced)
+SPHERE_ALPHA_RANGE = (1e-3, 1e3)
+#: alpha of the sphere version of Fig. 3 (surface 1)
+SPHERE_FIG3_ALPHA = 1.0
 #: (label, h_rms [m], Hurst exponent) of the paper's three surfaces
 SURFACES = (
     ("surface 1", 10e-6, 0.8),
@@ -190,4 +206,72 @@ def paper_data(
         out.append(surf)
     s1 = out[0]
     fig3 = solve_line_contact(s1.psd, E_STAR, RADIUS, FIG3_LOAD, n=n, theory=s1.theory, **kw)
+    return PaperData(surfaces=out, fig3=fig3, loads=fN, q1=q1, gamma=gamma, n=n)
+
+
+# ----------------------------------------------------------------------------------------------
+# the sphere versions
+# ----------------------------------------------------------------------------------------------
+def sphere_load_for_alpha(alpha, h_rms: float = 10e-6, E_star: float = E_STAR, radius=RADIUS):
+    """Load F [N] on a sphere that gives ``alpha = h_rms / delta``.
+
+    With the Hertz penetration ``delta = a^2 / R`` and ``a^3 = 3 F R / (4 E*)``,
+    ``F = (4/3) E* R^(1/2) delta^(3/2)``, ``delta = h_rms / alpha``. Works on arrays of alpha.
+    """
+    delta = h_rms / np.asarray(alpha, dtype=np.float64)
+    return (4.0 / 3.0 * E_star * math.sqrt(radius) * delta**1.5)[()]
+
+
+def sphere_paper_data(
+    q1: float = Q1,
+    loads: int = 40,
+    n: int = 512,
+    gamma: float = 0.45,
+    progress: Callable[[str], None] | None = None,
+    **solve_options,
+) -> PaperData:
+    """Solve the sphere versions of the paper's Figs. 3-5 (no plotting, no files, no warnings).
+
+    Each surface is swept (:meth:`~fastline.PointContact.sweep`, continuation) over ``loads``
+    loads F [N] chosen by :func:`sphere_load_for_alpha` so that alpha is log-spaced over
+    :data:`SPHERE_ALPHA_RANGE`; ``fig3`` is surface 1 at alpha = :data:`SPHERE_FIG3_ALPHA`.
+
+    Parameters
+    ----------
+    q1 : float
+        Large-wavenumber cut-off of the three spectra in 1/m.
+    loads : int
+        Loads per surface.
+    n : int
+        Cells of each solve (central disc and rings).
+    gamma : float
+        Yang-Persson parameter of the theory, in (0, 1].
+    progress : callable, optional
+        Called with the surface label after each solve.
+    **solve_options
+        Passed on to :class:`~fastline.PointContact` (e.g. ``max_iter``, ``hardness``).
+
+    Returns
+    -------
+    PaperData
+        ``loads`` holds the alphas' loads of surface 1 in N (each surface has its own: see the
+        results' ``load``); the validity warnings are in each result's ``diagnostics``.
+    """
+    from fastline.persson import PerssonTheory
+    from fastline.point_contact import PointContact
+
+    kw = {**solve_options, "warn": False}
+    alphas = np.geomspace(SPHERE_ALPHA_RANGE[0], SPHERE_ALPHA_RANGE[1], loads)
+    out = []
+    for (label, h, H), psd in zip(SURFACES, surfaces(q1), strict=True):
+        th = PerssonTheory(psd, E_STAR, gamma=gamma)
+        surf = PaperSurface(label, h, H, psd, th, th.exponential_fit().gamma_u)
+        model = PointContact(psd, E_STAR, RADIUS, n=n, theory=th, **kw)
+        tick = None if progress is None else (lambda lab=label: progress(lab))
+        surf.results = model.sweep(sphere_load_for_alpha(alphas, h), progress=tick)
+        out.append(surf)
+    s1 = out[0]
+    model = PointContact(s1.psd, E_STAR, RADIUS, n=n, theory=s1.theory, **kw)
+    fig3 = model.solve(float(sphere_load_for_alpha(SPHERE_FIG3_ALPHA, s1.h_rms)))
+    fN = sphere_load_for_alpha(alphas, SURFACES[0][1])
     return PaperData(surfaces=out, fig3=fig3, loads=fN, q1=q1, gamma=gamma, n=n)

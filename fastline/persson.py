@@ -36,6 +36,7 @@ Numerics
 from __future__ import annotations
 
 import math
+import threading
 from collections import namedtuple
 from dataclasses import dataclass
 
@@ -46,8 +47,9 @@ from scipy.special import roots_legendre
 from fastline._jit import JIT
 from fastline._special import _F, EULER_GAMMA, G0, f_coefficients
 from fastline._special_area import _beta_area, _F_area, _Y_area, area_tables
+from fastline._tabulated import EtaRule, tabulated_quadrature
 from fastline._validate import E_STAR_RANGE, finite_array, in_range, in_span, positive_array
-from fastline.spectra import PSD
+from fastline.spectra import PSD, TabulatedPSD
 from fastline.variants import DEFAULT_VARIANT, get_variant
 
 __all__ = [
@@ -60,6 +62,8 @@ __all__ = [
 ]
 
 _SQRT_PI = math.sqrt(math.pi)
+#: guards the lazy build of table T2 (several threads may ask for p(u) at once)
+_T2_LOCK = threading.Lock()
 #: allowed range of the Yang-Persson parameter gamma
 GAMMA_RANGE = (0.05, 1.0)
 #: graded sub-panels towards q1; the integrand's pile-up there is ~1/(0.4 x^2) wide in ln q
@@ -77,6 +81,7 @@ class TableSettings:
     graded_order: int  # points per graded sub-panel
     h_v: float  # T1 spacing in v = ln p
     log2_cells_per_binade: int  # T2: m, with 2^m cells in each binade [2^e, 2^(e+1)) of u
+    tabulated: EtaRule  # q quadrature of a TabulatedPSD (fastline._tabulated)
 
     @classmethod
     def for_rtol(cls, rtol: float) -> TableSettings:
@@ -89,6 +94,7 @@ class TableSettings:
                 graded_order=6,
                 h_v=0.2,
                 log2_cells_per_binade=4,
+                tabulated=EtaRule(order=8, edge_order=6, width=1.25, bins=24, top_levels=5),
             )
         if rtol >= 1e-6:
             return cls(
@@ -98,6 +104,7 @@ class TableSettings:
                 graded_order=10,
                 h_v=0.1,
                 log2_cells_per_binade=6,
+                tabulated=EtaRule(order=10, edge_order=10, width=1.0, bins=64, top_levels=6),
             )
         return cls(
             panels_per_decade=5,
@@ -106,6 +113,7 @@ class TableSettings:
             graded_order=14,
             h_v=0.05,
             log2_cells_per_binade=7,
+            tabulated=EtaRule(order=14, edge_order=12, width=1.0, bins=128, top_levels=8),
         )
 
 
@@ -164,9 +172,13 @@ def _lnu_nodes(v, s, W, gamma, b2, c1, c2, c3, L, L1, L2):
             u += W[j] * _F(max(x, 1e-300), gamma, c1, c2, c3)
             d1 -= W[j] * b * e
             d2 += W[j] * e * (2.0 * x * x * b - 2.0 * b3 * er * _TWO_OVER_SQRT_PI * x * e)
-        L[i] = math.log(u)
-        L1[i] = d1 / u
-        L2[i] = d2 / u - L1[i] * L1[i]
+        if u > 0.0:
+            L[i] = math.log(u)
+            L1[i] = d1 / u
+            L2[i] = d2 / u - L1[i] * L1[i]
+        else:  # u underflowed (deep full contact): ln u = -inf, no slope
+            L[i] = -math.inf
+            L1[i] = L2[i] = 0.0
 
 
 @numba.njit(**JIT)
@@ -203,9 +215,13 @@ def _lnu_nodes_area(v, s, W, at, correction, L, L1, L2):
             u += W[j] * _F_area(x, at)
             d1 -= W[j] * beta
             d2 -= W[j] * beta * dlog
-        L[i] = math.log(u)
-        L1[i] = d1 / u
-        L2[i] = d2 / u - L1[i] * L1[i]
+        if u > 0.0:
+            L[i] = math.log(u)
+            L1[i] = d1 / u
+            L2[i] = d2 / u - L1[i] * L1[i]
+        else:  # u underflowed (deep full contact): ln u = -inf, no slope
+            L[i] = -math.inf
+            L1[i] = L2[i] = 0.0
 
 
 @numba.njit(**JIT)
@@ -437,10 +453,14 @@ def _erf_vec(x, out):
 # q quadrature
 # ----------------------------------------------------------------------------------------------
 def _q_quadrature(psd: PSD, settings: TableSettings):
-    """Nodes q_j and weights of ``int dq f(q)`` over [q0, q1], plus A(q_j).
+    """Nodes q_j and weights of ``int f(q) q^2 C(q) dq`` over [q0, q1], plus A(q_j).
 
-    Returns ``q, dq_weight, A`` sorted by increasing q.
+    Returns ``q, weight, A`` sorted by increasing q. A table takes the eta quadrature of
+    :mod:`fastline._tabulated` (cost independent of its size); the analytic spectra Gauss
+    panels in ln q split at their few kinks.
     """
+    if isinstance(psd, TabulatedPSD):
+        return tabulated_quadrature(psd, settings.tabulated)
     t_ref, w_ref = roots_legendre(settings.order)
     t_ref = 0.5 * (t_ref + 1.0)
     w_ref = 0.5 * w_ref
@@ -483,11 +503,8 @@ def _q_quadrature(psd: PSD, settings: TableSettings):
     q_rest = np.exp(lq)
     w_rest = np.concatenate([((lb - la) * w_ref).ravel(), ((gb - ga) * wg).ravel()]) * q_rest
     A_rest = psd.cumulative(q_rest)
-    return (
-        np.concatenate([q_first, q_rest]),
-        np.concatenate([w_first, w_rest]),
-        np.concatenate([A_first, A_rest]),
-    )
+    q = np.concatenate([q_first, q_rest])
+    return q, np.concatenate([w_first, w_rest]) * q * q * psd(q), np.concatenate([A_first, A_rest])
 
 
 # ----------------------------------------------------------------------------------------------
@@ -544,12 +561,12 @@ class PerssonTheory:
         else:  # F of fastline._special; the contact area erf(x)
             self._coef, self._area = f_coefficients(self.gamma, self._bracket[1]), None
 
-        q, dq, A = _q_quadrature(psd, self.settings)
+        q, dm, A = _q_quadrature(psd, self.settings)  # dm: weights of q^2 C dq
         keep = A > 0.0
-        q, dq, A = q[keep], dq[keep], A[keep]
+        q, dm, A = q[keep], dm[keep], A[keep]
         w = 1.0 / np.sqrt(A)
         self._q = q
-        self._W = np.ascontiguousarray(_SQRT_PI * q * q * psd(q) * w * dq)
+        self._W = np.ascontiguousarray(_SQRT_PI * dm * w)
         self._s = np.ascontiguousarray(w / self.E_star)  # x_j = s_j p
         self._w1 = 1.0 / math.sqrt(float(psd.cumulative(psd.q1)))
 
@@ -576,40 +593,62 @@ class PerssonTheory:
             _separation_area(p, self._s, self._W, self._area, out)
         return out
 
+    def _lnu(self, v: np.ndarray, L: np.ndarray, L1: np.ndarray, L2: np.ndarray) -> None:
+        """ln u and its first two derivatives in v = ln p into L, L1, L2 (the quadrature)."""
+        if self._area is None:
+            _lnu_nodes(v, self._s, self._W, self.gamma, self._bracket[1], *self._coef, L, L1, L2)
+        else:
+            _lnu_nodes_area(v, self._s, self._W, self._area, self._correction, L, L1, L2)
+
     def _build_tables(self):
+        """Table T1 (u of ln p) now; table T2 (p of u) on first use (:attr:`_t2`): a Newton solve
+        never needs it, and its kernels then need not be compiled or built (lazy tables)."""
         st = self.settings
         u0 = self._fit.u0
         E = self.E_star
         # low end: where the full u(p) meets the exponential law to within rtol/10
         law = lambda p: u0 * math.log(self._fit.beta * E / p)  # noqa: E731
         p_lo = 1e-6 * E
+        one = np.empty(1), np.empty(1), np.empty(1)
         while p_lo > 1e-40 * E:
-            u = float(self._u_direct(np.array([p_lo]))[0])
-            if abs(u - law(p_lo)) <= 0.1 * self.rtol * u0:
+            self._lnu(np.array([math.log(p_lo)]), *one)
+            if abs(math.exp(one[0][0]) - law(p_lo)) <= 0.1 * self.rtol * u0:
                 break
             p_lo *= 1e-2
-        # high end: x = w(q1) p / E* = 12, u ~ exp(-144) h_rms: beyond any physical closure.
-        # T2 (the fast inverse) starts near x = 5 (P(q1, p) = erf(5)); above, p(u) inverts T1.
+        # high end: x = w(q1) p / E* = 12, u ~ exp(-144) h_rms: beyond any physical closure
         p_hi = 12.0 * E / self._w1
-        p_t2 = 5.0 * E / self._w1
         v0 = math.log(p_lo)
         n = int(math.ceil((math.log(p_hi) - v0) / st.h_v)) + 1
         h = (math.log(p_hi) - v0) / (n - 1)
         v = v0 + h * np.arange(n)
         L, L1, L2 = np.empty(n), np.empty(n), np.empty(n)
-        if self._area is None:
-            _lnu_nodes(v, self._s, self._W, self.gamma, self._bracket[1], *self._coef, L, L1, L2)
-        else:
-            _lnu_nodes_area(v, self._s, self._W, self._area, self._correction, L, L1, L2)
+        self._lnu(v, L, L1, L2)
         # continuation above: match ln u, its slope and curvature at p_hi
         k = -L2[-1] / (4.0 * p_hi * p_hi)
         kappa = np.array([k, -L1[-1] - 2.0 * k * p_hi * p_hi])
         self._t1 = (v0, h, L, L1, L2, u0, kappa)
-        # T2 over whole binades of u, from the one holding u(x = 5) to the one holding u(p_lo)
+        self.p_range = (p_lo, p_hi)
+
+    @property
+    def _t2(self):
+        """Table T2 (module docstring), built on first use under a lock and kept."""
+        t2 = self.__dict__.get("_t2_table")
+        if t2 is None:
+            with _T2_LOCK:
+                t2 = self.__dict__.get("_t2_table")
+                if t2 is None:
+                    t2 = self.__dict__["_t2_table"] = self._build_t2()
+        return t2
+
+    def _build_t2(self):
+        """T2 over whole binades of u, from the one holding u(x = 5) (P(q1, p) = erf(5); above,
+        p(u) inverts T1) to the one holding u(p_lo)."""
+        v0, h, L, L1, L2, u0, kappa = self._t1
+        p_t2 = 5.0 * self.E_star / self._w1
         lu_t2, _ = _lnu_table(math.log(p_t2), v0, h, L, L1, L2, u0, kappa)
         e0 = max(math.frexp(math.exp(lu_t2))[1] - 1, -1022)  # subnormal u: T1 branch
         e1 = math.frexp(math.exp(L[0]))[1] - 1
-        logm = st.log2_cells_per_binade
+        logm = self.settings.log2_cells_per_binade
         ncell = (e1 - e0 + 1) << logm
         V, V1 = np.empty(ncell + 1), np.empty(ncell + 1)
         _build_inverse(e0, logm, ncell, v0, h, L, L1, L2, u0, kappa, V, V1)
@@ -622,8 +661,7 @@ class PerssonTheory:
         Cf[:, 2] = 3.0 * dV - hu * (2.0 * V1[:-1] + V1[1:])
         Cf[:, 3] = -2.0 * dV + hu * (V1[:-1] + V1[1:])
         base = (e0 + 1023) << logm
-        self._t2 = (Cf, base, logm, 1.0 / u0, math.exp(L[0]), v0, V[0], self._t1)
-        self.p_range = (p_lo, p_hi)
+        return (Cf, base, logm, 1.0 / u0, math.exp(L[0]), v0, V[0], self._t1)
 
     # -- public methods -------------------------------------------------------------------------
     def separation(self, p) -> np.ndarray:
@@ -718,8 +756,10 @@ class PerssonTheory:
             fit = self._fit
             lo, hi = self.p_range
             p = np.logspace(math.log10(lo), math.log10(hi), 400)
+            L, L1, L2 = np.empty(400), np.empty(400), np.empty(400)
+            self._lnu(np.log(p), L, L1, L2)
             with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
-                u_full = self.separation(p)
+                u_full = np.exp(L)  # the direct quadrature (the kernel the tables use)
                 ok = np.abs(fit.u0 * np.log(fit.beta * self.E_star / p) - u_full) <= rtol * u_full
             bad = np.nonzero(~ok)[0]
             if not ok[0]:

@@ -155,9 +155,11 @@ def plot_psd(psds, *, q=None, ax=None):
 def plot_profile(result, *, hertz: bool = True, label: str | None = None, ax=None):
     """Pressure profile p(x) of one result, with the smooth (Hertz) profile at the same load.
 
+    A point contact's profile is drawn along a diameter, with the Hertz sphere.
+
     Parameters
     ----------
-    result : LineContactResult
+    result : LineContactResult or PointContactResult
     hertz : bool
         Also draw the Hertz profile (paper eq. 6) at the same E*, R and load.
     label : str, optional
@@ -166,6 +168,8 @@ def plot_profile(result, *, hertz: bool = True, label: str | None = None, ax=Non
     """
     from fastline.limits import hertz_line_contact
 
+    if _is_point(result):
+        return _plot_point_profile(result, hertz, label, ax)
     fig, ax, _ = _figure(ax)
     x_mm = result.x * 1e3
     if label is None:
@@ -183,12 +187,42 @@ def plot_profile(result, *, hertz: bool = True, label: str | None = None, ax=Non
     return fig
 
 
-def _ws_limits(values) -> tuple[float, float]:
+def _is_point(result) -> bool:
+    """A point-contact result (it knows its Hertz radius)."""
+    return hasattr(result, "hertz_radius")
+
+
+def _plot_point_profile(result, hertz, label, ax):
+    """:func:`plot_profile` of a point contact: p along a diameter, the Hertz sphere dashed."""
+    from matplotlib.ticker import MaxNLocator
+
+    from fastline.limits import hertz_point_contact
+
+    fig, ax, _ = _figure(ax)
+    x, p = result.diameter_profile()
+    if label is None:
+        label = f"{result.model}, $\\alpha$ = {result.alpha:.3g}"
+    ax.plot(x * 1e3, p / 1e6, "-", color="C0", label=label)
+    hz = hertz_point_contact(result.E_star, result.radius, result.load)
+    if hertz:
+        ax.plot(x * 1e3, hz.pressure(x) / 1e6, "--", color="k", lw=1, label="Hertz (smooth)")
+    half = 1.3 * max(hz.a if hertz else 0.0, 2.5 * result.s)
+    ax.set_xlim(-half * 1e3, half * 1e3)
+    ax.xaxis.set_major_locator(MaxNLocator(nbins=6, symmetric=True))
+    ax.set_ylim(0.0, None)
+    ax.set_xlabel(r"position along a diameter $x$ (mm)")
+    ax.set_ylabel(r"nominal pressure $p$ (MPa)")
+    _legend(ax)
+    return fig
+
+
+def _ws_limits(values, hertz: float | None = None) -> tuple[float, float]:
     """y range of a w/s panel: the data and both reference values, with a margin."""
     from fastline.limits import WS_GAUSSIAN, WS_HERTZ
 
+    hertz = WS_HERTZ if hertz is None else hertz
     v = np.asarray([x for x in values if math.isfinite(x)] or [WS_GAUSSIAN])
-    lo, hi = min(v.min(), WS_GAUSSIAN), max(v.max(), WS_HERTZ)
+    lo, hi = min(v.min(), WS_GAUSSIAN), max(v.max(), hertz)
     pad = 0.07 * (hi - lo)  # room for the reference lines' labels
     return lo - pad, hi + pad
 
@@ -199,12 +233,17 @@ def plot_w_over_s(results, *, ax=None):
     Parameters
     ----------
     results : sequence of LineContactResult, or mapping of label -> sequence
-        One or several load sweeps (paper Fig. 4).
+        One or several load sweeps (paper Fig. 4); point-contact results (the sphere's
+        version, with its Hertz value sqrt(15)).
     ax : matplotlib Axes, optional
     """
-    from fastline.limits import WS_GAUSSIAN, WS_HERTZ
+    from fastline.limits import WS_GAUSSIAN, WS_HERTZ, WS_HERTZ_SPHERE
 
     series = _series(results)
+    point = all(_is_point(r) for rs in series.values() for r in rs)
+    hertz, hertz_text = WS_HERTZ, r"Hertz: $2\sqrt{3}$ = 3.464"
+    if point:
+        hertz, hertz_text = WS_HERTZ_SPHERE, r"Hertz sphere: $\sqrt{15}$ = 3.873"
     fig, ax, own = _figure(ax)
     allv = []
     for label, rs in series.items():
@@ -213,12 +252,12 @@ def plot_w_over_s(results, *, ax=None):
         ws = [r.w_over_s for r in rs]
         allv += ws
         ax.semilogx(a, ws, "o-", ms=3, lw=1.2, label=label)
-    ax.set_ylim(*_ws_limits(allv))
+    ax.set_ylim(*_ws_limits(allv, hertz))
     _log_axis(ax.xaxis)
     # reference lines labelled outside the band between them, where w/s usually lies: Hertz
     # above its line on the right (large alpha), Gaussian below its line on the left
     for y, ls, text, x, ha, dy, va in (
-        (WS_HERTZ, "--", r"Hertz: $2\sqrt{3}$ = 3.464", 0.98, "right", 2, "bottom"),
+        (hertz, "--", hertz_text, 0.98, "right", 2, "bottom"),
         (WS_GAUSSIAN, ":", r"Gaussian: $2\sqrt{2\ln 2}$ = 2.355", 0.02, "left", -2, "top"),
     ):
         ax.axhline(y, ls=ls, color="k", lw=0.8)
@@ -247,23 +286,30 @@ def plot_p0_ratio(results, *, gamma_u=None, ax=None):
     Parameters
     ----------
     results : sequence of LineContactResult, or mapping of label -> sequence
-        One or several load sweeps (paper Fig. 5).
+        One or several load sweeps (paper Fig. 5); point-contact results (the sphere's
+        version).
     gamma_u : float or mapping of label -> float, optional
         ``u0 / h_rms`` of each series; when given, eq. 14 ``(pi / (8 gamma_u alpha))^(1/2)`` is
-        drawn (dashed, in the series' colour). The y range follows the data, not the
-        asymptote (which grows without bound at small alpha).
+        drawn (dashed, in the series' colour; for a sphere its analogue ``1 / (3 gamma_u
+        alpha)``, :func:`fastline.limits.p0_ratio_gaussian_sphere`). The y range follows the
+        data, not the asymptote (which grows without bound at small alpha).
     ax : matplotlib Axes, optional
     """
-    from fastline.limits import p0_ratio_gaussian
+    from fastline.limits import p0_ratio_gaussian, p0_ratio_gaussian_sphere
 
     series = _series(results)
+    asymptote, name = p0_ratio_gaussian, "eq. 14"
+    point = all(_is_point(r) for rs in series.values() for r in rs)
+    if point:
+        asymptote, name = p0_ratio_gaussian_sphere, r"$1/(3\gamma_u\alpha)$"
     fig, ax, _ = _figure(ax)
-    top = 1.0
+    top, bottom = 1.0, 1.0
     for k, (label, rs) in enumerate(series.items()):
         rs = _sorted(rs)
         a = np.array([r.alpha for r in rs])
         pr = np.array([r.p0_ratio for r in rs])
         top = max(top, float(np.nanmax(pr)))
+        bottom = min(bottom, float(np.nanmin(pr)))
         color = f"C{k % 10}"
         ax.semilogx(a, pr, "o-", ms=3, lw=1.2, color=color, label=label)
         gu = _gamma_u_for(gamma_u, label)
@@ -271,14 +317,19 @@ def plot_p0_ratio(results, *, gamma_u=None, ax=None):
             aa = np.geomspace(a.min(), a.max(), 200)
             ax.semilogx(
                 aa,
-                p0_ratio_gaussian(aa, gu),
+                asymptote(aa, gu),
                 "--",
                 color=color,
                 lw=0.9,
-                label=f"eq. 14, $\\gamma_u$ = {gu:.3f}",
+                label=f"{name}, $\\gamma_u$ = {gu:.3f}",
             )
     ax.axhline(1.0, color="k", lw=0.6, label="Hertz")
-    ax.set_ylim(0.0, 1.15 * top)
+    if point:  # p0 falls like 1/alpha: a log axis, on which the asymptote is a straight line
+        ax.set_yscale("log")
+        ax.set_ylim(0.5 * bottom, 2.0 * top)
+        _log_axis(ax.yaxis)
+    else:
+        ax.set_ylim(0.0, 1.15 * top)
     _log_axis(ax.xaxis)
     ax.set_xlabel(_ALPHA_LABEL)
     ax.set_ylabel(_P0_LABEL)

@@ -24,6 +24,7 @@ import math
 
 import numpy as np
 
+from fastline._tabulated import interval_moments
 from fastline._validate import (
     LENGTH_RANGE,
     WAVENUMBER_RANGE,
@@ -201,19 +202,18 @@ class TabulatedPSD(PSD):
         self.C = C
         self._live = live
         with np.errstate(divide="ignore", invalid="ignore"):
-            slope = np.log(C[1:] / C[:-1]) / np.log(q[1:] / q[:-1])
+            self._dt = np.log(q[1:] / q[:-1])
+            slope = np.log(C[1:] / C[:-1]) / self._dt
         self._slope = np.where(live, slope, 0.0)
         first = int(np.argmax(live))
         last = len(live) - 1 - int(np.argmax(live[::-1]))
         self.q0 = float(q[first])
         self.q1 = float(q[last + 1])
-        # exact moments of each whole interval, cumulated, for k = 1 and 3
-        whole = np.arange(q.size - 1)
-        with np.errstate(over="ignore", invalid="ignore"):  # absurd tables: checked just below
-            self._cum = {
-                k: np.concatenate([[0.0], np.cumsum(self._partial(k, whole, q[1:]))])
-                for k in (1, 3)
-            }
+        # exact moments of each whole interval (k = 1, 3 cumulated) and the per-interval
+        # moments of the Persson measure that make the theory's quadrature table-size free
+        cum1, cum3, self._measure = interval_moments(q, C, self._dt, self._slope, live)
+        self._cum = {1: cum1, 3: cum3}
+        with np.errstate(over="ignore", invalid="ignore"):  # absurd tables: checked here
             self._check_plausible()
 
     def _check_plausible(self):

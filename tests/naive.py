@@ -12,7 +12,7 @@ import math
 import numpy as np
 from scipy.integrate import quad, solve_ivp
 from scipy.optimize import brentq
-from scipy.special import erf, exp1
+from scipy.special import erf, exp1, roots_legendre
 
 
 def universal_F(x0: float, gamma: float, b2: float | None = None) -> float:
@@ -328,6 +328,265 @@ def reynolds_dense(gap, dx, dy, viscosity, pressure_drop):
         if (nx - 1, j) in index
     )
     return q * nx * dx / (ny * dy * pressure_drop)
+
+
+# ------------------------------------------------------------------------------------------------
+# tabulated spectra (fast eta quadrature of fastline._tabulated)
+# ------------------------------------------------------------------------------------------------
+_GL20 = roots_legendre(20)
+_G_STEP = 1.0 / 64.0  # grid of G(x) on [0, 7]; beyond 7 erf(x)^2 = 1 to 1e-22
+_G_TOP = 7.0
+
+
+def _gauss20(f, a, b):
+    """int_a^b f by 20-point Gauss-Legendre, vectorised over arrays a, b."""
+    t, w = _GL20
+    a = np.asarray(a, dtype=float)[..., None]
+    b = np.asarray(b, dtype=float)[..., None]
+    x = 0.5 * (a + b) + 0.5 * (b - a) * t
+    return 0.5 * (b - a)[..., 0] * (f(x) @ w)
+
+
+def _g_integrand(x):
+    return erf(x) ** 2 * np.exp(-x * x) / x
+
+
+@functools.cache
+def _g_grid():
+    """G(x) = int_x^inf erf^2 exp(-x^2)/x dx on the grid k/64, summed down from x = 7."""
+    x = np.arange(0.0, _G_TOP + 0.5 * _G_STEP, _G_STEP)
+    cells = _gauss20(_g_integrand, np.maximum(x[:-1], 1e-300), x[1:])
+    G = np.concatenate([np.cumsum(cells[::-1])[::-1], [0.0]]) + exp1(_G_TOP**2) / 2.0
+    return x, G
+
+
+def universal_F_vec(x, gamma: float) -> np.ndarray:
+    """F(x) of ``universal_F`` for an array: ``gamma E1(x^2)/2 + 3 (1 - gamma) G(x)``.
+
+    G from the grid value above x plus a 20-point Gauss-Legendre integral up to it (relative
+    error ~1e-15, checked against ``universal_F``); for x >= 7, ``G = E1(x^2)/2``.
+    """
+    x = np.asarray(x, dtype=float)
+    grid, G_grid = _g_grid()
+    G = exp1(np.maximum(x, _G_TOP) ** 2) / 2.0
+    low = x < _G_TOP
+    k = np.minimum((x[low] / _G_STEP).astype(int) + 1, grid.size - 1)
+    G[low] = G_grid[k] + _gauss20(_g_integrand, np.maximum(x[low], 1e-300), grid[k])
+    return gamma * exp1(x * x) / 2.0 + 3.0 * (1.0 - gamma) * G
+
+
+def tabulated_nodes(qn, Cn, piece: float = 0.01, points: int = 8):
+    """Nodes of ``int f(q) q^2 C(q) dq`` for the log-log interpolant of a table: the weights
+    ``dm`` (of q^2 C dq) and ``w = A^(-1/2)`` at each node.
+
+    Per table interval (zero intervals skipped): ``points``-point Gauss-Legendre per piece of
+    at most ``piece`` in ln q, so every kink of C is a piece edge. On the interval the
+    spectrum is ``C = C_i (q/q_i)^s`` and ``A(q) = A_i + pi C_i q_i^4 ((q/q_i)^(4+s) - 1)/(4+s)``
+    (written with expm1, A_i summed over the intervals below). On the first live interval
+    ``q = a + L tau^2`` with tau graded geometrically (ratio 0.3, 40 levels) removes
+    ``w ~ (q - q0)^(-1/2)``; there ``ln(q/a)`` is taken as ``log1p(L tau^2 / a)`` so that A stays
+    exact when ``q`` rounds to ``a``.
+    """
+    qn, Cn = np.asarray(qn, dtype=float), np.asarray(Cn, dtype=float)
+    t_ref, w_ref = roots_legendre(points)
+    nodes, weights, cumul = [], [], []
+    A_start, first = 0.0, True
+    for i in range(qn.size - 1):
+        if Cn[i] <= 0.0 or Cn[i + 1] <= 0.0:
+            continue
+        a, b = qn[i], qn[i + 1]
+        s = math.log(Cn[i + 1] / Cn[i]) / math.log(b / a)
+        if first:
+            edges = np.concatenate([[0.0], 0.3 ** np.arange(40, -1, -1)])
+            ta, tb = edges[:-1, None], edges[1:, None]
+            tau = (0.5 * (ta + tb) + 0.5 * (tb - ta) * t_ref).ravel()
+            log_r = np.log1p((b - a) * tau**2 / a)
+            dq = (0.5 * (tb - ta) * w_ref).ravel() * 2.0 * (b - a) * tau
+            first = False
+        else:
+            n = max(1, math.ceil(math.log(b / a) / piece))
+            e = math.log(b / a) * np.arange(n + 1) / n
+            ea, eb = e[:-1, None], e[1:, None]
+            log_r = (0.5 * (ea + eb) + 0.5 * (eb - ea) * t_ref).ravel()
+            dq = (0.5 * (eb - ea) * w_ref).ravel() * a * np.exp(log_r)
+        q = a * np.exp(log_r)
+        e4 = 4.0 + s
+        grow = log_r if e4 == 0.0 else np.expm1(e4 * log_r) / e4
+        cumul.append(A_start + math.pi * Cn[i] * a**4 * grow)
+        weights.append(dq * q * q * Cn[i] * np.exp(s * log_r))
+        nodes.append(q)
+        A_start += (
+            math.pi
+            * Cn[i]
+            * a**4
+            * (math.log(b / a) if e4 == 0.0 else math.expm1(e4 * math.log(b / a)) / e4)
+        )
+    return np.concatenate(weights), 1.0 / np.sqrt(np.concatenate(cumul))
+
+
+def separation_tabulated(
+    qn, Cn, E_star: float, p, gamma: float = 0.45, piece: float = 0.01, points: int = 8
+):
+    """u(p) (THEORY.md section 3) of the log-log interpolant of a table, array of pressures,
+    on the nodes of ``tabulated_nodes``."""
+    dm, w = tabulated_nodes(qn, Cn, piece, points)
+    p = np.atleast_1d(np.asarray(p, dtype=float))
+    out = np.empty(p.size)
+    for k, pk in enumerate(p):
+        x = w * pk / E_star
+        live = x < 27.0
+        out[k] = math.sqrt(math.pi) * np.sum(dm[live] * w[live] * universal_F_vec(x[live], gamma))
+    return out
+
+
+# ------------------------------------------------------------------------------------------------
+# 1D spectra of isotropic surfaces (topography)
+# ------------------------------------------------------------------------------------------------
+def self_affine_1d(psd, k) -> np.ndarray:
+    """The two-sided 1D spectrum of a ``SelfAffinePSD`` in closed form (Abel forward transform).
+
+    ``C1D(k) = 2 int_k^inf C(q) q / sqrt(q^2 - k^2) dq`` (docs/theory.md section 2). The flat
+    part gives ``2 C0 [sqrt(b^2 - k^2) - sqrt(a^2 - k^2)]`` over ``[a, b] = [max(q0, k),
+    max(qr, k)]``; the power law ``C0 (q/qr)^(-2(1+H))`` on ``[max(qr, k), q1]`` gives, with
+    ``u = k^2/q^2``, ``C0 qr^(2+2H) k^(-1-2H) [B(k^2/max(qr,k)^2) - B(k^2/q1^2)]`` where B is the
+    incomplete beta function ``B(x; H + 1/2, 1/2)``. Zero for k >= q1.
+    """
+    from scipy.special import beta, betainc
+
+    k = np.asarray(k, dtype=float)
+    C0, H, q0, qr, q1 = psd.C0, psd.hurst, psd.q0, psd.qr, psd.q1
+    a, b = np.maximum(q0, k), np.maximum(qr, k)
+    flat = 2.0 * C0 * (np.sqrt(np.maximum(b * b - k * k, 0.0)) - np.sqrt(a * a - k * k))
+    alpha = H + 0.5
+
+    def incomplete(x):
+        return betainc(alpha, 0.5, x) * beta(alpha, 0.5)
+
+    with np.errstate(divide="ignore"):
+        power = (
+            C0 * qr ** (2 + 2 * H) * k ** (-1 - 2 * H)
+            * (incomplete((k / b) ** 2) - incomplete(np.minimum(k / q1, 1.0) ** 2))
+        )  # fmt: skip
+    return np.where(k < q1, flat + power, 0.0)
+
+
+def abel_forward_quad(psd, k: float, epsrel: float = 1e-12) -> float:
+    """``C1D(k) = 2 int_k^q1 C(q) q / sqrt(q^2 - k^2) dq`` by quad, with ``q = k cosh(t)``
+    (smooth integrand ``2 k C(k cosh t) cosh t``), split at the kinks of C."""
+    cuts = [max(k, b) for b in psd.breakpoints()] + [psd.q1]
+    t = sorted({math.acosh(c / k) for c in cuts if c >= k})
+    total = 0.0
+    for ta, tb in zip(t[:-1], t[1:], strict=False):
+        total += quad(
+            lambda x: 2.0 * k * float(psd(k * math.cosh(x))) * math.cosh(x),
+            ta,
+            tb,
+            epsabs=0.0,
+            epsrel=epsrel,
+            limit=200,
+        )[0]
+    return total
+
+
+def smooth_rolloff_pair(k, C0: float, qr: float, H: float):
+    """A spectrum without kinks and its 1D transform, both in closed form:
+    ``C(q) = C0 (1 + q^2/qr^2)^-(1+H)`` and, integrating over the other wavevector component
+    (``C1D(k) = int C(sqrt(k^2 + y^2)) dy``),
+    ``C1D(k) = C0 qr B(1/2, H + 1/2) (1 + k^2/qr^2)^-(H + 1/2)``."""
+    from scipy.special import beta
+
+    k = np.asarray(k, dtype=float)
+    C = C0 * (1.0 + (k / qr) ** 2) ** (-(1.0 + H))
+    C1D = C0 * qr * beta(0.5, H + 0.5) * (1.0 + (k / qr) ** 2) ** (-H - 0.5)
+    return C, C1D
+
+
+def periodogram_1d(h, dx: float, window) -> tuple[np.ndarray, np.ndarray]:
+    """``C1D(k_m) = dx^2/(2 pi L) |sum_j w_j h_j exp(-i k_m x_j)|^2`` for m = 1..N//2, written as
+    the explicit O(N^2) sum (x_j = j dx, L = N dx), for one profile."""
+    h = np.asarray(h, dtype=float)
+    n = h.size
+    L = n * dx
+    x = np.arange(n) * dx
+    m = np.arange(1, n // 2 + 1)
+    k = 2.0 * math.pi * m / L
+    phase = np.exp(-1j * np.outer(k, x))
+    return k, dx * dx / (2.0 * math.pi * L) * np.abs(phase @ (window * h)) ** 2
+
+
+# ----------------------------------------------------------------------------------------------
+# point contact (THEORY.md section 9): the ring kernel of Johnson eq. 3.96a
+# ----------------------------------------------------------------------------------------------
+def ring_kernel(r: float, rho: float) -> float:
+    """(4/pi) rho/(r + rho) K(k), k = 2 sqrt(r rho)/(r + rho): displacement at r per unit
+    pressure on the ring at rho (per unit rho), E* = 1. K is written with scipy's ``ellipkm1``
+    of 1 - k^2 = ((r - rho)/(r + rho))^2, exact near the log singularity at rho = r."""
+    from scipy.special import ellipkm1
+
+    if rho == r:
+        return 0.0  # the integrable singularity; never an interior quadrature node
+    return 4.0 / math.pi * rho / (r + rho) * float(ellipkm1(((r - rho) / (r + rho)) ** 2))
+
+
+def ring_cell_coefficient(i: int, j: int) -> float:
+    """Displacement averaged over cell i per unit pressure on cell j, dr = 1, E* = 1.
+
+    Cells: the disc r < 1/2 (j = 0) and the rings (j - 1/2, j + 1/2). Nested ``quad`` of the
+    ring kernel, each integral split where the integrand is singular or kinked.
+    """
+
+    def edges(k):
+        return (0.0 if k == 0 else k - 0.5), k + 0.5
+
+    (a, b), (c, d) = edges(i), edges(j)
+
+    def inner(r):
+        cuts = [c, r, d] if c < r < d else [c, d]
+        return sum(
+            quad(lambda rho: ring_kernel(r, rho), lo, hi, epsabs=0.0, epsrel=1e-13, limit=200)[0]
+            for lo, hi in zip(cuts[:-1], cuts[1:], strict=False)
+        )
+
+    cuts = sorted({a, b} | {x for x in (c, d) if a < x < b})
+    total = sum(
+        quad(lambda r: inner(r) * 2.0 * math.pi * r, lo, hi, epsabs=0.0, epsrel=1e-12, limit=200)[0]
+        for lo, hi in zip(cuts[:-1], cuts[1:], strict=False)
+    )
+    return total / (math.pi * (b * b - a * a))
+
+
+def point_contact_exponential(khat, E_star, radius, load, u0, beta, domain):
+    """Point contact with the exponential law p = beta E* exp(-u/u0): dense matrix, scipy root.
+
+    ``khat`` is the dimensionless ring matrix (checked against :func:`ring_cell_coefficient`
+    in the tests); cells are the disc r < dr/2 and rings of width dr = domain / (n - 1/2).
+    Unknowns v = ln p (n values) and u1; equations
+    u0 ln(beta E*/p_i) = u1 + <r^2/2R>_i + (dr/E*) (khat p)_i and sum(w p) = load.
+    Returns r, p.
+    """
+    from scipy.optimize import root
+
+    n = khat.shape[0]
+    dr = domain / (n - 0.5)
+    e = np.concatenate([[0.0], (np.arange(n) + 0.5) * dr])
+    w = math.pi * (e[1:] ** 2 - e[:-1] ** 2)
+    g = (e[1:] ** 2 + e[:-1] ** 2) / (4.0 * radius)
+    K = khat * (dr / E_star)
+    r = np.arange(n) * dr
+    s2 = radius * u0
+    v0 = np.log(load / (2.0 * math.pi * s2)) - r * r / (2.0 * s2)
+
+    def fun(z):
+        v, u1 = z[:-1], z[-1]
+        p = np.exp(v)
+        res = u0 * (math.log(beta * E_star) - v) - u1 - g - K @ p
+        return np.concatenate([res / u0, [w @ p / load - 1.0]])
+
+    z0 = np.concatenate([v0, [u0 * math.log(beta * E_star / (load / (2 * math.pi * s2)))]])
+    sol = root(fun, z0, method="hybr", tol=1e-13)
+    if not sol.success:
+        raise RuntimeError(sol.message)
+    return r, np.exp(sol.x[:-1])
 
 
 # ---- variants of the theory with the area correction (fastline.variants, "wang-mueser") -------

@@ -77,7 +77,8 @@ def test_code_block_runs(page, lang, code, in_tmp):
     with redirect_stdout(out), redirect_stderr(out), warnings.catch_warnings():
         warnings.simplefilter("ignore")  # the blocks show warnings; they are tested elsewhere
         if lang == "python":
-            exec(compile(code, page, "exec"), {"__name__": "__docs__"})
+            # as a script: blocks that start worker processes guard them with __main__
+            exec(compile(code, page, "exec"), {"__name__": "__main__"})
         else:
             for cmd in commands(code):
                 status = main(shlex.split(cmd)[1:])

@@ -235,13 +235,21 @@ def test_cache_switch_by_environment():
 
 
 def test_per_n_caches_are_bounded():
+    """A code that adapts n must not grow memory without bound: kernel spectra, FFTW plans
+    (compiled path) and pyFFTW workspaces (fallback) are all least-recently-used caches."""
+    from fastline import _fftw
+
     for n in range(16, 16 + 3 * elastic.SPECTRA_KEPT):
         op = fl.LogKernelOperator(n, 1e-6, E_STAR)
         op.apply(np.ones(n))
         op.circulant_inverse(0.0)
+        op.solve_newton(np.full(n, op.diagonal), np.full(n, 1e-6), np.ones(n), 1e-3, 5)
+        elastic._workspace(n)  # the pyFFTW fallback's per-thread plans
     assert len(elastic._spectra) <= elastic.SPECTRA_KEPT
     assert len(elastic._strang) <= elastic.SPECTRA_KEPT
+    assert len(elastic._real_spectra) <= elastic.SPECTRA_KEPT
     assert len(elastic._local.plans) <= elastic.PLANS_KEPT
+    assert len(_fftw._plans) <= _fftw.PLANS_KEPT
 
 
 # ---- sweeps with coarse load steps (found by the leak command's tests) -----------------------
@@ -264,3 +272,25 @@ def test_sweep_restarts_cold_when_the_prediction_fails(monkeypatch):
     res = lc.sweep([1e4, 1.2e4])
     assert res[1].converged and res[1].diagnostics.get("restarted_cold")
     assert res[1].p0 == pytest.approx(lc.solve(1.2e4).p0, rel=RTOL_CONTINUATION)
+
+
+def test_plan_eviction_under_threads():
+    """Threads solving at more grid sizes than the plan cache keeps: plans are evicted while
+    others run, never destroyed in use; every result equals the serial one."""
+    from fastline import _fftw
+
+    sizes = [64 + 2 * k for k in range(2 * _fftw.PLANS_KEPT)]
+    psd = SURFACES[0]
+    serial = {n: fl.solve_line_contact(psd, E_STAR, RADIUS, 1e4, n=n).pressure for n in sizes}
+    old = sys.getswitchinterval()
+    sys.setswitchinterval(1e-6)
+    try:
+        with ThreadPoolExecutor(4) as pool:
+            out = list(
+                pool.map(lambda n: fl.solve_line_contact(psd, E_STAR, RADIUS, 1e4, n=n), sizes * 3)
+            )
+    finally:
+        sys.setswitchinterval(old)
+    for r in out:
+        assert np.array_equal(r.pressure, serial[r.x.size])
+    assert len(_fftw._plans) <= _fftw.PLANS_KEPT

@@ -362,3 +362,37 @@ def test_bad_input_named_before_work(kwargs, exc, name):
 def test_bad_spectrum_and_theory_input(make, name):
     with pytest.raises((ValueError, TypeError), match=name):
         make()
+
+
+# ---- the compiled Newton against the Python reference loop --------------------------------
+RTOL_PATHS = 1e-8  # p0 and w/s, compiled iteration vs the Python loop of fastline._core
+
+
+class PythonOnly(fl.PressureLaw):
+    """The Persson law without its compiled form: the solve runs fastline._core.newton's
+    Python loop (the readable reference), same algorithm and constants."""
+
+    name = "persson"
+
+    def __init__(self, theory):
+        self._law = fl.PerssonLaw(theory)
+        self.u0 = self._law.u0
+
+    def separation_and_slope(self, v):
+        return self._law.separation_and_slope(v)
+
+    def pressure(self, u):
+        return self._law.pressure(u)
+
+
+@pytest.mark.parametrize("name", ["surface1", "H0.3"])
+def test_compiled_newton_equals_python_loop(name):
+    psd = HARD[name]
+    theory = fl.PerssonTheory(psd, E_STAR)
+    for alpha in (1e-3, 0.1, 10.0):
+        fast = solve(psd, alpha, theory=theory, n=512)
+        slow = solve(psd, alpha, model=PythonOnly(theory), n=512)
+        assert fast.converged and slow.converged
+        assert fast.p0 == pytest.approx(slow.p0, rel=RTOL_PATHS)
+        assert fast.w_over_s == pytest.approx(slow.w_over_s, rel=RTOL_PATHS)
+        assert abs(fast.iterations - slow.iterations) <= 1

@@ -1,0 +1,366 @@
+"""What every contact geometry shares: settings, the law, solving along a sweep, profile measures.
+
+A geometry module (:mod:`fastline.line_contact`, :mod:`fastline.point_contact`) subclasses
+:class:`ContactModel` and supplies what depends on the shape of the contact:
+
+* ``_grid(load)`` - the cells of one solve: an object with ``x`` (cell centres, m; the radius
+  r for a sphere), ``half_width`` (the extent of the domain, m), ``hertz`` (the smooth
+  reference at this load: ``p0``, ``a``, ``delta``, ``load``) and ``disc`` (the
+  :class:`fastline._core.Discretisation`);
+* ``_gaussian(load)`` - the Gaussian (large-alpha) reference at this load (``p0``, ``s``);
+* ``_result(grid, outcome)`` - the geometry's result object;
+* ``_rescaled_start(grid, initial)`` - ln p of a neighbouring result on this grid;
+* class attributes ``RESULT`` (the result type), ``LOAD_UNIT`` (``"N/m"`` or ``"N"``),
+  ``LOAD_RANGE`` (loads accepted, in units of ``_load_scale()``), ``LOAD_SCALE_TEXT``,
+  ``MAX_N`` and ``N_NOTE`` (why n is capped).
+
+The Hertz and Gaussian references have the same shapes for both geometries,
+``p0 sqrt(1 - (x/a)^2)`` and ``p0 exp(-x^2 / 2 s^2)``, so the cold start is shared too.
+
+SI units throughout: m, Pa, N/m (line) or N (point).
+"""
+
+from __future__ import annotations
+
+import math
+import threading
+import warnings
+from collections.abc import Callable, Iterable
+
+import numpy as np
+
+from fastline import _core
+from fastline._core import ConvergenceWarning, normalise
+from fastline._validate import E_STAR_RANGE, RADIUS_RANGE, finite_scalar, in_span, integer, positive
+from fastline.diagnostics import assess, warn_once
+from fastline.laws import ExponentialLaw, PerssonLaw, check_law
+from fastline.persson import PerssonTheory
+from fastline.spectra import PSD
+
+MODELS = ("persson", "exponential", "hertz")
+METHODS = ("newton", "picard")
+MAX_NEWTON = 100
+MAX_PICARD_SWEEPS = 5000
+#: degree of the polynomial (in ln load) that predicts each solve of a sweep from the previous
+#: ones. Over the paper's three 50-load line-contact sweeps (n = 1024) the total convolutions
+#: were 6252 independent, 5018 / 4495 / 4244 with degree 1 / 2 / 3.
+SWEEP_PREDICTOR_ORDER = 3
+#: largest step in ln f_N over which the polynomial extrapolates; a longer step starts from the
+#: previous solution rescaled (degree 0). An O-ring sweep of 6-12 loads over 10..1e4 N/m (steps
+#: of ln 2-ln 4) failed to converge from cubic predictions and converged from degree 0.
+PREDICTOR_MAX_STEP = math.log(1.5)
+#: below this alpha a sweep starts each solve cold (Hertz-Gaussian blend) instead of from the
+#: prediction: in the Hertz-like regime the blend's error, though large, is removed by the
+#: first Newton step, while the prediction's small error sits at the contact edge and costs
+#: more steps (surface 3, n = 1024: 35 cold vs 40 predicted convolutions at alpha 7e-4, 45 vs
+#: 43 at 5.6e-3, 37 vs 23 at 0.13).
+SWEEP_WARM_ALPHA = 5e-3
+
+
+# ----------------------------------------------------------------------------------------------
+# theories shared by the one-call functions: seal codes call them thousands of times with the
+# same spectrum. The spectrum object keeps them (a private attribute), so they live exactly as
+# long as it does; one lock guards the look-up.
+# ----------------------------------------------------------------------------------------------
+_shared_lock = threading.Lock()
+
+
+def shared_theory(psd: PSD, E_star: float, gamma: float) -> PerssonTheory:
+    """The :class:`PerssonTheory` of ``(psd, E_star, gamma)``, built once per spectrum object.
+
+    Thread-safe. The theories are kept on the spectrum (dropped with it, left out of pickles).
+    """
+    key = (float(E_star), float(gamma))
+    with _shared_lock:
+        hit = psd._theories.get(key)
+    if hit is not None:
+        return hit
+    theory = PerssonTheory(psd, E_star, gamma=gamma)  # outside the lock (milliseconds)
+    with _shared_lock:
+        return psd._theories.setdefault(key, theory)
+
+
+# ----------------------------------------------------------------------------------------------
+# profile measures along a line (a cylinder's x, a sphere's diameter)
+# ----------------------------------------------------------------------------------------------
+def peak(p: np.ndarray) -> float:
+    """Peak value by a parabola through the three points around the discrete maximum."""
+    i = int(np.argmax(p))
+    if 0 < i < p.size - 1:
+        a, b, c = p[i - 1], p[i], p[i + 1]
+        den = a - 2.0 * b + c
+        if den < 0.0:
+            t = 0.5 * (a - c) / den
+            return float(b - 0.25 * (a - c) * t)
+    return float(p[i])
+
+
+def fwhm(x: np.ndarray, p: np.ndarray, p0: float) -> float:
+    """Width between the outermost half-maximum crossings (linear interpolation)."""
+    half = 0.5 * p0
+    above = np.nonzero(p >= half)[0]
+    i, j = above[0], above[-1]
+    if i == 0 or j == p.size - 1:
+        return float("nan")
+    xl = x[i - 1] + (half - p[i - 1]) * (x[i] - x[i - 1]) / (p[i] - p[i - 1])
+    xr = x[j] + (half - p[j]) * (x[j + 1] - x[j]) / (p[j + 1] - p[j])
+    return float(xr - xl)
+
+
+def log_pressure(result) -> np.ndarray:
+    """ln p of a result (p in Pa), with 0 mapped to ln 1e-300."""
+    return np.log(np.maximum(result.pressure, 1e-300))
+
+
+# ----------------------------------------------------------------------------------------------
+# the model base class
+# ----------------------------------------------------------------------------------------------
+class ContactModel:
+    """Settings, law and solve loop shared by the contact geometries (module docstring).
+
+    Not used directly: :class:`~fastline.LineContact` and :class:`~fastline.PointContact`
+    document the parameters.
+    """
+
+    RESULT: type = object
+    LOAD_UNIT = "N/m"
+    LOAD_RANGE = (1e-12, 1e4)
+    LOAD_SCALE_TEXT = "E* R"
+    MAX_N = 2**22
+    N_NOTE = ""
+    HERTZ_EXTENT_TEXT = "Hertz half-width"
+    #: floor of ``1 - (x/a)^2`` in the Hertz part of the cold start (0: none, the Hertz part
+    #: vanishes outside the contact)
+    COLD_FLOOR = 0.0
+    #: a sweep's prediction: the largest step in ln load for the polynomial (else degree 0),
+    #: and the alpha below which each solve starts cold (module constants, measured on the
+    #: line contact)
+    PREDICTOR_MAX_STEP = PREDICTOR_MAX_STEP
+    SWEEP_WARM_ALPHA = SWEEP_WARM_ALPHA
+
+    # -- construction stages ----------------------------------------------------------------
+    def _check_settings(self, E_star, radius, method, n) -> None:
+        """E_star, radius, method and n (the first checks of every geometry's __init__)."""
+        self.E_star = in_span("E_star", E_star, E_STAR_RANGE, "Pa")
+        self.radius = in_span("radius", radius, RADIUS_RANGE, "m")
+        if method not in METHODS:
+            raise ValueError(f"method must be one of {METHODS}, got {method!r}")
+        self.method = method
+        self.n = integer("n", n, 16, self.MAX_N, self.N_NOTE)
+
+    def _check_extent(self, name: str, value) -> float | None:
+        """An optional fixed domain extent (m), at most 1e3 R."""
+        if value is None:
+            return None
+        return in_span(name, value, (0.0, 1e3 * self.radius), "m")
+
+    def _check_rest(self, psd, model, gamma, tol, max_iter, u0, beta, theory, hardness, warn):
+        """tol, max_iter, hardness, warn, the spectrum and the model (the last checks)."""
+        self.tol = finite_scalar("tol", tol)
+        if not 0.0 < self.tol <= 1e-2:
+            raise ValueError(f"tol must lie in (0, 1e-2], got {tol!r}")
+        self.max_iter = None if max_iter is None else integer("max_iter", max_iter, 1)
+        self.hardness = None if hardness is None else positive("hardness", hardness, "Pa")
+        self.warn = bool(warn)
+        if psd is not None and not isinstance(psd, PSD):
+            raise TypeError(f"psd must be a fastline PSD or None, got {type(psd).__name__}")
+        if theory is not None and not isinstance(theory, PerssonTheory):
+            raise TypeError(f"theory must be a PerssonTheory or None, got {type(theory).__name__}")
+        self.psd = psd
+        self._theory, self._law = self._resolve_model(model, psd, theory, gamma, u0, beta)
+        self.model = "hertz" if self._law is None else self._law.name
+
+    def _resolve_model(self, model, psd, theory, gamma, u0, beta):
+        """(theory or None, law or None for hertz) from the ``model`` argument."""
+        if isinstance(model, str):
+            if model not in MODELS:
+                raise ValueError(f"model must be one of {MODELS} or a pressure law, got {model!r}")
+            if model == "hertz":
+                return None, None
+            if psd is None:
+                raise ValueError(f"psd must be a PSD for model={model!r} (None only for 'hertz')")
+            if theory is None:
+                theory = shared_theory(psd, self.E_star, finite_scalar("gamma", gamma))
+            elif theory.psd is not psd or theory.E_star != self.E_star:
+                raise ValueError("theory must be built for the same psd and E_star")
+            if model == "persson":
+                return theory, PerssonLaw(theory)
+            return theory, ExponentialLaw.from_theory(theory, u0, beta)
+        law = check_law(model)
+        if theory is None and isinstance(law, PerssonLaw | ExponentialLaw):
+            theory = law.theory
+        return theory, law
+
+    # -- public attributes --------------------------------------------------------------------
+    @property
+    def theory(self) -> PerssonTheory | None:
+        """The Persson theory (None for ``model="hertz"`` and user laws without one)."""
+        return self._theory
+
+    @property
+    def law(self):
+        """The pressure law the solver uses (None for ``model="hertz"``)."""
+        return self._law
+
+    # -- solving (each geometry's public ``solve`` and ``sweep`` call these) -------------------
+    def _solve(self, load, initial):
+        """Solve one load from a neighbouring solution ``initial`` (or cold).
+
+        Stages: check the load, size the grid, make the initial guess, run the core method,
+        measure the profile, run the diagnostics. Warnings point at the caller of ``solve``.
+        """
+        load = self._check_load("load", load)
+        if initial is not None and not isinstance(initial, self.RESULT):
+            raise TypeError(
+                f"initial must be a {self.RESULT.__name__} or None, got {type(initial).__name__}"
+            )
+        grid = self._grid(load)
+        start = None if initial is None else self._rescaled_start(grid, initial)
+        return self._solve_on(grid, start, self.warn)
+
+    def _solve_on(self, grid, start: np.ndarray | None, warn: bool):
+        """Run the core from ``start`` (ln p; None: cold) and finish the result."""
+        outcome = self._run(grid, start)
+        result = self._result(grid, outcome)
+        if not result.converged and warn:
+            warnings.warn(f"fastline: {result.message}", ConvergenceWarning, stacklevel=4)
+        result.diagnostics.update(assess(result, self._theory, self.hardness, warn=warn))
+        return result
+
+    def _sweep(self, loads: Iterable[float], progress: Callable[[], object] | None) -> list:
+        """Continuation along the loads (see the geometry's ``sweep``): increasing order, each
+        solve started from a polynomial prediction in ln load (:meth:`_predict`) and restarted
+        cold if that start fails, warnings once per cause."""
+        loads = self._check_loads(loads)
+        out: list = [None] * loads.size
+        history: list[tuple[float, np.ndarray]] = []  # (ln load, ln p on the grid)
+        for i in np.argsort(loads, kind="stable"):
+            grid = self._grid(float(loads[i]))
+            result = self._solve_on(grid, self._predict(grid, history), warn=False)
+            if not result.converged and history:  # the prediction misled Newton: start cold
+                cold = self._solve_on(grid, None, warn=False)
+                cold.convolutions += result.convolutions  # count all the work done
+                cold.diagnostics["restarted_cold"] = True
+                result = cold
+            history = (history + [(math.log(grid.hertz.load), log_pressure(result))])[-4:]
+            out[i] = result
+            if progress is not None:
+                progress()
+        if self.warn:
+            self._warn_sweep(out)
+        return out
+
+    def _warn_sweep(self, results: list) -> None:
+        """One ConvergenceWarning for the loads that did not converge, one ValidityWarning per
+        cause (the caller of the geometry's ``sweep`` sees them)."""
+        failed = [r.load for r in results if not r.converged]
+        if failed:
+            loads = ", ".join(f"{f:.4g}" for f in failed)
+            warnings.warn(
+                f"fastline: {len(failed)} of {len(results)} solves did not converge "
+                f"(loads {loads} {self.LOAD_UNIT}); see each result's message",
+                ConvergenceWarning,
+                stacklevel=4,
+            )
+        warn_once(results, stacklevel=4)
+
+    def _load_scale(self) -> float:
+        """The unit of ``LOAD_RANGE`` in N/m or N (``E* R`` for a line contact)."""
+        return self.E_star * self.radius
+
+    def _check_load(self, name: str, load) -> float:
+        """A load inside ``LOAD_RANGE`` (in units of ``_load_scale()``): the Hertz contact
+        stays between ~1e-6 R and ~100 R, where every quantity of the solve is representable."""
+        lo, hi = self.LOAD_RANGE
+        scale = self._load_scale()
+        unit = f"{self.LOAD_UNIT} ([{lo:g}, {hi:g}] {self.LOAD_SCALE_TEXT})"
+        return in_span(name, load, (lo * scale, hi * scale), unit)
+
+    def _check_loads(self, loads) -> np.ndarray:
+        arr = np.asarray(loads if isinstance(loads, np.ndarray) else list(loads), dtype=float)
+        if arr.ndim != 1 or arr.size == 0:
+            raise ValueError(f"loads must be a non-empty 1-D sequence of loads in {self.LOAD_UNIT}")
+        for f in arr:
+            self._check_load("loads", f)
+        return arr
+
+    # -- solve stages -------------------------------------------------------------------------
+    def _u0(self) -> float:
+        return 0.0 if self._law is None else self._law.u0
+
+    def _extent(self, name: str, given: float | None, hertz, load: float) -> float:
+        """The domain extent: ``given`` (checked against the Hertz contact) or the default
+        ``1.25 a + 8 sqrt(R u0)`` (the Hertz contact plus eight Gaussian widths)."""
+        if given is None:
+            return 1.25 * hertz.a + 8.0 * math.sqrt(self.radius * self._u0())
+        if given < hertz.a:
+            raise ValueError(
+                f"{name} = {given:.6g} m cuts the contact: at load {load:.6g} {self.LOAD_UNIT} "
+                f"the {self.HERTZ_EXTENT_TEXT} alone is a = {hertz.a:.6g} m; give {name} >= a (the "
+                f"default, None, sizes the domain as 1.25 a + 8 sqrt(R u0))"
+            )
+        return given
+
+    def _alpha(self, delta: float) -> float:
+        """h_rms / delta; 0 for smooth surfaces (hertz without a spectrum), NaN when unknown."""
+        if self.psd is None:
+            return 0.0 if self._law is None else float("nan")
+        return self.psd.h_rms / delta
+
+    def _cold_start(self, grid) -> np.ndarray:
+        """ln p to start from without a neighbour: Hertz and Gaussian profiles blended."""
+        x, hz = grid.x, grid.hertz
+        if self._law is None:  # hard contact: uniform pressure on the central third
+            return np.where(np.abs(x) <= grid.half_width / 3.0, 0.0, -np.inf)
+        alpha = self._alpha(hz.delta)
+        if not math.isfinite(alpha):
+            alpha = 2.0 * self._u0() / hz.delta
+        gs = self._gaussian(hz.load)
+        floor = self.COLD_FLOOR
+        # weights alpha/(alpha + 0.3) and 0.3/(alpha + 0.3), in logarithms (no 1 - 1 at huge alpha)
+        ln_wh = math.log(0.3) - math.log(alpha + 0.3)
+        ln_wg = math.log(alpha) - math.log(alpha + 0.3)
+        with np.errstate(divide="ignore"):
+            lh = ln_wh + math.log(hz.p0) + 0.5 * np.log(np.maximum(1 - (x / hz.a) ** 2, floor))
+        lg = ln_wg + math.log(gs.p0) - x * x / (2.0 * gs.s**2)
+        return normalise(np.logaddexp(lh, lg), hz.load, grid.disc.weights)
+
+    def _predict(self, grid, history: list[tuple[float, np.ndarray]]):
+        """ln p at this load extrapolated from earlier solutions of this model (same grid
+        shape), by the Lagrange polynomial in ln load through the last ones (degree 0 after a
+        step longer than ``PREDICTOR_MAX_STEP``); None (a cold start) without history or below
+        ``SWEEP_WARM_ALPHA``."""
+        if not history or self._alpha(grid.hertz.delta) < self.SWEEP_WARM_ALPHA:
+            return None
+        t = math.log(grid.hertz.load)
+        order = SWEEP_PREDICTOR_ORDER if t - history[-1][0] <= self.PREDICTOR_MAX_STEP else 0
+        pts = history[-(order + 1) :]
+        v = np.zeros(self.n)
+        for i, (ti, vi) in enumerate(pts):
+            weight = math.prod((t - tj) / (ti - tj) for j, (tj, _) in enumerate(pts) if j != i)
+            v += weight * vi
+        return v
+
+    def _run(self, grid, start: np.ndarray | None) -> _core.Outcome:
+        v = self._cold_start(grid) if start is None else start
+        if self._law is None:
+            max_iter = self.max_iter or 10 * self.n
+            p = _core.pressure_of(v)  # exactly 0 off the predicted contact
+            return _core.hard_contact(grid.disc, p, grid.hertz.delta, self.tol, max_iter)
+        v = normalise(v, grid.hertz.load, grid.disc.weights)
+        if self.method == "newton":
+            return _core.newton(grid.disc, self._law, v, self.tol, self.max_iter or MAX_NEWTON)
+        return _core.picard(grid.disc, self._law, v, self.tol, self.max_iter or MAX_PICARD_SWEEPS)
+
+    # -- supplied by each geometry --------------------------------------------------------------
+    def _grid(self, load: float):  # pragma: no cover - abstract
+        raise NotImplementedError
+
+    def _gaussian(self, load: float):  # pragma: no cover - abstract
+        raise NotImplementedError
+
+    def _result(self, grid, outcome: _core.Outcome):  # pragma: no cover - abstract
+        raise NotImplementedError
+
+    def _rescaled_start(self, grid, initial) -> np.ndarray:  # pragma: no cover - abstract
+        raise NotImplementedError

@@ -1,0 +1,243 @@
+"""The line contact's Newton iteration as one compiled call (the laws fastline ships).
+
+:func:`fastline._core.newton` is the readable reference: a Python loop that any geometry and any
+pressure law can use. For the line contact with a law whose p(u) tables are compiled (Persson,
+exponential, tabulated) the same iteration runs here, without returning to Python between the
+steps: no interpreter work between FFTs, and the GIL is released for the whole solve, so
+threads solving different scenes run in parallel. The steps, constants and safeguards are
+those of :mod:`fastline._core` (module docstring there); tests hold the two paths together.
+
+Laws enter as a kind code and arrays (one compiled signature for all):
+
+* ``0`` Persson, table T1: ``prm = (v0, h, u0)``, ``A, B, C, E = L, L1, L2, kappa``
+  (:func:`fastline.persson._lnu_table`);
+* ``1`` exponential: ``prm = (u0, ln(beta E*))``;
+* ``2`` tabulated: ``A, B, C = V, U, S`` (:func:`fastline.laws._tabulated_u`).
+
+Returns a status: 0 converged, 1 ``max_iter`` reached, 2 the line search failed.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numba
+import numpy as np
+
+from fastline._core import (
+    _LN_TINY,
+    DV_MAX,
+    ETA_FLOOR,
+    ETA_MAX,
+    ETA_RETRY_MIN,
+    FLOOR_STALL,
+    LINE_SEARCH_HALVINGS,
+    MAX_CG,
+    ROUNDOFF_FACTOR,
+)
+from fastline._fftw import aligned_buffers
+from fastline._jit import JIT
+from fastline._toeplitz_pcg import _convolve, solve_newton_system
+from fastline.laws import _hermite
+from fastline.persson import _lnu_table
+
+_EPS = float(np.finfo(np.float64).eps)
+
+
+@numba.njit(**JIT)
+def _law(kind, v, prm, A, B, C, E, u, dU):
+    """u and du/d(ln p) at v = ln p for the law of ``kind`` (module docstring)."""
+    n = v.shape[0]
+    if kind == 0:
+        for i in range(n):
+            lu, d = _lnu_table(v[i], prm[0], prm[1], A, B, C, prm[2], E)
+            u[i] = math.exp(lu)
+            dU[i] = u[i] * d
+    elif kind == 1:
+        for i in range(n):
+            u[i] = prm[0] * (prm[1] - v[i])
+            dU[i] = -prm[0]
+    else:
+        m = A.shape[0]
+        for i in range(n):
+            x = v[i]
+            if x <= A[0]:
+                dU[i] = C[0]
+                u[i] = B[0] + C[0] * (x - A[0])
+            elif x >= A[m - 1]:
+                dU[i] = C[m - 1]
+                u[i] = B[m - 1] + C[m - 1] * (x - A[m - 1])
+            else:
+                k = min(np.searchsorted(A, x, side="right") - 1, m - 2)
+                u[i], dU[i] = _hermite(x, A, B, C, k)
+
+
+@numba.njit(**JIT)
+def _normalise(v, load, w):
+    """Shift v in place so that ``sum(w exp(v)) = load`` (log-sum-exp, terms below e^-700 of
+    the largest left out: see :func:`fastline._core.normalise`)."""
+    vmax = -math.inf
+    for i in range(v.shape[0]):
+        vmax = max(vmax, v[i])
+    acc = 0.0
+    for i in range(v.shape[0]):
+        acc += w[i] * math.exp(max(v[i] - vmax, -700.0))
+    shift = math.log(load) - (vmax + math.log(acc))
+    for i in range(v.shape[0]):
+        v[i] += shift
+
+
+@numba.njit(**JIT)
+def _evaluate(v, u1_in, fft, kspec, scale, gap, w, kind, prm, A, B, C, E, a, c, p, U, dU, gk, r):
+    """Pressure, law, g + K p and the residual at v (one FFT convolution). ``u1_in`` NaN: the
+    load-weighted least-squares rigid approach. Returns ``(u1, ||r||_2, size)``, size the
+    largest term the residual subtracts (for the round-off floor)."""
+    fr2c, fc2r, pf, pb = fft
+    n = v.shape[0]
+    for i in range(n):
+        p[i] = math.exp(v[i]) if v[i] > _LN_TINY else 0.0
+    _law(kind, v, prm, A, B, C, E, U, dU)
+    _convolve(p, n, kspec, fr2c, fc2r, pf, pb, a, c, gk)
+    u1 = u1_in
+    if u1 != u1:
+        num = 0.0
+        den = 0.0
+        for i in range(n):
+            gk[i] = gap[i] + scale * gk[i]
+            num += w[i] * p[i] * (U[i] - gk[i])
+            den += w[i] * p[i]
+        u1 = num / den
+    else:
+        for i in range(n):
+            gk[i] = gap[i] + scale * gk[i]
+    phi = 0.0
+    size = abs(u1)
+    for i in range(n):
+        r[i] = U[i] - u1 - gk[i]
+        phi += r[i] * r[i]
+        size = max(size, abs(gk[i]))
+    return u1, math.sqrt(phi), size
+
+
+@numba.njit(**JIT)
+def newton_line(
+    fft, kspec, strang, prefix, scale, K00, gap, w, load, law, u_ref, v_io, tol, max_iter, nc, hist
+):
+    """Newton-Krylov on v = ln p (in place) for the line contact; ``law`` is
+    ``(kind, prm, A, B, C, E)``, ``hist`` (max_iter x 3) receives (residual, CG iterations,
+    step). Returns ``(u1, residual, status, steps, cg_iterations, k_applications,
+    circulant_solves, tol_effective)``."""
+    kind, prm, A, B, C, E = law
+    fr2c, fc2r, pf, pb = fft
+    n = v_io.shape[0]
+    v = v_io.copy()
+    a, c = aligned_buffers(2 * n)
+    p, U, dU, gk, r = np.empty(n), np.empty(n), np.empty(n), np.empty(n), np.empty(n)
+    v2, p2, U2, dU2, gk2, r2 = (
+        np.empty(n),
+        np.empty(n),
+        np.empty(n),
+        np.empty(n),
+        np.empty(n),
+        np.empty(n),
+    )
+    D, dp = np.empty(n), np.empty(n)
+    u1, phi, size = _evaluate(
+        v, math.nan, fft, kspec, scale, gap, w, kind, prm, A, B, C, E, a, c, p, U, dU, gk, r
+    )
+    kapps = 1
+    steps = cg_total = circ = 0
+    res_prev = eta = math.nan
+    eta_cap = ETA_MAX
+    while True:
+        res = 0.0
+        for i in range(n):
+            res = max(res, abs(r[i]))
+        res /= u_ref
+        tol_eff = max(tol, ROUNDOFF_FACTOR * _EPS * size / u_ref)
+        stalled = eta_cap < ETA_RETRY_MIN
+        if stalled and tol_eff > tol and res < FLOOR_STALL * tol_eff:
+            tol_eff *= FLOOR_STALL  # noise level of a raised tolerance: as converged as can be
+        if res < tol_eff or steps >= max_iter or stalled:
+            status = 0 if res < tol_eff else (2 if stalled else 1)
+            v_io[:] = v
+            return u1, res, status, steps, cg_total, kapps, circ, tol_eff
+        steps += 1
+        for i in range(n):
+            D[i] = min(max(-dU[i], 1e-300 * u_ref) / max(p[i], 1e-300), 1e300)
+        eta = min(_forcing(res, res_prev, eta, tol_eff), eta_cap)
+        res_prev = res
+        du1, its, ka, ci = solve_newton_system(
+            fr2c, fc2r, pf, pb, kspec, strang, prefix, scale, K00, D, w, r, eta, MAX_CG, nc, dp
+        )
+        cg_total += its
+        kapps += ka
+        circ += ci
+        # step guard on ln p where it matters, then Armijo backtracking on ||r||
+        pmax = 0.0
+        for i in range(n):
+            pmax = max(pmax, p[i])
+        gmax = 0.0
+        for i in range(n):
+            dp[i] /= max(p[i], 1e-300)  # dp -> dv
+            if p[i] > 1e-6 * pmax or dU[i] > -0.5 * u_ref:
+                gmax = max(gmax, abs(dp[i]))
+        t = min(1.0, DV_MAX / max(1e-300, gmax))
+        accepted = False
+        for _ in range(LINE_SEARCH_HALVINGS + 1):
+            for i in range(n):
+                v2[i] = v[i] + t * dp[i]
+            _normalise(v2, load, w)
+            u1n, phin, sizen = _evaluate(
+                v2,
+                u1 + t * du1,
+                fft,
+                kspec,
+                scale,
+                gap,
+                w,
+                kind,
+                prm,
+                A,
+                B,
+                C,
+                E,
+                a,
+                c,
+                p2,
+                U2,
+                dU2,
+                gk2,
+                r2,
+            )
+            kapps += 1
+            if phin < (1.0 - 1e-4 * t) * phi:
+                accepted = True
+                break
+            t *= 0.5
+        if steps <= hist.shape[0]:
+            hist[steps - 1, 0] = res
+            hist[steps - 1, 1] = its
+            hist[steps - 1, 2] = t if accepted else 0.0
+        if accepted:
+            v, v2 = v2, v
+            p, p2 = p2, p
+            U, U2 = U2, U
+            dU, dU2 = dU2, dU
+            gk, gk2 = gk2, gk
+            r, r2 = r2, r
+            u1, phi, size = u1n, phin, sizen
+        else:  # not a descent direction: solve the step more accurately
+            eta_cap = eta * 1e-3
+
+
+@numba.njit(**JIT)
+def _forcing(res, res_prev, eta_prev, tol):
+    """Eisenstat-Walker choice 2 (:func:`fastline._core._forcing`)."""
+    if res_prev != res_prev:
+        eta = ETA_MAX
+    else:
+        eta = 0.9 * (res / res_prev) ** 2
+        if 0.9 * eta_prev * eta_prev > 0.1:
+            eta = max(eta, 0.9 * eta_prev * eta_prev)
+    return min(ETA_MAX, max(eta, ETA_FLOOR, 0.5 * tol / res))

@@ -1,0 +1,521 @@
+"""fl.sweep: a table of scenes on serial, process-pool, thread-pool and dask executors.
+
+What is held: every executor gives the serial numbers bit for bit (also for failing scenes);
+each row is what ``LineContact.sweep`` gives for its piece of the plan, in the input order; a
+spectrum and material build one theory per worker process; failing scenes and failing tasks
+stay in their rows; bad tables are refused before any task is submitted; CSV and pandas
+round trips; warnings once per cause.
+"""
+
+from __future__ import annotations
+
+import concurrent.futures as cf
+import logging
+import multiprocessing
+import os
+import warnings
+
+import numpy as np
+import pytest
+
+import fastline as fl
+from fastline import batch
+from fastline.diagnostics import ValidityWarning
+from fastline.io import read_csv
+from fastline.line_contact import ConvergenceWarning
+
+ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+EXAMPLE_PSD = os.path.join(ROOT, "examples", "psd_example.txt")
+E_STAR, RADIUS, N = 1.33e9, 0.01, 96
+#: a sweep (warm starts) vs independent solves at tol 1e-8 (as in tests/test_embedding.py)
+RTOL_CONTINUATION = 1e-7
+SURFACES = ((10e-6, 0.8), (10e-6, 1.0), (1e-6, 0.8))  # the paper's (h_rms [m], H)
+ALPHAS = np.geomspace(1e-2, 1e2, 8)
+
+
+def scene(h_rms, hurst, load, **extra) -> dict:
+    """A self-affine scene (q0, qr, q1 of the paper) at n = N, with ``extra`` columns."""
+    base = dict(h_rms=h_rms, hurst=hurst, q0=1e3, qr=1e4, q1=1e9, E_star=E_STAR, radius=RADIUS)
+    return {**base, "load": float(load), "n": N, **extra}
+
+
+def paper_scenes(seed=0) -> list[dict]:
+    """3 surfaces x 8 loads (alpha 1e-2..1e2), shuffled, plus three failing scenes."""
+    rows = [scene(h, H, fl.paper.load_for_alpha(a, h)) for h, H in SURFACES for a in ALPHAS]
+    rng = np.random.default_rng(seed)
+    rows = [rows[i] for i in rng.permutation(len(rows))]
+    rows.insert(5, scene(1e-6, 1.5, 1e4))  # Hurst exponent out of range: the model fails
+    rows.insert(11, scene(1e-6, 0.8, -1e4))  # a negative load: this scene only
+    rows.insert(17, {**scene(1e-6, 0.8, 1e4), "n": 8})  # grid too small
+    return rows
+
+
+def assert_same_table(a: fl.SweepTable, b: fl.SweepTable) -> None:
+    """Every column equal, bit for bit (NaN where NaN)."""
+    assert a.columns == b.columns
+    for name in a.columns:
+        x, y = a[name], b[name]
+        if x.dtype.kind == "f":
+            assert np.array_equal(x.view(np.int64), y.view(np.int64)), name
+        else:
+            assert np.array_equal(x, y), name
+
+
+def run(scenes, executor="serial", **kw) -> fl.SweepTable:
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        return fl.sweep(scenes, executor, progress=False, **kw)
+
+
+@pytest.fixture(scope="module")
+def pool():
+    ctx = multiprocessing.get_context("spawn")
+    with cf.ProcessPoolExecutor(2, mp_context=ctx) as ex:
+        yield ex
+
+
+@pytest.fixture(scope="module")
+def dask_client():
+    distributed = pytest.importorskip("distributed")
+    cluster = distributed.LocalCluster(
+        n_workers=2,
+        processes=True,
+        threads_per_worker=1,
+        dashboard_address=None,
+        silence_logs=logging.ERROR,
+    )
+    client = distributed.Client(cluster)
+    yield client
+    client.close()
+    cluster.close()
+
+
+@pytest.fixture(scope="module")
+def serial():
+    return run(paper_scenes(), chunksize=5)
+
+
+# ---- what each row is -----------------------------------------------------------------------
+def test_rows_are_the_plan_sweeps_in_input_order():
+    """Shuffled loads of one model, chunksize 4: each row equals LineContact.sweep over its
+    piece (4 consecutive loads in increasing order), bit for bit, and independent solves to
+    the solver tolerance."""
+    loads = fl.paper.load_for_alpha(np.geomspace(1e-2, 1e2, 12), 10e-6)
+    order = np.random.default_rng(1).permutation(loads.size)
+    res = run([scene(10e-6, 0.8, loads[i]) for i in order], chunksize=4)
+    assert np.array_equal(res["load"], loads[order])
+    lc = fl.LineContact(fl.SelfAffinePSD(10e-6, 0.8, 1e3, 1e4, 1e9), E_STAR, RADIUS, n=N)
+    ascending = np.sort(loads)
+    swept = [r for k in range(0, 12, 4) for r in lc.sweep(ascending[k : k + 4])]
+    row_of = {f: i for i, f in enumerate(res["load"])}
+    for r in swept:
+        i = row_of[r.load]
+        assert (res["p0"][i], res["fwhm"][i], res["s"][i]) == (r.p0, r.fwhm, r.s)
+        assert res["convolutions"][i] == r.convolutions and res["converged"][i]
+        alone = lc.solve(r.load)
+        assert res["p0_ratio"][i] == pytest.approx(alone.p0_ratio, rel=RTOL_CONTINUATION)
+        assert res["alpha"][i] == alone.alpha
+    assert res.stats.tasks == 3 and not res.failed.any()
+
+
+def test_serial_failures_stay_in_their_rows(serial):
+    err = serial["error"]
+    assert "hurst must lie in (0, 1]" in err[5]
+    assert "load must lie in" in err[11]
+    assert "n must be an integer in [16" in err[17]
+    assert np.count_nonzero(err != "") == 3
+    good = err == ""
+    assert serial["converged"][good].all() and np.isfinite(serial["p0"][good]).all()
+    assert np.isnan(serial["p0"][~good]).all() and (serial["iterations"][~good] == 0).all()
+    assert np.array_equal(serial.ok, good)
+    # the rest of the failing scene's piece is still solved (load by load)
+    assert serial.stats.scenes == 27
+
+
+# ---- the same numbers on every executor -------------------------------------------------------
+def test_process_pool_equals_serial(serial, pool):
+    res = run(paper_scenes(), pool, chunksize=5)
+    assert_same_table(res, serial)
+    assert res.stats.executor == "ProcessPoolExecutor" and res.stats.tasks == serial.stats.tasks
+    assert serial.stats.tasks >= 6 and res.stats.workers == 2
+
+
+def test_default_local_pool_equals_serial(serial):
+    res = run(paper_scenes(), None, workers=2, chunksize=5)
+    assert_same_table(res, serial)
+    assert res.stats.executor == "local process pool (2 workers)" and res.stats.workers <= 2
+
+
+def test_thread_pool_equals_serial(serial):
+    with cf.ThreadPoolExecutor(4) as ex:
+        assert_same_table(run(paper_scenes(), ex, chunksize=5), serial)
+
+
+def test_dask_local_cluster_equals_serial(serial, dask_client):
+    """The issue's CI check: a LocalCluster with 2 worker processes, bit for bit (a Client
+    and its get_executor() both accepted)."""
+    assert_same_table(run(paper_scenes(), dask_client, chunksize=5), serial)
+    res = run(paper_scenes(), dask_client.get_executor(), chunksize=5)
+    assert_same_table(res, serial)
+    address = dask_client.scheduler.address
+    assert_same_table(run(paper_scenes(), address, chunksize=5), serial)
+
+
+# ---- theories shared on each worker -----------------------------------------------------------
+def test_serial_builds_one_theory_per_spectrum():
+    """3 spectra x 8 loads in 12 tasks of 2 scenes, plus a second n for surface 1 (another
+    model, the same theory): 3 theories and 4 models, not one per task or scene."""
+    rows = [scene(h, H, f) for h, H in SURFACES for f in (1e3, 3e3, 1e4, 3e4)]
+    rows += [{**scene(10e-6, 0.8, f), "n": 64} for f in (1e3, 1e4, 1e5, 1e6)]
+    res = run(rows, chunksize=2)
+    assert res.stats.tasks == 8
+    assert (res.stats.theory_builds, res.stats.model_builds) == (3, 4)
+
+
+@pytest.mark.parametrize("engine", ["pool", "dask_client"])
+def test_workers_build_one_theory_per_spectrum(engine, request):
+    """A fresh material (so no earlier test filled the workers' caches): at most one build per
+    spectrum and worker process over 36 tasks (one per task without the cache)."""
+    executor = request.getfixturevalue(engine)
+    E_star = 1.2345e9 if engine == "pool" else 1.3456e9
+    rows = [scene(h, H, f, E_star=E_star) for h, H in SURFACES for f in np.geomspace(1e3, 1e5, 12)]
+    res = run(rows, executor, chunksize=1)
+    assert res.stats.tasks == 36 and not res.failed.any()
+    assert 1 <= res.stats.workers <= 2
+    assert 3 <= res.stats.theory_builds <= 3 * res.stats.workers
+    assert res.stats.model_builds == res.stats.theory_builds
+
+
+# ---- failures ------------------------------------------------------------------------------
+class FlakyExecutor(cf.Executor):
+    """Runs tasks in this thread; the second task's future fails (a worker lost)."""
+
+    def __init__(self):
+        self.calls = 0
+
+    def submit(self, fn, /, *args, **kwargs):
+        self.calls += 1
+        fut = cf.Future()
+        if self.calls == 2:
+            fut.set_exception(RuntimeError("worker lost"))
+        else:
+            fut.set_result(fn(*args, **kwargs))
+        return fut
+
+
+def test_failing_task_is_reported_in_its_rows():
+    rows = [scene(10e-6, 0.8, f) for f in np.geomspace(1e3, 1e5, 9)]
+    res = run(rows, FlakyExecutor(), chunksize=3)
+    lost = res["error"] == "task failed: RuntimeError: worker lost"
+    assert lost.sum() == 3 and np.array_equal(res["load"][lost], np.sort(res["load"])[3:6])
+    assert res["converged"][~lost].all()
+
+
+def test_spectrum_file_errors_are_per_scene(tmp_path):
+    bad = tmp_path / "profile.txt"
+    bad.write_text("0 1e-6\n1e-3 2e-6\n")  # x starts at 0: a height profile, refused
+    rows = [
+        dict(psd=str(bad), E_star=E_STAR, radius=RADIUS, load=1e4, n=N),
+        dict(psd=str(tmp_path / "missing.txt"), E_star=E_STAR, radius=RADIUS, load=1e4, n=N),
+        dict(psd=EXAMPLE_PSD, E_star=5e6, radius=2e-3, load=500.0, n=N),
+        dict(psd=None, E_star=E_STAR, radius=RADIUS, load=1e4, n=N),  # persson needs a psd
+    ]
+    res = run(rows)
+    assert "looks like a height profile" in res["error"][0]
+    assert "cannot read spectrum file" in res["error"][1]
+    assert res["error"][2] == "" and res["converged"][2]
+    assert "psd must be a PSD" in res["error"][3]
+
+
+# ---- the spectrum given three ways; table forms --------------------------------------------
+def test_psd_objects_files_and_parameters_agree():
+    h, H = 10e-6, 0.8
+    psd = fl.SelfAffinePSD(h, H, 1e3, 1e4, 1e9)
+    loads = [1e3, 1e4, 1e5]
+    by_params = run([scene(h, H, f) for f in loads])
+    keys = ("E_star", "radius", "load", "n")
+    by_object = run([{"psd": psd, **{k: scene(h, H, f)[k] for k in keys}} for f in loads])
+    for name in batch.RESULT_COLUMNS:
+        assert np.array_equal(by_params[name], by_object[name]), name
+    assert by_object["psd"][0] is psd
+    tab = fl.io.read_spectrum(EXAMPLE_PSD)
+    from_file = run([dict(psd=EXAMPLE_PSD, E_star=5e6, radius=2e-3, load=f, n=N) for f in loads])
+    from_obj = run([dict(psd=tab, E_star=5e6, radius=2e-3, load=f, n=N) for f in loads])
+    assert np.array_equal(from_file["p0"], from_obj["p0"]) and from_file.ok.all()
+    hertz = run([dict(psd=None, E_star=E_STAR, radius=RADIUS, load=1e4, n=N, model="hertz")])
+    assert hertz["p0_ratio"][0] == pytest.approx(1.0, rel=1e-2) and hertz["alpha"][0] == 0.0
+
+
+class FrameLike:
+    """What sweep reads of a pandas DataFrame: ``columns``, ``to_dict``, ``df[name].tolist()``."""
+
+    def __init__(self, columns: dict):
+        self._cols = columns
+        self.columns = list(columns)
+
+    def to_dict(self):  # pragma: no cover - only its presence matters
+        return self._cols
+
+    def __getitem__(self, name):
+        return np.array(self._cols[name])
+
+
+def test_table_forms_agree():
+    rows = [scene(10e-6, 0.8, f, label=f"f{k}") for k, f in enumerate((1e3, 1e4, 1e5))]
+    ref = run(rows)
+    columns = {k: [r[k] for r in rows] for k in rows[0]}
+    assert_same_table(run(columns), ref)
+    names = list(rows[0])
+    dtype = [(k, "U8" if k == "label" else ("i8" if k == "n" else "f8")) for k in names]
+    arr = np.array([tuple(r[k] for k in names) for r in rows], dtype=dtype)
+    assert_same_table(run(arr), ref)
+    assert_same_table(run(FrameLike(columns)), ref)
+    pd = pytest.importorskip("pandas")  # not in the test extra: +25 s on a fresh install
+    assert_same_table(run(pd.DataFrame(rows)), ref)
+    df = ref.to_pandas()
+    assert list(df.columns) == list(ref.columns) and np.array_equal(df["p0"], ref["p0"])
+    assert list(df["label"]) == ["f0", "f1", "f2"]
+
+
+def test_missing_optional_cells_take_defaults():
+    rows = [scene(10e-6, 0.8, 1e4, gamma=None, hardness=float("nan"), model=None)]
+    res = run(rows)
+    assert res["gamma"][0] == 0.45 and np.isnan(res["hardness"][0]) and res["model"][0] == "persson"
+    assert res["geometry"][0] == "cylinder" and res["max_iter"][0] == 0 and res.ok.all()
+
+
+def test_a_new_geometry_plugs_in(monkeypatch):
+    """The seam the sphere will use: a builder registered under a new ``geometry`` name gets
+    its own models and shares the spectrum's theory."""
+    built = []
+
+    def builder(spec, psd, theory):
+        built.append(spec.geometry)
+        return batch.GEOMETRIES["cylinder"](spec, psd, theory)
+
+    monkeypatch.setitem(batch.GEOMETRIES, "other", builder)
+    rows = [scene(10e-6, 0.8, f, geometry=g) for g in ("cylinder", "other") for f in (1e3, 1e4)]
+    res = run(rows)
+    assert built == ["other"] and list(res["geometry"]) == ["cylinder"] * 2 + ["other"] * 2
+    assert np.array_equal(res["p0"][:2], res["p0"][2:])
+    assert (res.stats.theory_builds, res.stats.model_builds) == (1, 2)
+
+
+# ---- bad tables: refused before any task is submitted -----------------------------------------
+class SpyExecutor(cf.Executor):
+    def __init__(self):
+        self.calls = 0
+
+    def submit(self, fn, /, *args, **kwargs):  # pragma: no cover - must not be reached
+        self.calls += 1
+        raise AssertionError("a task was submitted")
+
+
+GOOD = scene(10e-6, 0.8, 1e4)
+BAD_TABLES = [
+    ([{**GOOD, "loads": 1e4}], ValueError, r"unknown columns \['loads'\]"),
+    ([{**GOOD, "p0": 1.0}], ValueError, r"unknown columns \['p0'\]"),
+    ([{k: v for k, v in GOOD.items() if k != "E_star"}], ValueError, r"missing columns \['E_st"),
+    ([{k: v for k, v in GOOD.items() if k != "q1"}], ValueError, "missing columns.*q1"),
+    ([{**GOOD, "psd": EXAMPLE_PSD}], ValueError, "either as a psd column or as h_rms"),
+    ([GOOD, {k: v for k, v in GOOD.items() if k != "load"}], ValueError, "'load' is missing in"),
+    ([GOOD, {**GOOD, "h_rms": None}], ValueError, "'h_rms' has no value in row 1"),
+    ([{**GOOD, "load": "1e4"}], TypeError, "'load' must hold a real number; row 0 holds '1e4'"),
+    ([{**GOOD, "E_star": True}], TypeError, "'E_star' must hold a real number"),
+    (
+        [GOOD, {**GOOD, "radius": True}],
+        TypeError,
+        "'radius' must hold a real number; row 1 holds T",
+    ),
+    ([GOOD, {**GOOD, "n": 96.0}, {**GOOD, "n": 96.5}], TypeError, "'n' must hold an integer"),
+    ([{**GOOD, "n": 128.5}], TypeError, "'n' must hold an integer"),
+    ([{**GOOD, "model": 3}], TypeError, "'model' must hold a string"),
+    ([{**GOOD, "model": "Persson"}], ValueError, "'model' must be one of .*row 0 is 'Persson'"),
+    ([{**GOOD, "method": "bfgs"}], ValueError, "'method' must be one of"),
+    ([{**GOOD, "geometry": "sphere"}], ValueError, r"'geometry' must be one of \('cylinder',\)"),
+    ([{"psd": 1.0, **{k: GOOD[k] for k in ("E_star", "radius", "load")}}], TypeError, "PSD, the"),
+    ([], ValueError, "at least one scene"),
+    ([GOOD, 3], TypeError, "row 1 must be a dict"),
+    ("scenes.csv", TypeError, "scenes must be a list of dicts"),
+    (np.zeros((2, 2)), TypeError, "1-D NumPy structured array"),
+    ({"load": [1.0, 2.0], "E_star": [1.0]}, ValueError, "same length"),
+]
+
+
+@pytest.mark.parametrize("scenes, error, match", BAD_TABLES)
+def test_bad_tables_are_refused_before_any_work(scenes, error, match):
+    spy = SpyExecutor()
+    with pytest.raises(error, match=match):
+        fl.sweep(scenes, spy, progress=False)
+    assert spy.calls == 0
+
+
+@pytest.mark.parametrize(
+    "kw, error, match",
+    [
+        (dict(chunksize=0), ValueError, "chunksize must be an integer >= 1"),
+        (dict(executor="serial", workers=2), ValueError, "workers applies only"),
+        (dict(workers=0), ValueError, "workers must be an integer >= 1"),
+        (dict(executor="local"), ValueError, 'executor must be None, "serial"'),
+        (dict(executor=4), TypeError, "got int"),
+    ],
+)
+def test_bad_options_are_refused(kw, error, match):
+    with pytest.raises(error, match=match):
+        fl.sweep([GOOD], progress=False, **kw)
+
+
+def test_scheduler_address_without_dask_says_how_to_install(monkeypatch):
+    monkeypatch.setitem(__import__("sys").modules, "distributed", None)
+    with pytest.raises(ImportError, match=r"fastline-contact\[dask\]"):
+        fl.sweep([GOOD], "tcp://127.0.0.1:1", progress=False)
+
+
+# ---- files, warnings ---------------------------------------------------------------------
+def test_csv_round_trip(serial, tmp_path):
+    path = tmp_path / "out.csv"
+    serial.to_csv(path)
+    meta, cols = read_csv(path)
+    assert meta["scenes"] == "27" and meta["failed"] == "3" and meta["chunksize"] == "5"
+    for name, col in zip(serial.columns, cols, strict=True):
+        c = batch._BY_NAME[name]
+        assert col == c.csv_name
+        if c.kind == "float":
+            assert np.array_equal(cols[col], serial[name], equal_nan=True), name
+    assert "load_N_per_m" in cols and "p0_Pa" in cols and "E_star_Pa" in cols
+    assert cols["error"][5] == serial["error"][5].replace(",", ";")  # commas never split cells
+
+
+def test_read_scenes(tmp_path):
+    (tmp_path / "spectra").mkdir()
+    text = open(EXAMPLE_PSD).read()
+    (tmp_path / "spectra" / "a.txt").write_text(text)
+    (tmp_path / "scenes.csv").write_text(
+        "# a design study\n"
+        "label,psd,E_star_Pa,radius,load_N_per_m,n,hardness\n"
+        '"seal, soft",spectra/a.txt,5e6,2e-3,500,96,\n'
+        "seal hard,spectra/a.txt,5e7,2e-3,500,,2e8\n"
+    )
+    cols = batch.read_scenes(tmp_path / "scenes.csv")
+    assert cols["label"] == ["seal, soft", "seal hard"]
+    assert cols["psd"][0] == str(tmp_path / "spectra" / "a.txt")
+    assert cols["n"] == [96.0, None] and cols["hardness"] == [None, 2e8]
+    res = run(cols)
+    assert res["n"].tolist() == [96, 1024] and res.ok.all()
+    (tmp_path / "bad.csv").write_text("psd,E_star,radius,load,mu\na.txt,1,1,1,0.3\n")
+    with pytest.raises(ValueError, match=r"unknown columns \['mu'\]"):
+        batch.read_scenes(tmp_path / "bad.csv")
+    (tmp_path / "short.csv").write_text("psd,E_star,radius,load\na.txt,1,1\n")
+    with pytest.raises(ValueError, match="short.csv:2: 3 cells, the header names 4"):
+        batch.read_scenes(tmp_path / "short.csv")
+    with pytest.raises(ValueError, match="cannot read scene table"):
+        batch.read_scenes(tmp_path / "nope.csv")
+
+
+def test_warnings_once_per_cause():
+    rows = paper_scenes()
+    rows.append(scene(10e-6, 0.8, 1e4, method="picard", max_iter=1))  # one sweep: not converged
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        res = fl.sweep(rows, "serial", progress=False, chunksize=5)
+    kinds = [w.category for w in caught]
+    causes = [c for c, _ in res.warnings]
+    assert causes[:2] == ["failed", "not_converged"]
+    assert kinds.count(batch.SceneFailureWarning) == 1 and kinds.count(ConvergenceWarning) == 1
+    validity = [c for c in causes if c in fl.diagnostics.CAUSES]
+    assert validity and kinds.count(ValidityWarning) == len(validity)
+    assert "3 of 28 scenes failed (rows 5, 11, 17)" in res.warnings[0][1]
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        fl.sweep(rows, "serial", progress=False, chunksize=5, warn=False)
+    assert not caught
+
+
+# ---- command line ------------------------------------------------------------------------
+def cli(argv) -> tuple[int, str, str]:
+    from contextlib import redirect_stderr, redirect_stdout
+    from io import StringIO
+
+    from fastline.cli import main
+
+    out, err = StringIO(), StringIO()
+    with redirect_stdout(out), redirect_stderr(err):
+        status = main([str(a) for a in argv])
+    return status, out.getvalue(), err.getvalue()
+
+
+SWEEP_ARGS = ["sweep", "--h-rms", "1e-6", "--n", N, "--loads-num", 24]
+
+
+def test_cli_sweep_on_workers_and_scheduler(tmp_path, dask_client):
+    """--workers 2, --workers 1 and --scheduler write the same file, byte for byte; it agrees
+    with the in-process continuation sweep to the solver tolerance."""
+    files = {}
+    for name, extra in [
+        ("pool", ["--workers", 2]),
+        ("one", ["--workers", 1]),
+        ("dask", ["--scheduler", dask_client.scheduler.address]),
+        ("plain", []),
+    ]:
+        files[name] = tmp_path / f"{name}.csv"
+        status, out, err = cli([*SWEEP_ARGS, *extra, "--chunksize", 5, "--csv", files[name]])
+        assert status == 0, err
+        warned = [ln for ln in err.splitlines() if ln.startswith("fastline: warning:")]
+        assert len(warned) == len(set(warned)) >= 1  # once per cause
+        assert "narrower than the longest roughness wavelength" in err
+    text = {k: f.read_bytes() for k, f in files.items()}
+    assert text["pool"] == text["one"] == text["dask"]
+    _, a = read_csv(files["pool"])
+    _, b = read_csv(files["plain"])
+    assert np.array_equal(a["load_N_per_m"], b["load_N_per_m"])
+    np.testing.assert_allclose(a["p0_ratio"], b["p0_ratio"], rtol=RTOL_CONTINUATION)
+
+
+def test_cli_batch(tmp_path):
+    lines = ["label,h_rms,hurst,q0,qr,q1,E_star,radius,load_N_per_m,n"]
+    for k, f in enumerate(np.geomspace(1e3, 1e6, 11)):
+        lines.append(f"s{k},1e-6,0.8,1e3,1e4,1e9,1.33e9,0.01,{float(f)!r},{N}")
+    lines.append("bad,1e-6,1.5,1e3,1e4,1e9,1.33e9,0.01,1e4,96")
+    (tmp_path / "scenes.csv").write_text("\n".join(lines) + "\n")
+    outs = []
+    for workers in (2, 1):
+        outs.append(tmp_path / f"out{workers}.csv")
+        argv = ["batch", tmp_path / "scenes.csv", "--out", outs[-1], "--workers", workers]
+        status, out, err = cli(argv)
+        assert status == 1  # a scene failed; the others are written
+        assert "12 scenes" in out and "11 converged, 0 not converged, 1 failed" in out
+        assert "1 of 12 scenes failed (rows 11)" in err and "hurst must lie in" in err
+    assert outs[0].read_bytes() == outs[1].read_bytes()
+    meta, cols = read_csv(outs[0])
+    assert meta["failed"] == "1" and list(cols["label"][:2]) == ["s0", "s1"]
+    assert cols["error"][11].startswith("ValueError: hurst must lie in (0; 1]")
+    assert np.all(cols["converged"][:11] == 1)
+
+
+@pytest.mark.parametrize(
+    "argv, message",
+    [
+        (["--workers", 2, "--scheduler", "tcp://127.0.0.1:1"], "either --workers or --scheduler"),
+        (["--workers", 0], "--workers: must be >= 1"),
+        (["--chunksize", "x"], "--chunksize: not an integer"),
+    ],
+)
+def test_cli_parallel_options_refused(argv, message, tmp_path):
+    status, out, err = cli([*SWEEP_ARGS, *argv, "--csv", tmp_path / "s.csv"])
+    assert status == 2 and message in err and not (tmp_path / "s.csv").exists()
+
+
+def test_cli_batch_refuses_bad_tables_before_work(tmp_path, monkeypatch):
+    (tmp_path / "bad.csv").write_text("h_rms,hurst,q0,qr,q1,E_star,radius,load,mu\n")
+    (tmp_path / "typo.csv").write_text("psd,E_star,radius,load\na.txt,1.33e9,0.01,heavy\n")
+    for name, message in [
+        ("bad.csv", "need a header row and at least one scene"),
+        ("typo.csv", "column 'load' must hold a real number; row 0 holds 'heavy'"),
+        ("missing.csv", "cannot read scene table"),
+    ]:
+        status, _, err = cli(["batch", tmp_path / name, "--out", tmp_path / "r.csv"])
+        assert status == 2 and message in err, err
+    assert not (tmp_path / "r.csv").exists()
+    monkeypatch.setitem(__import__("sys").modules, "distributed", None)
+    status, _, err = cli([*SWEEP_ARGS, "--scheduler", "tcp://127.0.0.1:1"])
+    assert status == 2 and '"fastline-contact[dask]" (the dask extra)' in err
