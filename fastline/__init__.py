@@ -6,6 +6,7 @@ axisymmetric ring operator). See README.md and docs/.
 """
 
 from fastline import io, paper, plotting, topography  # light: heavy deps load on first use
+from fastline.asperity import GreenwoodWilliamsonLaw, SummitStatistics
 from fastline.axisymmetric import RingKernelOperator
 from fastline.batch import SweepTable, sweep
 from fastline.diagnostics import ValidityWarning, assess, warn_once
@@ -61,6 +62,8 @@ __all__ = [
     "PerssonLaw",
     "ExponentialLaw",
     "TabulatedLaw",
+    "GreenwoodWilliamsonLaw",
+    "SummitStatistics",
     "LogKernelOperator",
     "influence_coefficients",
     "hertz_line_contact",

@@ -29,6 +29,8 @@ Laws shipped
   :class:`~fastline.persson.PerssonTheory` (default).
 * :class:`ExponentialLaw` - ``p = beta E* exp(-u/u0)`` (paper eq. 5; Persson, PRL 99, 125502
   (2007)): u is linear in ln p, it makes the large-alpha Gaussian limit exact.
+* :class:`~fastline.asperity.GreenwoodWilliamsonLaw` (in :mod:`fastline.asperity`) - the
+  Greenwood-Williamson asperity model with summit statistics from the same spectrum.
 * :class:`TabulatedLaw` - a p(u) curve measured or computed elsewhere, interpolated
   monotonically (piecewise cubic Hermite of u in ln p, Fritsch-Butland slopes) with exponential
   extensions at both ends.

@@ -674,3 +674,34 @@ def separation_from_energy(psd, E_star, p, gamma, s2, s4, epsrel=1e-9):
         lambda t: U(p / t) - Up if t > 0.0 else 0.0, 0.0, 1.0, epsabs=0.0, epsrel=epsrel, limit=200
     )[0]
     return val / p
+
+
+# ---- Greenwood-Williamson (fastline.asperity) ---------------------------------------------------
+def gw_integral(u, n, mean, std):
+    """int_u^inf (z - u)^n phi_s(z) dz for Gaussian summit heights (mean, std), by quad in z
+    (split at the peak of the integrand; the Gaussian factor scaled out beyond 8 std)."""
+    t = (u - mean) / std
+    shift = 0.5 * t * t if t > 0.0 else 0.0  # returned integral is multiplied by exp(-shift)
+
+    def f(z):
+        s = (z - mean) / std
+        return (z - u) ** n * math.exp(shift - 0.5 * s * s) / (std * math.sqrt(2.0 * math.pi))
+
+    top = max(u, mean) + 40.0 * std
+    peak = max(u, mean)
+    parts = [(u, peak), (peak, peak + 5 * std), (peak + 5 * std, top)]
+    val = sum(quad(f, a, b, epsabs=0.0, epsrel=1e-13, limit=200)[0] for a, b in parts if b > a)
+    return val, shift
+
+
+def gw_pressure(u, density, radius, std, mean, E_star):
+    """Greenwood-Williamson nominal pressure (4/3) eta E* sqrt(beta) int (z - u)^1.5 phi_s dz,
+    returned as ln p (Pa)."""
+    val, shift = gw_integral(u, 1.5, mean, std)
+    return math.log(4.0 / 3.0 * density * E_star * math.sqrt(radius) * val) - shift
+
+
+def gw_area(u, density, radius, std, mean):
+    """Greenwood-Williamson real area fraction pi eta beta int (z - u) phi_s dz."""
+    val, shift = gw_integral(u, 1.0, mean, std)
+    return math.pi * density * radius * val * math.exp(-shift)
