@@ -212,10 +212,12 @@ def _numerics_options(
     s.add_argument(
         "--gamma",
         type=_gamma,
-        default=0.45,
+        default=None,
         metavar="G",
-        help="Yang-Persson parameter gamma of the theory, in (0, 1] (default 0.45)",
+        help="parameter gamma of the theory's correction S(P), in (0, 1] (default: the "
+        "variant's, 0.45; 5/9 for wang-mueser)",
     )
+    _variant_option(s)
     s.add_argument(
         "--n",
         type=_count,
@@ -237,6 +239,19 @@ def _numerics_options(
         metavar="PA",
         help="indentation hardness of the softer solid [Pa]: warns when the elastic mean "
         "asperity pressure h' E*/2 exceeds it (plastic flow likely)",
+    )
+
+
+def _variant_option(group) -> None:
+    from fastline.variants import DEFAULT_VARIANT, VARIANTS
+
+    group.add_argument(
+        "--variant",
+        choices=tuple(VARIANTS),
+        default=DEFAULT_VARIANT,
+        help="variant of the theory's u(p) (docs/theory.md, Variants): the bracket gamma + "
+        "3(1-gamma)P^2 of the energy derivation (default), the printed gamma + (1-gamma)P^2, or "
+        "Wang & Mueser's correction, which also enters the contact area (not with leak)",
     )
 
 
@@ -406,6 +421,9 @@ def build_parser() -> argparse.ArgumentParser:
     _parallel_options(p, "a local process per CPU")
 
     _leak_parser(sub, fmt)
+    from fastline.cli_validate import validate_parser
+
+    validate_parser(sub, fmt)
     return parser
 
 
@@ -619,7 +637,7 @@ def _theory(psd, E_star, args):
         return None
     from fastline.persson import PerssonTheory
 
-    return PerssonTheory(psd, E_star, gamma=args.gamma)
+    return PerssonTheory(psd, E_star, gamma=args.gamma, variant=args.variant)
 
 
 def _save(fig, path, args) -> None:
@@ -697,8 +715,23 @@ def _meta(psd, E_star, args, source):
     from fastline.io import scene_metadata
 
     return scene_metadata(
-        psd, E_star, args.radius, model=args.model, gamma=args.gamma, n=args.n, source=source
+        psd,
+        E_star,
+        args.radius,
+        model=args.model,
+        gamma=args.gamma,
+        n=args.n,
+        source=source,
+        **_variant_meta(args),
     )
+
+
+def _variant_meta(args) -> dict:
+    """The variant as a metadata entry when it is not the default (older files unchanged)."""
+    from fastline.variants import DEFAULT_VARIANT
+
+    v = getattr(args, "variant", DEFAULT_VARIANT)
+    return {} if v == DEFAULT_VARIANT else {"variant": v}
 
 
 def cmd_profile(args) -> int:
@@ -818,6 +851,8 @@ def cmd_sweep(args) -> int:
         with _progress(len(loads), "sweep") as bar:
             results = model.sweep(loads, progress=bar.update)
     else:
+        if args.variant != "yang-persson-energy":
+            raise CLIError("--variant is not available with --workers/--scheduler yet")
         results, table = _sweep_in_parallel(psd, E, args, loads)
     print(_spectrum_line(psd, source))
     print(
@@ -876,7 +911,13 @@ def _paper_files(data, args) -> list[str]:
     out, ext = args.out, args.format or "png"
     surfs = data.surfaces
     meta = scene_metadata(
-        None, paper.E_STAR, paper.RADIUS, model="persson", gamma=args.gamma, n=args.n
+        None,
+        paper.E_STAR,
+        paper.RADIUS,
+        model="persson",
+        gamma=args.gamma,
+        n=args.n,
+        **_variant_meta(args),
     )
     meta.pop("spectrum")
     meta.update(q0_1_per_m=paper.Q0, qr_1_per_m=paper.QR, q1_1_per_m=args.q1)
@@ -964,6 +1005,7 @@ def cmd_paper(args) -> int:
             max_iter=args.max_iter,
             hardness=args.hardness,
             progress=lambda _label: bar.update(),
+            variant=args.variant,
         )
     elapsed = time.perf_counter() - t0
     t1 = time.perf_counter()
@@ -1008,6 +1050,13 @@ _DEFAULT_LOAD = 1e4
 
 def _leak_checks(args) -> None:
     """Reject what cannot give a leak rate, before any work; fill in the load defaults."""
+    from fastline.variants import get_variant
+
+    if get_variant(args.variant).area_correction:
+        raise CLIError(
+            f"--variant {args.variant} corrects the contact area, which the critical-junction "
+            "leak theory does not: use yang-persson-energy or yang-persson-printed"
+        )
     if args.model == "hertz":
         raise CLIError(
             "--model hertz is for smooth surfaces: a leak rate needs a roughness spectrum "
@@ -1359,7 +1408,13 @@ def _sphere_paper_files(data, args) -> list[str]:
 
     out, ext = args.out, args.format or "png"
     meta = scene_metadata(
-        None, paper.E_STAR, paper.RADIUS, model="persson", gamma=args.gamma, n=args.n
+        None,
+        paper.E_STAR,
+        paper.RADIUS,
+        model="persson",
+        gamma=args.gamma,
+        n=args.n,
+        **_variant_meta(args),
     )
     meta.pop("spectrum")
     meta.update(geometry="sphere", q0_1_per_m=paper.Q0, qr_1_per_m=paper.QR, q1_1_per_m=args.q1)
@@ -1420,6 +1475,7 @@ def _sphere_paper(args) -> int:
             max_iter=args.max_iter,
             hardness=args.hardness,
             progress=lambda _label: bar.update(),
+            variant=args.variant,
         )
     elapsed = time.perf_counter() - t0
     written = _sphere_paper_files(data, args)
@@ -1461,6 +1517,15 @@ COMMANDS = {
 }
 
 
+def _cmd_validate(args) -> int:
+    from fastline.cli_validate import cmd_validate
+
+    return cmd_validate(args)
+
+
+COMMANDS["validate"] = _cmd_validate
+
+
 def main(argv: list[str] | None = None) -> int:
     """Run the command line; returns the exit status (0 done, 1 not converged, 2 bad input)."""
     argv = list(sys.argv[1:] if argv is None else argv)
@@ -1470,6 +1535,10 @@ def main(argv: list[str] | None = None) -> int:
         if args.command is None:
             parser.print_help()
             return 2
+        if getattr(args, "gamma", 0.0) is None:  # the variant's own gamma
+            from fastline.variants import get_variant
+
+            args.gamma = get_variant(args.variant).default_gamma
         return COMMANDS[args.command](args)
     except (CLIError, ValueError) as e:
         msg = " ".join(str(e).split())

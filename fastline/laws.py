@@ -99,7 +99,9 @@ def check_law(law) -> PressureLaw:
     """Check that ``law`` satisfies the protocol (duck typing allowed); return it.
 
     Raises a ``TypeError`` naming what is missing and a ``ValueError`` when a probe evaluation
-    at three pressures gives non-finite values, a wrong shape or a non-negative slope.
+    at three pressures gives non-finite values, a wrong shape or a slope that is positive
+    anywhere or nowhere negative (a slope of 0 is allowed where u has underflowed to full
+    contact, e.g. a Persson law of a soft solid at 1e8 Pa).
     """
     for attr in ("u0", "separation_and_slope", "pressure"):
         if not hasattr(law, attr):
@@ -116,7 +118,8 @@ def check_law(law) -> PressureLaw:
     u, d = np.asarray(u, dtype=np.float64), np.asarray(d, dtype=np.float64)
     if u.shape != v.shape or d.shape != v.shape:
         raise ValueError("model.separation_and_slope(v) must return two arrays shaped like v")
-    if not (np.all(np.isfinite(u)) and np.all(np.isfinite(d)) and np.all(d < 0.0)):
+    decreasing = np.all(d <= 0.0) and np.any(d < 0.0)
+    if not (np.all(np.isfinite(u)) and np.all(np.isfinite(d)) and decreasing):
         raise ValueError(
             "model.separation_and_slope(v) must return finite u and a slope du/dln p < 0 "
             f"(got u = {u}, slope = {d} at p = 1e2, 1e5, 1e8 Pa)"

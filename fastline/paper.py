@@ -164,6 +164,7 @@ def paper_data(
     n: int = 1024,
     gamma: float = 0.45,
     progress: Callable[[str], None] | None = None,
+    variant: str = "yang-persson-energy",
     **solve_options,
 ) -> PaperData:
     """Solve the scenes behind the paper's Figs. 2-5 (no plotting, no files, no warnings).
@@ -180,6 +181,8 @@ def paper_data(
         Yang-Persson parameter of the theory, in (0, 1].
     progress : callable, optional
         Called with the surface label after each solve (e.g. a progress bar's update).
+    variant : str
+        Variant of the theory (:mod:`fastline.variants`).
     **solve_options
         Passed on to :func:`~fastline.solve_line_contact` (e.g. ``max_iter``, ``hardness``).
 
@@ -196,7 +199,7 @@ def paper_data(
     fN = paper_loads(loads)
     out = []
     for (label, h, H), psd in zip(SURFACES, surfaces(q1), strict=True):
-        th = PerssonTheory(psd, E_STAR, gamma=gamma)
+        th = PerssonTheory(psd, E_STAR, gamma=gamma, variant=variant)
         surf = PaperSurface(label, h, H, psd, th, th.exponential_fit().gamma_u)
         for f in fN:
             r = solve_line_contact(psd, E_STAR, RADIUS, float(f), n=n, theory=th, **kw)
@@ -228,6 +231,7 @@ def sphere_paper_data(
     n: int = 512,
     gamma: float = 0.45,
     progress: Callable[[str], None] | None = None,
+    variant: str = "yang-persson-energy",
     **solve_options,
 ) -> PaperData:
     """Solve the sphere versions of the paper's Figs. 3-5 (no plotting, no files, no warnings).
@@ -248,6 +252,8 @@ def sphere_paper_data(
         Yang-Persson parameter of the theory, in (0, 1].
     progress : callable, optional
         Called with the surface label after each solve.
+    variant : str
+        Variant of the theory (:mod:`fastline.variants`).
     **solve_options
         Passed on to :class:`~fastline.PointContact` (e.g. ``max_iter``, ``hardness``).
 
@@ -264,7 +270,7 @@ def sphere_paper_data(
     alphas = np.geomspace(SPHERE_ALPHA_RANGE[0], SPHERE_ALPHA_RANGE[1], loads)
     out = []
     for (label, h, H), psd in zip(SURFACES, surfaces(q1), strict=True):
-        th = PerssonTheory(psd, E_STAR, gamma=gamma)
+        th = PerssonTheory(psd, E_STAR, gamma=gamma, variant=variant)
         surf = PaperSurface(label, h, H, psd, th, th.exponential_fit().gamma_u)
         model = PointContact(psd, E_STAR, RADIUS, n=n, theory=th, **kw)
         tick = None if progress is None else (lambda lab=label: progress(lab))

@@ -1,0 +1,338 @@
+"""The theory against a boundary-element simulation of the user's own surface (issue 15).
+
+:func:`validate_line_contact` runs the BEM ensemble of a cylinder on a random surface of the given
+spectrum (:func:`fastline.bem.run_ensemble`) and solves the same scene with each pressure law
+asked for (the variants of :mod:`fastline.variants`, the Greenwood-Williamson law of
+:mod:`fastline.asperity`); :func:`fastline.bem.compare_line_contact` gives each law's p0, s, w
+and w/s and its profile against the BEM in units of the BEM's error bar.
+
+:func:`validate_flat_contact` does the same for a nominally flat interface under uniform
+pressures (the building block of a seal): the BEM contact fraction, mean gap and Reynolds
+effective gap (:mod:`fastline.bem.flow`) against the theory's real contact area ``P(q1, p)``,
+mean separation ``u(p)`` and critical-junction gap ``u_c`` (:mod:`fastline.leakage`).
+
+The BEM realisations are independent; pass a :class:`concurrent.futures.Executor` (a process
+pool) to run them in parallel. ``fastline validate`` is the command line of both.
+"""
+
+from __future__ import annotations
+
+import math
+import time
+from collections.abc import Sequence
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from fastline import bem
+from fastline._validate import positive, positive_array
+from fastline.asperity import GreenwoodWilliamsonLaw
+from fastline.bem.compare import Difference, compare_line_contact
+from fastline.laws import PerssonLaw
+from fastline.persson import PerssonTheory
+from fastline.spectra import PSD
+from fastline.variants import DEFAULT_VARIANT, VARIANTS
+
+__all__ = [
+    "MODELS",
+    "LineValidation",
+    "FlatValidation",
+    "validate_line_contact",
+    "validate_flat_contact",
+    "law_of",
+]
+
+GW = "greenwood-williamson"
+#: the laws a validation can compare: the variants of the Persson theory and the GW law
+MODELS = (*VARIANTS, GW)
+#: the critical-junction thresholds compared in a flat validation (Persson; Bruggeman)
+THRESHOLDS = (0.42, 0.5)
+
+
+def _check_models(models) -> tuple[str, ...]:
+    if isinstance(models, str):
+        models = (models,)
+    models = tuple(models)
+    if not models:
+        raise ValueError(f"models must name at least one of {MODELS}")
+    for m in models:
+        if m not in MODELS:
+            raise ValueError(f"models must be among {MODELS}, got {m!r}")
+    return models
+
+
+def law_of(model: str, psd: PSD, E_star: float, gamma: float | None = None):
+    """The pressure law called ``model`` (an entry of :data:`MODELS`) for a spectrum and E*;
+    gamma (None: the variant's own) applies to the Persson variants."""
+    _check_models(model)
+    if model == GW:
+        return GreenwoodWilliamsonLaw.from_psd(psd, E_star)
+    return PerssonLaw(PerssonTheory(psd, E_star, gamma=gamma, variant=model))
+
+
+def _difference(theory, bem_value, error) -> Difference:
+    diff = theory - bem_value
+    z = diff / error if error > 0.0 and math.isfinite(error) else math.nan
+    rel = theory / bem_value - 1.0 if bem_value != 0.0 else math.nan
+    return Difference(float(theory), float(bem_value), float(error), diff, rel, z)
+
+
+# ----------------------------------------------------------------------------------------------
+# line contact
+# ----------------------------------------------------------------------------------------------
+@dataclass(frozen=True)
+class LineValidation:
+    """Theory against BEM for one cylinder scene (:func:`validate_line_contact`).
+
+    Attributes
+    ----------
+    ensemble : fastline.bem.ProfileEnsemble
+        The BEM ensemble (p_bar with error bars, p0, s, w, w/s).
+    results : dict
+        Model name -> :class:`fastline.LineContactResult` of the theory.
+    comparisons : dict
+        Model name -> :class:`fastline.bem.LineComparison`.
+    seconds_bem, seconds_theory : float
+        Wall times [s].
+    """
+
+    ensemble: bem.ProfileEnsemble = field(repr=False)
+    results: dict = field(repr=False)
+    comparisons: dict = field(repr=False)
+    seconds_bem: float
+    seconds_theory: float
+
+    @property
+    def alpha(self) -> float:
+        return self.ensemble.alpha
+
+    def table(self) -> str:
+        """Plain text: BEM values with standard errors, then each model's values and their
+        difference from the BEM (relative, and z in BEM standard errors)."""
+        e = self.ensemble
+        head = f"{'':<22}{'p0/p0_Hertz':>24}{'s [m]':>26}{'w/s':>24}{'profile chi2/bin':>18}"
+        rows = [
+            head,
+            f"{'BEM':<22}{_pm(e.p0_ratio, e.p0_ratio_error):>24}{_pm(e.s, e.s_error):>26}"
+            f"{_pm(e.w_over_s, e.w_over_s_error):>24}",
+        ]
+        for name, c in self.comparisons.items():
+            r = self.results[name]
+            rows.append(
+                f"{name:<22}{_vz(r.p0_ratio, c.p0):>24}{_vz(c.s.theory, c.s):>26}"
+                f"{_vz(c.w_over_s.theory, c.w_over_s):>24}{c.chi2_per_bin:>18.3g}"
+            )
+        return "\n".join(rows)
+
+
+def _pm(value: float, error: float) -> str:
+    return f"{value:.4g} +- {error:.2g}"
+
+
+def _vz(value: float, d: Difference) -> str:
+    """Value, relative difference and z."""
+    return f"{value:.4g} ({100 * d.relative:+.1f}%, z {d.z:+.1f})"
+
+
+def validate_line_contact(
+    psd: PSD,
+    E_star: float,
+    radius: float,
+    load: float,
+    *,
+    models: Sequence[str] = (DEFAULT_VARIANT,),
+    gamma: float | None = None,
+    realizations: int = 8,
+    seed: int = 0,
+    executor=None,
+    points_per_wavelength: float = 4.0,
+    periods: float = 2.0,
+    n: int = 1024,
+    scene: bem.Scene | None = None,
+) -> LineValidation:
+    """BEM ensemble of a rough cylinder against the theory's p(x) for each model.
+
+    Parameters
+    ----------
+    psd : PSD
+        Roughness spectrum (m^4 vs 1/m).
+    E_star, radius, load : float
+        Effective modulus [Pa], cylinder radius [m], load per unit length [N/m].
+    models : sequence of str
+        Laws to compare, from :data:`MODELS` (default the default variant).
+    gamma : float, optional
+        Parameter of the Persson variants (default: each variant's own).
+    realizations, seed : int
+        BEM surfaces and root seed (:func:`fastline.bem.run_ensemble`; >= 2 for error bars).
+    executor : concurrent.futures.Executor, optional
+        Runs the realisations (default: serially here).
+    points_per_wavelength, periods : float
+        BEM grid (:func:`fastline.bem.line_contact_scene`).
+    n : int
+        Theory grid points.
+    scene : fastline.bem.Scene, optional
+        A prebuilt BEM scene (then the grid options are ignored).
+
+    Returns
+    -------
+    LineValidation
+    """
+    if not isinstance(psd, PSD):
+        raise TypeError(f"psd must be a fastline PSD, got {type(psd).__name__}")
+    models = _check_models(models)
+    if scene is None:
+        scene = bem.line_contact_scene(
+            psd,
+            E_star,
+            radius,
+            load,
+            points_per_wavelength=points_per_wavelength,
+            periods=periods,
+        )
+    elif scene.geometry != "cylinder":
+        raise ValueError("scene must be a cylinder scene (fastline.bem.line_contact_scene)")
+    from fastline.line_contact import LineContact
+
+    t0 = time.perf_counter()
+    results = {}
+    for m in models:
+        law = law_of(m, psd, E_star, gamma)
+        results[m] = LineContact(psd, E_star, radius, model=law, n=n, warn=False).solve(load)
+    t1 = time.perf_counter()
+    ensemble = bem.run_ensemble(scene, realizations, seed, executor=executor)
+    t2 = time.perf_counter()
+    comparisons = {m: compare_line_contact(r, ensemble) for m, r in results.items()}
+    return LineValidation(ensemble, results, comparisons, t2 - t1, t1 - t0)
+
+
+# ----------------------------------------------------------------------------------------------
+# flat contact (the seal's building block)
+# ----------------------------------------------------------------------------------------------
+@dataclass(frozen=True)
+class FlatValidation:
+    """Theory against BEM for a nominally flat contact (:func:`validate_flat_contact`).
+
+    Attributes
+    ----------
+    pressures : ndarray
+        Nominal pressures [Pa].
+    ensembles : list of fastline.bem.FlatEnsemble
+        One per pressure.
+    area, separation : dict
+        Model name -> list (per pressure) of :class:`fastline.bem.Difference`: the real contact
+        area fraction against the BEM contact fraction, u(p) [m] against the BEM mean gap.
+    critical_gap : dict
+        Threshold -> list of Difference: ``u_c`` of the first Persson variant in ``models`` [m]
+        against the BEM effective (Reynolds) gap; 0 where the theory says sealed.
+    model : str
+        The Persson variant of ``critical_gap``.
+    laws : dict
+        Model name -> pressure law (for curves between the pressures).
+    seconds_bem : float
+    """
+
+    pressures: np.ndarray
+    ensembles: list = field(repr=False)
+    area: dict = field(repr=False)
+    separation: dict = field(repr=False)
+    critical_gap: dict = field(repr=False)
+    model: str
+    laws: dict = field(repr=False)
+    seconds_bem: float
+
+    def table(self) -> str:
+        """Plain text, one block per pressure."""
+        out = []
+        for i, (p, e) in enumerate(zip(self.pressures, self.ensembles, strict=True)):
+            out.append(
+                f"p = {p:.4g} Pa: BEM contact {e.contact_fraction:.4g} +- "
+                f"{e.contact_fraction_error:.2g}, mean gap {e.mean_gap:.4g} +- "
+                f"{e.mean_gap_error:.2g} m, effective gap {e.effective_gap:.4g} +- "
+                f"{e.effective_gap_error:.2g} m (percolating in "
+                f"{100 * e.percolating_fraction:.0f}% of {e.realizations})"
+            )
+            for name in self.area:
+                a, s = self.area[name][i], self.separation[name][i]
+                out.append(
+                    f"  {name:<22} area {a.theory:.4g} ({100 * a.relative:+.1f}%, z {a.z:+.1f})"
+                    f"  u {s.theory:.4g} m ({100 * s.relative:+.1f}%, z {s.z:+.1f})"
+                )
+            for t, diffs in self.critical_gap.items():
+                d = diffs[i]
+                out.append(
+                    f"  u_c ({self.model}, threshold {t:g}) {d.theory:.4g} m "
+                    f"({100 * d.relative:+.1f}%, z {d.z:+.1f}) vs effective gap"
+                )
+        return "\n".join(out)
+
+
+def validate_flat_contact(
+    psd: PSD,
+    E_star: float,
+    pressures,
+    *,
+    models: Sequence[str] = (DEFAULT_VARIANT,),
+    gamma: float | None = None,
+    realizations: int = 8,
+    seed: int = 0,
+    executor=None,
+    points_per_wavelength: float = 4.0,
+    periods: float = 2.0,
+    thresholds: Sequence[float] = THRESHOLDS,
+) -> FlatValidation:
+    """BEM ensembles of a nominally flat contact against the theory, one per pressure.
+
+    Parameters
+    ----------
+    psd : PSD
+    E_star : float
+        Effective modulus [Pa].
+    pressures : float or array_like
+        Nominal contact pressures [Pa], > 0.
+    models, gamma, realizations, seed, executor, points_per_wavelength, periods
+        As :func:`validate_line_contact`; the critical gap uses the first Yang-Persson variant
+        in ``models`` (the leak-rate theory needs the contact area erf(x)).
+    thresholds : sequence of float
+        Percolation thresholds of the critical junction (default 0.42 and 0.5).
+
+    Returns
+    -------
+    FlatValidation
+    """
+    if not isinstance(psd, PSD):
+        raise TypeError(f"psd must be a fastline PSD, got {type(psd).__name__}")
+    models = _check_models(models)
+    E_star = positive("E_star", E_star, "Pa")
+    p = np.atleast_1d(positive_array("pressures", pressures)).ravel()
+    laws = {m: law_of(m, psd, E_star, gamma) for m in models}
+    persson = [m for m in models if m != GW and not VARIANTS[m].area_correction]
+    leak_model = persson[0] if persson else DEFAULT_VARIANT
+    leak_theory = laws[leak_model].theory if leak_model in laws else PerssonTheory(psd, E_star)
+    t0 = time.perf_counter()
+    ensembles = []
+    for i, pi in enumerate(p):
+        scene = bem.flat_contact_scene(
+            psd, E_star, float(pi), points_per_wavelength=points_per_wavelength, periods=periods
+        )
+        ensembles.append(bem.run_ensemble(scene, realizations, seed + i, executor=executor))
+    seconds = time.perf_counter() - t0
+    area, separation = {}, {}
+    for m, law in laws.items():
+        u, _ = law.separation_and_slope(np.log(p))
+        A = law.real_area(p)
+        area[m] = [
+            _difference(a, e.contact_fraction, e.contact_fraction_error)
+            for a, e in zip(A, ensembles, strict=True)
+        ]
+        separation[m] = [
+            _difference(ui, e.mean_gap, e.mean_gap_error)
+            for ui, e in zip(u, ensembles, strict=True)
+        ]
+    gaps = {}
+    for t in thresholds:
+        uc = leak_theory.critical_gap(p, threshold=t).u_c
+        gaps[float(t)] = [
+            _difference(g, e.effective_gap, e.effective_gap_error)
+            for g, e in zip(np.atleast_1d(uc), ensembles, strict=True)
+        ]
+    return FlatValidation(p, ensembles, area, separation, gaps, leak_model, laws, seconds)
