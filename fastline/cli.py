@@ -47,6 +47,7 @@ examples:
   fastline leak --h-rms 1e-6 --load 1e4 --pressure-drop 1e4 --viscosity 1e-3 --plot leak.png
   fastline sweep --loads-num 400 --workers 2 --csv sweep.csv
   fastline batch scenes.csv --out results.csv --workers 2
+  fastline validate --alpha 1 --all-variants --gw --realizations 8 --plot validate.png
   fastline paper --out figs/ --format pdf"""
 
 #: defaults of the self-affine spectrum options (the paper's surface 1)
