@@ -371,6 +371,11 @@ def _meta(psd, E, args, source, **extra) -> dict:
     return meta
 
 
+def _key(model: str) -> str:
+    """A model name as a CSV key (identifiers: read_csv keeps only those header keys)."""
+    return model.replace("-", "_")
+
+
 def _line_csv(path, v, psd, E, R, source, args) -> None:
     from fastline.io import write_csv
 
@@ -384,10 +389,11 @@ def _line_csv(path, v, psd, E, R, source, args) -> None:
         "bem_w_over_s": f"{e.w_over_s!r} +- {e.w_over_s_error!r}",
     }
     for name, c in v.comparisons.items():
-        extra[f"{name}_p0_ratio"] = v.results[name].p0_ratio
-        extra[f"{name}_s_m"] = c.s.theory
-        extra[f"{name}_w_over_s"] = c.w_over_s.theory
-    cols = ["x_m", "p_bem_Pa", "p_bem_se_Pa"] + [f"p_{m}_Pa" for m in v.comparisons]
+        key = _key(name)
+        extra[f"{key}_p0_ratio"] = v.results[name].p0_ratio
+        extra[f"{key}_s_m"] = c.s.theory
+        extra[f"{key}_w_over_s"] = c.w_over_s.theory
+    cols = ["x_m", "p_bem_Pa", "p_bem_se_Pa"] + [f"p_{_key(m)}_Pa" for m in v.comparisons]
     rows = zip(
         e.coordinate,
         e.pressure,
@@ -417,7 +423,7 @@ def _flat_csv(path, fv, psd, E, source, args) -> None:
         "bem_effective_gap_se_m",
         "bem_percolating_fraction",
     ]
-    cols += [f"area_{m}" for m in fv.area] + [f"u_{m}_m" for m in fv.separation]
+    cols += [f"area_{_key(m)}" for m in fv.area] + [f"u_{_key(m)}_m" for m in fv.separation]
     cols += [f"u_c_{t:g}_m" for t in fv.critical_gap]
     rows = []
     for i, (p, e) in enumerate(zip(fv.pressures, fv.ensembles, strict=True)):

@@ -534,6 +534,10 @@ def _pressure_axis(ax) -> None:
 
     ax.set_xscale("log")
     ax.set_xlabel(r"nominal pressure $p$ (Pa)")
+    lo, hi = sorted(ax.get_xlim())
+    if hi / lo >= 100.0:  # two decades or more: powers of ten
+        _log_axis(ax.xaxis)
+        return
     ax.xaxis.set_major_locator(LogLocator(subs=(1.0, 2.0, 5.0)))
     ax.xaxis.set_major_formatter(FuncFormatter(lambda v, _pos: f"{v:g}"))
     ax.xaxis.set_minor_formatter(NullFormatter())

@@ -130,7 +130,9 @@ def test_cli_line(tmp_path, capsys):
     )
     np.testing.assert_allclose(cols["p_bem_Pa"], v.ensemble.pressure, rtol=SAME)
     for m in validation.MODELS:
-        np.testing.assert_allclose(cols[f"p_{m}_Pa"], v.comparisons[m].theory_pressure, rtol=SAME)
+        key = m.replace("-", "_")
+        np.testing.assert_allclose(cols[f"p_{key}_Pa"], v.comparisons[m].theory_pressure, rtol=SAME)
+        assert float(meta[f"{key}_p0_ratio"]) == v.results[m].p0_ratio
         assert f"{v.results[m].p0_ratio:.4g}" in out
     assert png.read_bytes()[:8] == MAGIC_PNG
 
