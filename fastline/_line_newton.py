@@ -32,6 +32,7 @@ from fastline._core import (
     ETA_RETRY_MIN,
     FLOOR_STALL,
     LINE_SEARCH_HALVINGS,
+    LN_FLOOR,
     MAX_CG,
     ROUNDOFF_FACTOR,
 )
@@ -74,14 +75,14 @@ def _law(kind, v, prm, A, B, C, E, u, dU):
 
 @numba.njit(**JIT)
 def _normalise(v, load, w):
-    """Shift v in place so that ``sum(w exp(v)) = load`` (log-sum-exp, terms below e^-700 of
+    """Shift v in place so that ``sum(w exp(v)) = load`` (log-sum-exp, terms below e^-460 of
     the largest left out: see :func:`fastline._core.normalise`)."""
     vmax = -math.inf
     for i in range(v.shape[0]):
         vmax = max(vmax, v[i])
     acc = 0.0
     for i in range(v.shape[0]):
-        acc += w[i] * math.exp(max(v[i] - vmax, -700.0))
+        acc += w[i] * math.exp(max(v[i] - vmax, -LN_FLOOR))
     shift = math.log(load) - (vmax + math.log(acc))
     for i in range(v.shape[0]):
         v[i] += shift
@@ -94,8 +95,12 @@ def _evaluate(v, u1_in, fft, kspec, scale, gap, w, kind, prm, A, B, C, E, a, c, 
     largest term the residual subtracts (for the round-off floor)."""
     fr2c, fc2r, pf, pb = fft
     n = v.shape[0]
+    floor = -math.inf
     for i in range(n):
-        p[i] = math.exp(v[i]) if v[i] > _LN_TINY else 0.0
+        floor = max(floor, v[i])
+    floor = max(floor - LN_FLOOR, _LN_TINY)  # see fastline._core.LN_FLOOR
+    for i in range(n):
+        p[i] = math.exp(v[i]) if v[i] > floor else 0.0
     _law(kind, v, prm, A, B, C, E, U, dU)
     _convolve(p, n, kspec, fr2c, fc2r, pf, pb, a, c, gk)
     u1 = u1_in

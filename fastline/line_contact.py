@@ -37,7 +37,7 @@ from fastline._contact import (  # noqa: F401 (METHODS ... shared_theory: import
     peak,
     shared_theory,
 )
-from fastline._core import ConvergenceWarning, Discretisation
+from fastline._core import ConvergenceWarning, Discretisation, dot
 from fastline.elastic import LogKernelOperator, log_reference_shift
 from fastline.laws import PressureLaw
 from fastline.limits import HertzLineContact, gaussian_line_contact, hertz_line_contact
@@ -159,8 +159,8 @@ class LineContactResult:
 def _std(x: np.ndarray, p: np.ndarray, dx: float) -> float:
     """Standard deviation of piecewise-constant p about its centroid (cell-exact)."""
     m0 = p.sum()
-    xc = np.dot(x, p) / m0
-    var = np.dot((x - xc) ** 2, p) / m0 + dx * dx / 12.0
+    xc = dot(x, p) / m0
+    var = dot((x - xc) ** 2, p) / m0 + dx * dx / 12.0
     return math.sqrt(var)
 
 
