@@ -580,3 +580,28 @@ def point_contact_exponential(khat, E_star, radius, load, u0, beta, domain):
     if not sol.success:
         raise RuntimeError(sol.message)
     return r, np.exp(sol.x[:-1])
+
+
+# ----------------------------------------------------------------------------------------------
+# leakage (THEORY.md 8.2): the area that leaves the apparent contact, weighted by u1
+# ----------------------------------------------------------------------------------------------
+def leaving_area_moment(psd, E_star, p, u1, zeta_a, epsrel=1e-10):
+    """``int_{zeta_a}^{q1/q0} u1(zeta) (-dP/dzeta) dzeta`` by ``quad`` in ln zeta.
+
+    ``P(zeta) = erf(y)``, ``y = p / (E* sqrt(A(zeta q0)))``, so
+    ``-dP/d ln zeta = sqrt(pi) y exp(-y^2) q^4 C(q) / A(q)`` at ``q = zeta q0``; ``u1`` is a
+    callable of (zeta, p). The interval is split at the kinks of C. By the area balance that
+    defines u1, ``d(P u_bar)/dzeta = P' u1``, the result is ``P(zeta_a) u_bar(zeta_a)``.
+    """
+    q0 = psd.q0
+
+    def integrand(lz):
+        q = q0 * math.exp(lz)
+        A = float(psd.cumulative(q))
+        y = p / (E_star * math.sqrt(A))
+        weight = math.sqrt(math.pi) * y * math.exp(-y * y) * q**4 * float(psd(q)) / A
+        return float(u1(q / q0, p)) * weight if weight > 0.0 else 0.0
+
+    lo, hi = math.log(zeta_a), math.log(psd.q1 / q0)
+    cuts = [math.log(b / q0) for b in psd.breakpoints() if lo < math.log(b / q0) < hi]
+    return quad(integrand, lo, hi, points=cuts or None, epsabs=0.0, epsrel=epsrel, limit=400)[0]
