@@ -123,7 +123,8 @@ class Outcome:
     pressure : ndarray, optional
         Pressure in Pa (always set; ``exp(v)`` for the p(u) methods).
     separation : ndarray, optional
-        The gap (hard contact) in m; None for the p(u) methods (the caller asks the law).
+        The gap (hard contact), or the law's separation at the final iterate when the method
+        computed it (the compiled Newton), in m; None otherwise (the caller asks the law).
     """
 
     v: np.ndarray | None
@@ -314,11 +315,11 @@ def _newton_compiled(disc: Discretisation, law, v, tol, max_iter) -> Outcome | N
     out = run(disc.gap, disc.weights, disc.load, form(), law.u0, v, tol, max_iter)
     if out is None:
         return None
-    u1, res, status, steps, cg, tol_eff, hist = out
+    u1, res, status, steps, cg, tol_eff, hist, u = out
     message = _message(status == 0, res, tol, tol_eff, f"{steps} Newton steps", status == 2)
     history = [(float(h[0]), int(h[1]), float(h[2])) for h in hist]
     info = {"cg_iterations": int(cg), "newton_history": history, "tol_effective": tol_eff}
-    return Outcome(v, u1, res, status == 0, steps, message, info, pressure_of(v))
+    return Outcome(v, u1, res, status == 0, steps, message, info, pressure_of(v), u)
 
 
 def newton(disc: Discretisation, law, v: np.ndarray, tol: float, max_iter: int) -> Outcome:

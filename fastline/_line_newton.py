@@ -126,12 +126,28 @@ def _evaluate(v, u1_in, fft, kspec, scale, gap, w, kind, prm, A, B, C, E, a, c, 
 
 @numba.njit(**JIT)
 def newton_line(
-    fft, kspec, strang, prefix, scale, K00, gap, w, load, law, u_ref, v_io, tol, max_iter, nc, hist
+    fft,
+    kspec,
+    strang,
+    prefix,
+    scale,
+    K00,
+    gap,
+    w,
+    load,
+    law,
+    u_ref,
+    v_io,
+    tol,
+    max_iter,
+    nc,
+    hist,
+    u_out,
 ):
     """Newton-Krylov on v = ln p (in place) for the line contact; ``law`` is
     ``(kind, prm, A, B, C, E)``, ``hist`` (max_iter x 3) receives (residual, CG iterations,
-    step). Returns ``(u1, residual, status, steps, cg_iterations, k_applications,
-    circulant_solves, tol_effective)``."""
+    step), ``u_out`` the law's separation at the final iterate. Returns ``(u1, residual, status,
+    steps, cg_iterations, k_applications, circulant_solves, tol_effective)``."""
     kind, prm, A, B, C, E = law
     fr2c, fc2r, pf, pb = fft
     n = v_io.shape[0]
@@ -166,6 +182,7 @@ def newton_line(
         if res < tol_eff or steps >= max_iter or stalled:
             status = 0 if res < tol_eff else (2 if stalled else 1)
             v_io[:] = v
+            u_out[:] = U
             return u1, res, status, steps, cg_total, kapps, circ, tol_eff
         steps += 1
         for i in range(n):

@@ -422,7 +422,7 @@ class LogKernelOperator:
     def newton_compiled(self, gap, w, load, law_form, u_ref, v, tol, max_iter):
         """The whole Newton iteration in one compiled call (:mod:`fastline._line_newton`) for a
         law with a compiled form; ``v`` (ln p, normalised) is updated in place. Returns
-        ``(u1, residual, status, steps, cg_iterations, tol_effective, history)`` (status 0
+        ``(u1, residual, status, steps, cg_iterations, tol_effective, history, u)`` (status 0
         converged, 1 max_iter, 2 line search failed) and counts the FFT convolutions; None if
         the compiled FFT path is not available."""
         if not _fftw.AVAILABLE:
@@ -431,6 +431,7 @@ class LogKernelOperator:
 
         kspec, strang, prefix = _compiled_tables(self.n)
         hist = np.zeros((max_iter, 3))
+        u = np.empty(self.n)
         N = 2 * self.n
         fft = _fftw.acquire(N)
         try:
@@ -451,12 +452,13 @@ class LogKernelOperator:
                 max_iter,
                 COARSE_AGGREGATES,
                 hist,
+                u,
             )
         finally:
             _fftw.release(N)
         self.convolutions += kapps + circ
         self.circulant_solves += circ
-        return u1, res, status, steps, cg, tol_eff, hist[:steps]
+        return u1, res, status, steps, cg, tol_eff, hist[:steps], u
 
     def preconditioner(self, D) -> BlockPreconditioner:
         """An approximate inverse of ``D + K`` for the Newton-Krylov core (:mod:`fastline._core`).

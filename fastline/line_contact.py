@@ -333,7 +333,9 @@ class LineContact(ContactModel):
         if self._law is None:
             separation, real = out.separation, (p > 0.0).astype(float)
         else:
-            separation = self._law.separation_and_slope(out.v)[0]
+            separation = out.separation
+            if separation is None:
+                separation = self._law.separation_and_slope(out.v)[0]
             real = self._law.real_area(p)
         p0 = peak(p)
         s = _std(x, p, dx)

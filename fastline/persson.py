@@ -641,6 +641,13 @@ class PerssonTheory:
         _erf_vec(flat, out)
         return out.reshape(x.shape)
 
+    def _real_area(self, p: np.ndarray) -> np.ndarray:
+        """``P(q1, p)`` for a contiguous float64 array of p >= 0 (no checks: the solvers'
+        own pressures)."""
+        out = np.empty_like(p)
+        _erf_vec(np.ascontiguousarray(self._w1 * p / self.E_star), out)  # as contact_area rounds
+        return out
+
     def exponential_fit(self) -> ExponentialFit:
         """u0 and beta of ``p = beta E* exp(-u/u0)`` (paper eq. 5) from the theory itself.
 

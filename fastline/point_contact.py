@@ -374,7 +374,9 @@ class PointContact(ContactModel):
         if self._law is None:
             separation, real = out.separation, (p > 0.0).astype(float)
         else:
-            separation = self._law.separation_and_slope(out.v)[0]
+            separation = out.separation
+            if separation is None:
+                separation = self._law.separation_and_slope(out.v)[0]
             real = self._law.real_area(p)
         x, pd = _diameter(r, p)
         p0 = peak(pd)
