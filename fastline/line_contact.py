@@ -17,6 +17,7 @@ loads solved); :func:`solve_line_contact` is a one-call wrapper around it.
 
 from __future__ import annotations
 
+import copy
 import math
 import threading
 import warnings
@@ -25,7 +26,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from fastline import _core
+from fastline import _core, resolution
 from fastline._core import ConvergenceWarning, Discretisation, normalise
 from fastline._validate import (
     E_STAR_RANGE,
@@ -117,6 +118,9 @@ class LineContactResult:
     theory : PerssonTheory or None
         The theory the scene was solved with (None for hertz and for user laws), for
         post-processing such as leak rates.
+    error_estimate : ErrorEstimate or None
+        Estimated relative errors of p0, s, FWHM and w/s (:mod:`fastline.resolution`): set
+        when the model has ``accuracy=`` or by :meth:`LineContact.estimate_error`, else None.
     """
 
     x: np.ndarray
@@ -146,6 +150,7 @@ class LineContactResult:
     edge_pressure: float
     diagnostics: dict = field(default_factory=dict)
     theory: PerssonTheory | None = field(default=None, repr=False, compare=False)
+    error_estimate: resolution.ErrorEstimate | None = field(default=None, repr=False, compare=False)
 
     def __repr__(self):
         return (
@@ -302,8 +307,8 @@ class LineContact:
         Newton-Krylov (default) or the plain damped fixed point (for comparison).
     gamma : float
         Yang-Persson parameter of the theory, in (0, 1] (default 0.45).
-    n : int
-        Grid points, in [16, 2^22] (default 1024).
+    n : int, optional
+        Grid points, in [16, 2^22] (default 1024; with ``accuracy``, the first grid tried).
     half_width : float, optional
         Half-width of the domain in m, the same for every load, at most 1e3 R and at least the
         Hertz half-width ``a`` of each load solved; default per load ``1.25 a + 8 sqrt(R u0)``.
@@ -322,6 +327,11 @@ class LineContact:
     warn : bool
         Emit a ``ConvergenceWarning`` when a solve does not converge and the diagnostics'
         ``ValidityWarning`` s.
+    accuracy : float, optional
+        Relative error wanted in p0, s and w/s, in [1e-8, 0.1] (not for ``model="hertz"``):
+        each load is solved on grids refined until the estimated error is below it, and every
+        result carries ``error_estimate`` (:mod:`fastline.resolution`, docs/accuracy.md).
+        None (default): one solve on the grid of ``n`` and ``half_width``, no estimate.
 
     Examples
     --------
@@ -342,7 +352,7 @@ class LineContact:
         model: str | PressureLaw = "persson",
         method: str = "newton",
         gamma: float = 0.45,
-        n: int = DEFAULT_N,
+        n: int | None = None,
         half_width: float | None = None,
         tol: float = 1e-8,
         max_iter: int | None = None,
@@ -351,13 +361,18 @@ class LineContact:
         theory: PerssonTheory | None = None,
         hardness: float | None = None,
         warn: bool = True,
+        accuracy: float | None = None,
     ):
         self.E_star = in_span("E_star", E_star, E_STAR_RANGE, "Pa")
         self.radius = in_span("radius", radius, RADIUS_RANGE, "m")
         if method not in METHODS:
             raise ValueError(f"method must be one of {METHODS}, got {method!r}")
         self.method = method
-        self.n = integer("n", n, 16, MAX_N, " (a solve needs about 500 bytes per cell)")
+        if n is not None:
+            n = integer("n", n, 16, MAX_N, " (a solve needs about 500 bytes per cell)")
+        self._n_given = n  # with accuracy=, the first grid tried
+        self.n = DEFAULT_N if n is None else n
+        self.accuracy = resolution.check_accuracy(accuracy)
         self.half_width = None
         if half_width is not None:
             self.half_width = in_span("half_width", half_width, (0.0, 1e3 * self.radius), "m")
@@ -374,6 +389,8 @@ class LineContact:
         self.psd = psd
         self._theory, self._law = self._resolve_model(model, psd, theory, gamma, u0, beta)
         self.model = "hertz" if self._law is None else self._law.name
+        if self.accuracy is not None and self._law is None:
+            raise ValueError("accuracy needs a pressure law (model='hertz' converges at order ~1)")
 
     # -- construction stages ----------------------------------------------------------------
     def _resolve_model(self, model, psd, theory, gamma, u0, beta):
@@ -426,6 +443,8 @@ class LineContact:
             raise TypeError(
                 f"initial must be a LineContactResult or None, got {type(initial).__name__}"
             )
+        if self.accuracy is not None:  # grids chosen by the error estimate
+            return resolution.solve_to_accuracy(self, load, initial)
         grid = self._grid(load)
         start = None if initial is None else _rescaled_start(grid, initial)
         return self._solve_on(grid, start, self.warn)
@@ -455,6 +474,8 @@ class LineContact:
         argument after each solve (e.g. a tqdm bar's ``update``).
         """
         loads = self._check_loads(loads)
+        if self.accuracy is not None:  # each load on its own grids: no continuation
+            return resolution.sweep_to_accuracy(self, loads, progress)
         out: list[LineContactResult | None] = [None] * loads.size
         history: list[tuple[float, np.ndarray]] = []  # (ln f_N, ln p on the grid)
         for i in np.argsort(loads, kind="stable"):
@@ -472,6 +493,23 @@ class LineContact:
         if self.warn:
             _warn_sweep(out)
         return out  # type: ignore[return-value]
+
+    def estimate_error(self, result: LineContactResult) -> resolution.ErrorEstimate:
+        """Relative errors of a result of this model from one companion solve on the same
+        domain (:func:`fastline.resolution.estimate_error`); also stored as
+        ``result.error_estimate``."""
+        resolution.check_result(self, result)
+        if self._law is None:
+            raise ValueError("estimate_error needs a pressure law (not model='hertz')")
+        return resolution.estimate_error(self, result)
+
+    def _with_grid(self, n: int, half_width: float) -> LineContact:
+        """This model on ``n`` cells over ``[-half_width, half_width]`` (m), one solve per
+        load, silent: a grid of the accuracy loop. Shares theory, law and settings."""
+        other = copy.copy(self)
+        other.n, other._n_given, other.half_width = n, n, half_width
+        other.accuracy, other.warn = None, False
+        return other
 
     def _check_load(self, name: str, load) -> float:
         """A load per unit length in [1e-12, 1e4] E* R (N/m): the Hertz half-width stays
@@ -627,7 +665,7 @@ def solve_line_contact(
         Normal load per unit length f_N in N/m.
     **options
         Keyword options of :class:`LineContact` (model, method, gamma, n, half_width, tol,
-        max_iter, u0, beta, theory, hardness, warn).
+        max_iter, u0, beta, theory, hardness, warn, accuracy).
 
     Returns
     -------
