@@ -116,9 +116,12 @@ def test_needle_estimate_says_four_percent_and_accuracy_refines():
     assert est.companion_n == 512  # too coarse for a coarser companion
     assert est.fwhm_cells < resolution.RESOLVED_CELLS
 
-    accurate = fl.solve_line_contact(psd, E_star, radius, load, accuracy=1e-3, warn=False)
-    assert accurate.error_estimate.met and accurate.error_estimate.n > 256
-    assert max(true_errors(accurate, ref).values()) <= 1e-3
+    # at 1e-2 the first accepted grid (768 cells) had w/s 1.5 % off with an estimate of 0.4 %:
+    # the FWHM sits on the edge of a full-contact core; the confirmation grid catches it
+    for accuracy in (1e-2, 1e-3):
+        accurate = fl.solve_line_contact(psd, E_star, radius, load, accuracy=accuracy, warn=False)
+        assert accurate.error_estimate.met and accurate.error_estimate.n > 256
+        assert max(true_errors(accurate, ref).values()) <= accuracy
 
 
 def test_on_demand_estimate_of_a_default_solve():
