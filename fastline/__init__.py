@@ -34,6 +34,7 @@ from fastline.persson import (
     pressure_at,
     separation_at,
 )
+from fastline.resolution import AccuracyWarning, ErrorEstimate
 from fastline.spectra import PSD, SelfAffinePSD, SumPSD, TabulatedPSD, effective_modulus
 
 __version__ = "0.1.0"
@@ -70,6 +71,8 @@ __all__ = [
     "LineContactResult",
     "ConvergenceWarning",
     "ValidityWarning",
+    "AccuracyWarning",
+    "ErrorEstimate",
     "assess",
     "warn_once",
     "io",
