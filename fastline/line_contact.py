@@ -18,13 +18,14 @@ loads solved); :func:`solve_line_contact` is a one-call wrapper around it.
 
 from __future__ import annotations
 
+import copy
 import math
 from collections.abc import Callable, Iterable, Sequence
 from dataclasses import dataclass, field
 
 import numpy as np
 
-from fastline import _core
+from fastline import _core, resolution
 from fastline._contact import (  # noqa: F401 (METHODS ... shared_theory: importable here as before)
     METHODS,
     MODELS,
@@ -115,6 +116,9 @@ class LineContactResult:
     theory : PerssonTheory or None
         The theory the scene was solved with (None for hertz and for user laws), for
         post-processing such as leak rates.
+    error_estimate : ErrorEstimate or None
+        Estimated relative errors of p0, s, FWHM and w/s (:mod:`fastline.resolution`): set
+        when the model has ``accuracy=`` or by :meth:`LineContact.estimate_error`, else None.
     """
 
     x: np.ndarray
@@ -144,6 +148,7 @@ class LineContactResult:
     edge_pressure: float
     diagnostics: dict = field(default_factory=dict)
     theory: PerssonTheory | None = field(default=None, repr=False, compare=False)
+    error_estimate: resolution.ErrorEstimate | None = field(default=None, repr=False, compare=False)
 
     def __repr__(self):
         return (
@@ -218,8 +223,8 @@ class LineContact(ContactModel):
         Newton-Krylov (default) or the plain damped fixed point (for comparison).
     gamma : float
         Yang-Persson parameter of the theory, in (0, 1] (default 0.45).
-    n : int
-        Grid points, in [16, 2^22] (default 1024).
+    n : int, optional
+        Grid points, in [16, 2^22] (default 1024; with ``accuracy``, the first grid tried).
     half_width : float, optional
         Half-width of the domain in m, the same for every load, at most 1e3 R and at least the
         Hertz half-width ``a`` of each load solved; default per load ``1.25 a + 8 sqrt(R u0)``.
@@ -238,6 +243,11 @@ class LineContact(ContactModel):
     warn : bool
         Emit a ``ConvergenceWarning`` when a solve does not converge and the diagnostics'
         ``ValidityWarning`` s.
+    accuracy : float, optional
+        Relative error wanted in p0, s and w/s, in [1e-8, 0.1] (not for ``model="hertz"``):
+        each load is solved on grids refined until the estimated error is below it, and every
+        result carries ``error_estimate`` (:mod:`fastline.resolution`, docs/accuracy.md).
+        None (default): one solve on the grid of ``n`` and ``half_width``, no estimate.
 
     Examples
     --------
@@ -258,7 +268,7 @@ class LineContact(ContactModel):
         model: str | PressureLaw = "persson",
         method: str = "newton",
         gamma: float = 0.45,
-        n: int = DEFAULT_N,
+        n: int | None = None,
         half_width: float | None = None,
         tol: float = 1e-8,
         max_iter: int | None = None,
@@ -267,10 +277,15 @@ class LineContact(ContactModel):
         theory: PerssonTheory | None = None,
         hardness: float | None = None,
         warn: bool = True,
+        accuracy: float | None = None,
     ):
-        self._check_settings(E_star, radius, method, n)
+        self._check_settings(E_star, radius, method, DEFAULT_N if n is None else n)
+        self._n_given = None if n is None else self.n  # with accuracy=, the first grid tried
+        self.accuracy = resolution.check_accuracy(accuracy)
         self.half_width = self._check_extent("half_width", half_width)
         self._check_rest(psd, model, gamma, tol, max_iter, u0, beta, theory, hardness, warn)
+        if self.accuracy is not None and self._law is None:
+            raise ValueError("accuracy needs a pressure law (model='hertz' converges at order ~1)")
 
     # -- what the shared machinery (fastline._contact.ContactModel) needs --------------------
     RESULT = LineContactResult
@@ -292,8 +307,15 @@ class LineContact(ContactModel):
         """Solve one load (N/m); ``initial`` is a neighbouring solution to start from.
 
         Stages: check the load, size the grid, make the initial guess, run the core method,
-        measure the profile, run the diagnostics.
+        measure the profile, run the diagnostics. With ``accuracy``: grids chosen by the
+        error estimate (:func:`fastline.resolution.solve_to_accuracy`).
         """
+        if self.accuracy is not None:
+            if initial is not None and not isinstance(initial, LineContactResult):
+                raise TypeError(
+                    f"initial must be a LineContactResult or None, got {type(initial).__name__}"
+                )
+            return resolution.solve_to_accuracy(self, self._check_load("load", load), initial)
         return self._solve(load, initial)
 
     def sweep(
@@ -313,7 +335,26 @@ class LineContact(ContactModel):
         (:func:`fastline.diagnostics.warn_once`). ``progress``, if given, is called with no
         argument after each solve (e.g. a tqdm bar's ``update``).
         """
+        if self.accuracy is not None:  # each load on its own grids: no continuation
+            return resolution.sweep_to_accuracy(self, self._check_loads(loads), progress)
         return self._sweep(loads, progress)
+
+    def estimate_error(self, result: LineContactResult) -> resolution.ErrorEstimate:
+        """Relative errors of a result of this model from one companion solve on the same
+        domain (:func:`fastline.resolution.estimate_error`); also stored as
+        ``result.error_estimate``."""
+        resolution.check_result(self, result)
+        if self._law is None:
+            raise ValueError("estimate_error needs a pressure law (not model='hertz')")
+        return resolution.estimate_error(self, result)
+
+    def _with_grid(self, n: int, half_width: float) -> LineContact:
+        """This model on ``n`` cells over ``[-half_width, half_width]`` (m), one solve per
+        load, silent: a grid of the accuracy loop. Shares theory, law and settings."""
+        other = copy.copy(self)
+        other.n, other._n_given, other.half_width = n, n, half_width
+        other.accuracy, other.warn = None, False
+        return other
 
     # -- solve stages -------------------------------------------------------------------------
     def _grid(self, load: float) -> _LineGrid:

@@ -605,3 +605,39 @@ def leaving_area_moment(psd, E_star, p, u1, zeta_a, epsrel=1e-10):
     lo, hi = math.log(zeta_a), math.log(psd.q1 / q0)
     cuts = [math.log(b / q0) for b in psd.breakpoints() if lo < math.log(b / q0) < hi]
     return quad(integrand, lo, hi, points=cuts or None, epsabs=0.0, epsrel=epsrel, limit=400)[0]
+
+
+def peak_quartic(p):
+    """Peak of the quartic through the five samples around the discrete maximum: NumPy's
+    polyfit through the five points, then a dense scan of [-1, 1] cells refined by SciPy's
+    bounded scalar minimisation (compare :func:`fastline.resolution.peak_quartic`)."""
+    from scipy.optimize import minimize_scalar
+
+    i = int(np.argmax(p))
+    t = np.arange(-2.0, 3.0)
+    coef = np.polyfit(t, p[i - 2 : i + 3], 4)
+    scan = np.linspace(-1.0, 1.0, 2001)
+    t0 = scan[np.argmax(np.polyval(coef, scan))]
+    lo, hi = max(-1.0, t0 - 1e-3), min(1.0, t0 + 1e-3)
+    best = minimize_scalar(
+        lambda s: -np.polyval(coef, s), bounds=(lo, hi), method="bounded", options={"xatol": 1e-13}
+    )
+    return max(float(p[i]), float(-best.fun))
+
+
+def fwhm_cubic(p, dx, p0):
+    """Width between the outermost crossings of p0/2 of the cubic through four samples around
+    each crossing cell (nodes k-1..k+2 for the cell [k, k+1]), each crossing found by SciPy's
+    brentq on that cubic (compare :func:`fastline.resolution.fwhm_cubic`)."""
+    from scipy.optimize import brentq
+
+    half = 0.5 * p0
+    above = np.nonzero(p >= half)[0]
+    i, j = int(above[0]), int(above[-1])
+
+    def crossing(k):  # the crossing in [k, k+1], in cells from 0
+        nodes = np.arange(k - 1, k + 3, dtype=float)
+        coef = np.polyfit(nodes, p[k - 1 : k + 3], 3)
+        return brentq(lambda t: np.polyval(coef, t) - half, k, k + 1, xtol=1e-14)
+
+    return (crossing(j) - crossing(i - 1)) * dx
