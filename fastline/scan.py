@@ -30,14 +30,14 @@ __all__ = ["ScanSpectrum", "analyse_scan", "LIMIT_RULES"]
 
 #: what each end of the usable range was set by (``ScanSpectrum.limits``), in words
 LIMIT_RULES = {
-    "scan length": f"scan length: the Fourier mode {tp.LOW_MODE}, {tp.LOW_MODE} x 2 pi / L",
-    "sampling": f"sampling: {tp.POINTS_PER_WAVELENGTH} points per wavelength, "
-    f"2 pi / ({tp.POINTS_PER_WAVELENGTH} dx)",
-    "tip radius": f"stylus tip: curvature below -{tp.TIP_SAFETY:g} / R_tip at shorter lengths",
-    "noise floor": f"noise floor: below {tp.NOISE_MARGIN:g} x the white-noise spectrum",
+    "scan length": f"scan length (Fourier mode {tp.LOW_MODE}: {tp.LOW_MODE} x 2 pi / L)",
+    "sampling": f"sampling ({tp.POINTS_PER_WAVELENGTH} points per wavelength: "
+    f"2 pi / ({tp.POINTS_PER_WAVELENGTH} dx))",
+    "tip radius": f"stylus tip (it cannot follow curvatures beyond {tp.TIP_SAFETY:g} / R_tip)",
+    "noise floor": f"noise floor (C below {tp.NOISE_MARGIN:g} x the white-noise level)",
     "tip radius or noise floor": "stylus tip or noise floor",
     "given": "given",
-    "all": "every measured wavenumber",
+    "all": "all measured wavenumbers",
 }
 #: a two-column file is taken for a spectrum (q, C) rather than a profile (x, h) when its first
 #: column spans at least this ratio and its second column falls over this many decades
@@ -108,10 +108,9 @@ class ScanSpectrum:
             )
         else:
             n = self.shape[-1]
-            many = "" if self.n_profiles == 1 else f"{self.n_profiles} parallel "
-            noun = "profile" if self.n_profiles == 1 else "profiles"
+            many = "one profile" if self.n_profiles == 1 else f"{self.n_profiles} parallel profiles"
             what = (
-                f"{many}{noun} of {n} points, dx {self.dx:.4g} m (L = {n * self.dx:.4g} m); "
+                f"{many} of {n} points, dx {self.dx:.4g} m (L = {n * self.dx:.4g} m); "
                 "1D spectrum, exact inverse Abel transform to C(q)"
             )
         return f"{what}; {self.window} window, {self.detrend} detrend"
@@ -177,6 +176,18 @@ def _refuse_spectrum(path: str) -> None:
 
 def _read(path: str, dx, dy, as_map: bool, unit: str, x_unit):
     """(kind, heights, dx, dy) of a file; refuses a spectrum table passed as a scan."""
+    if os.path.isdir(path):
+        raise ValueError(f"{path} is a directory, not a file")
+    try:
+        return _read_file(path, dx, dy, as_map, unit, x_unit)
+    except ValueError as e:
+        if dx is None and ("needs dx" in str(e) or "dx (m) is required" in str(e)):
+            what = "a height map" if as_map else "heights only (no x column)"
+            raise ValueError(f"{path} holds {what}: their spacing dx (m) is required") from None
+        raise
+
+
+def _read_file(path: str, dx, dy, as_map: bool, unit: str, x_unit):
     if as_map:
         m = tp.read_map(path, dx=dx, dy=dy, unit=unit)
         return "map", m.heights, m.dx, m.dy
@@ -251,7 +262,8 @@ def _table(measured: TabulatedPSD, fit, q1, extend: bool):
         raise ValueError(
             f"q1 = {q1:.4g} 1/m lies above the usable range, which ends at {top:.4g} 1/m: "
             "continuing the spectrum there is an assumption, not a measurement; ask for it "
-            "with extend=True (--extend: the power law of the fitted H)"
+            "with extend=True (--extend on the command line), which continues the power law "
+            "of the fitted H"
         )
     return tp.extend_psd(measured, q1, hurst=fit.hurst), top
 
@@ -330,7 +342,10 @@ def analyse_scan(
     detrend = allowed[0] if detrend is None else detrend
     if detrend not in allowed:
         what = "a map" if as_map else "line scans"
-        raise ValueError(f"detrend for {what} must be one of {', '.join(allowed)}, got {detrend!r}")
+        hint = " ('plane' is for a height map: as_map=True (--map))" if detrend == "plane" else ""
+        raise ValueError(
+            f"detrend for {what} must be one of {', '.join(allowed)}, got {detrend!r}{hint}"
+        )
     if q1 is not None:
         q1 = positive("q1", q1, "1/m")
     options = dict(
