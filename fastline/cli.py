@@ -33,7 +33,7 @@ With --geometry sphere (profile, sweep, paper) the same for a rigid sphere on th
 contact): p(r), the FWHM w along a diameter, s^2 = int r^2 p dA / (2F), delta = a^2/R; the load
 is then the total load F on the sphere in N.
 
-From a measurement: `fastline psd SCAN` turns a line scan or height map into the spectrum C(q)
+From a measurement: fastline psd SCAN turns a line scan or height map into the spectrum C(q)
 (summary, fit, a table for --psd, a figure); --scan SCAN on profile, sweep and leak solves
 straight from it.
 
@@ -1636,7 +1636,7 @@ def _psd_parser(sub, fmt) -> None:
         help="the measurement: text (.txt .csv .dat .tsv .prn; one column of heights with "
         "--dx, two columns x and h, or one scan per line with --dx; '#' comments and header "
         "lines skipped), .npy, or an instrument file (X3P, SDF, OPDx, Mitutoyo, Keyence, Zygo, "
-        'Sensofar, ...: pip install "fastline-contact[topography]")',
+        'Sensofar, ...), which needs pip install "fastline-contact[topography]" to be read',
     )
     _scan_options(p, standalone=True)
     p.add_argument(
