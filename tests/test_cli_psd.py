@@ -332,3 +332,16 @@ def test_plot_without_matplotlib_is_refused_before_work(scans, monkeypatch, tmp_
     monkeypatch.setattr(fastline.scan, "analyse_scan", None)  # any call would fail loudly
     status, _, err = run(["psd", d / "rows.txt", *ROWS, "--plot", tmp_path / "x.png"], capsys)
     assert status == 2 and "plotting needs matplotlib" in err
+
+
+def test_fit_held_at_its_bound_is_said(tmp_path, capsys):
+    """C ~ q^-5 falls faster than any self-affine spectrum (H <= 1): the fit holds H = 1 and
+    the summary says so instead of printing an error bar."""
+    q = np.geomspace(1e3, 2e6, 50)
+    steep = fl.TabulatedPSD(q, 1e-18 * (q / 1e3) ** -5.0)
+    with np.errstate(divide="ignore"):  # the grid's q = 0 mode, outside the table
+        h = tp.synthetic_surface(steep, 256, DX, seed=4)
+    np.savetxt(tmp_path / "steep.txt", h[::32], fmt="%.17g")
+    status, out, _ = run(["psd", tmp_path / "steep.txt", "--dx", DX], capsys)
+    assert status == 0
+    assert "fit              H 1 (held at its bound: C falls faster than self-affine can)" in out
