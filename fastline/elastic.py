@@ -49,7 +49,6 @@ import threading
 from collections import OrderedDict
 
 import numpy as np
-import pyfftw
 
 from fastline import _fftw
 from fastline._toeplitz_pcg import apply_kernel, solve_newton_system
@@ -235,6 +234,8 @@ def _workspace(n: int):
     if ws is not None:
         plans.move_to_end(n)
         return ws
+    import pyfftw  # here, not at import: pyfftw pulls in dask.array when dask is installed
+
     nfft = 2 * n
     rin = pyfftw.empty_aligned(nfft, dtype=np.float64)
     cbuf = pyfftw.empty_aligned(n + 1, dtype=np.complex128)
