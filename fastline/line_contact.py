@@ -31,7 +31,6 @@ from fastline._contact import (  # noqa: F401 (METHODS ... shared_theory: import
     MODELS,
     PREDICTOR_MAX_STEP,
     SWEEP_PREDICTOR_ORDER,
-    SWEEP_WARM_ALPHA,
     ContactModel,
     fwhm,
     log_pressure,
@@ -324,10 +323,11 @@ class LineContact(ContactModel):
         """Solve a series of loads (N/m) by continuation; results in the order given.
 
         The loads are solved in increasing order. Each solve starts from a prediction made
-        from the solutions already found: ln p on the (relative) grid extrapolated in ln f_N
-        by a polynomial through the last ``SWEEP_PREDICTOR_ORDER + 1`` of them (degree 0 after
-        a step longer than ``PREDICTOR_MAX_STEP``; a cold start below ``SWEEP_WARM_ALPHA`` and
-        after a failed predicted start; :mod:`fastline._contact`). Over the paper's 50-load
+        from the solutions already found: ln p extrapolated in ln f_N by a polynomial through
+        the last ``SWEEP_PREDICTOR_ORDER + 1`` of them, in the core of the contact at the same
+        x / s, in the tail at the same place in the domain (degree 0 after a step longer than
+        ``PREDICTOR_MAX_STEP``; a cold start after a failed predicted start;
+        :mod:`fastline._contact`). Over the paper's 50-load
         sweeps this costs fewer FFT convolutions than independent solves
         (docs/performance.md gives the figure); each result is the converged solution at its
         load, equal to an independent solve to the solver tolerance. Warnings are emitted once
