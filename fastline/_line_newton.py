@@ -181,8 +181,9 @@ def newton_line(
             tol_eff *= FLOOR_STALL  # noise level of a raised tolerance: as converged as can be
         if res < tol_eff or steps >= max_iter or stalled:
             status = 0 if res < tol_eff else (2 if stalled else 1)
-            v_io[:] = v
-            u_out[:] = U
+            for i in range(n):  # loops, not v_io[:] = v: no broadcasting error path to compile
+                v_io[i] = v[i]
+                u_out[i] = U[i]
             return u1, res, status, steps, cg_total, kapps, circ, tol_eff
         steps += 1
         for i in range(n):
