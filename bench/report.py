@@ -23,6 +23,7 @@ import numpy as np  # noqa: E402
 
 import fastline as fl  # noqa: E402
 from bench import baseline as bl  # noqa: E402
+from bench import core  # noqa: E402
 from bench.conftest import (  # noqa: E402
     ALPHAS,
     E_STAR,
@@ -201,6 +202,9 @@ def main():
     # ---- (e) fresh process --------------------------------------------------------------------
     cold, warm, _, p0r = cold_and_warm()
 
+    # ---- (f) the core's targets: counts over n, FFT share, sweeps, threads -------------------
+    core_m = core.measure()
+
     # ---- figures ------------------------------------------------------------------------------
     cmap = plt.get_cmap("viridis")
     fig, axes = plt.subplots(1, 2, figsize=(11, 4.3))
@@ -352,6 +356,16 @@ def main():
         margin = f"{lim / val:.1f}x under" if ok else f"{val / lim:.2f}x over"
         L.append(f"| {name} | {txt} | {'yes' if ok else '**no**'} | {margin} |")
     L.append("")
+
+    L.append("## Targets (speed at the limit, issue 13; sweeps, issue 10)\n")
+    L.append("| target | measured | met? | margin |")
+    L.append("|---|---|---|---|")
+    for name, val, lim, txt in core.targets(core_m, cold, warm):
+        ok = val <= lim
+        margin = f"{lim / val:.1f}x under" if ok else f"{val / lim:.2f}x over"
+        L.append(f"| {name} | {txt} | {'yes' if ok else '**no**'} | {margin} |")
+    L.append("")
+    L.extend(core.markdown(core_m))
 
     L.append("## Convolutions per solve (n = 1024, tol = 1e-8)\n")
     L.append(

@@ -43,6 +43,7 @@ from fastline.persson import (
     separation_at,
 )
 from fastline.point_contact import PointContact, PointContactResult, solve_point_contact
+from fastline.resolution import AccuracyWarning, ErrorEstimate
 from fastline.spectra import PSD, SelfAffinePSD, SumPSD, TabulatedPSD, effective_modulus
 
 __version__ = "0.1.0"
@@ -91,6 +92,8 @@ __all__ = [
     "RingKernelOperator",
     "ConvergenceWarning",
     "ValidityWarning",
+    "AccuracyWarning",
+    "ErrorEstimate",
     "assess",
     "warn_once",
     "io",

@@ -12,6 +12,11 @@ Every kernel is decorated with ``@numba.njit(**JIT)``:
 * ``nogil`` - kernels release the GIL, so threads solving different scenes run in parallel.
 * ``fastmath`` - one conservative set: FMA contraction, reciprocal and signed-zero freedom;
   never ``nnan``/``ninf``, so NaN and inf checks inside kernels keep working.
+* ``error_model="numpy"`` - a division by zero gives inf or NaN (as in NumPy) instead of a
+  ``ZeroDivisionError`` path in every division; kernels guard their own divisions and the
+  public functions validate their inputs. With it, and with element loops instead of slice
+  assignments (whose shape-mismatch error message Numba compiles too), the first compilation
+  of the line contact's Newton fell from 12.9 to 9.5 s of CPU (empty ``NUMBA_CACHE_DIR``).
 """
 
 from __future__ import annotations
@@ -29,4 +34,6 @@ def _cache_enabled() -> bool:
 
 
 #: keyword arguments of ``numba.njit`` shared by every kernel of the package
-JIT = dict(cache=_cache_enabled(), nogil=True, fastmath={"contract", "arcp", "nsz"})
+JIT = dict(
+    cache=_cache_enabled(), nogil=True, fastmath={"contract", "arcp", "nsz"}, error_model="numpy"
+)

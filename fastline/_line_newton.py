@@ -32,6 +32,7 @@ from fastline._core import (
     ETA_RETRY_MIN,
     FLOOR_STALL,
     LINE_SEARCH_HALVINGS,
+    LN_FLOOR,
     MAX_CG,
     ROUNDOFF_FACTOR,
 )
@@ -74,14 +75,14 @@ def _law(kind, v, prm, A, B, C, E, u, dU):
 
 @numba.njit(**JIT)
 def _normalise(v, load, w):
-    """Shift v in place so that ``sum(w exp(v)) = load`` (log-sum-exp, terms below e^-700 of
+    """Shift v in place so that ``sum(w exp(v)) = load`` (log-sum-exp, terms below e^-460 of
     the largest left out: see :func:`fastline._core.normalise`)."""
     vmax = -math.inf
     for i in range(v.shape[0]):
         vmax = max(vmax, v[i])
     acc = 0.0
     for i in range(v.shape[0]):
-        acc += w[i] * math.exp(max(v[i] - vmax, -700.0))
+        acc += w[i] * math.exp(max(v[i] - vmax, -LN_FLOOR))
     shift = math.log(load) - (vmax + math.log(acc))
     for i in range(v.shape[0]):
         v[i] += shift
@@ -94,8 +95,12 @@ def _evaluate(v, u1_in, fft, kspec, scale, gap, w, kind, prm, A, B, C, E, a, c, 
     largest term the residual subtracts (for the round-off floor)."""
     fr2c, fc2r, pf, pb = fft
     n = v.shape[0]
+    floor = -math.inf
     for i in range(n):
-        p[i] = math.exp(v[i]) if v[i] > _LN_TINY else 0.0
+        floor = max(floor, v[i])
+    floor = max(floor - LN_FLOOR, _LN_TINY)  # see fastline._core.LN_FLOOR
+    for i in range(n):
+        p[i] = math.exp(v[i]) if v[i] > floor else 0.0
     _law(kind, v, prm, A, B, C, E, U, dU)
     _convolve(p, n, kspec, fr2c, fc2r, pf, pb, a, c, gk)
     u1 = u1_in
@@ -121,12 +126,28 @@ def _evaluate(v, u1_in, fft, kspec, scale, gap, w, kind, prm, A, B, C, E, a, c, 
 
 @numba.njit(**JIT)
 def newton_line(
-    fft, kspec, strang, prefix, scale, K00, gap, w, load, law, u_ref, v_io, tol, max_iter, nc, hist
+    fft,
+    kspec,
+    strang,
+    prefix,
+    scale,
+    K00,
+    gap,
+    w,
+    load,
+    law,
+    u_ref,
+    v_io,
+    tol,
+    max_iter,
+    nc,
+    hist,
+    u_out,
 ):
     """Newton-Krylov on v = ln p (in place) for the line contact; ``law`` is
     ``(kind, prm, A, B, C, E)``, ``hist`` (max_iter x 3) receives (residual, CG iterations,
-    step). Returns ``(u1, residual, status, steps, cg_iterations, k_applications,
-    circulant_solves, tol_effective)``."""
+    step), ``u_out`` the law's separation at the final iterate. Returns ``(u1, residual, status,
+    steps, cg_iterations, k_applications, circulant_solves, tol_effective)``."""
     kind, prm, A, B, C, E = law
     fr2c, fc2r, pf, pb = fft
     n = v_io.shape[0]
@@ -160,7 +181,9 @@ def newton_line(
             tol_eff *= FLOOR_STALL  # noise level of a raised tolerance: as converged as can be
         if res < tol_eff or steps >= max_iter or stalled:
             status = 0 if res < tol_eff else (2 if stalled else 1)
-            v_io[:] = v
+            for i in range(n):  # loops, not v_io[:] = v: no broadcasting error path to compile
+                v_io[i] = v[i]
+                u_out[i] = U[i]
             return u1, res, status, steps, cg_total, kapps, circ, tol_eff
         steps += 1
         for i in range(n):

@@ -49,7 +49,6 @@ import threading
 from collections import OrderedDict
 
 import numpy as np
-import pyfftw
 
 from fastline import _fftw
 from fastline._toeplitz_pcg import apply_kernel, solve_newton_system
@@ -235,6 +234,8 @@ def _workspace(n: int):
     if ws is not None:
         plans.move_to_end(n)
         return ws
+    import pyfftw  # here, not at import: pyfftw pulls in dask.array when dask is installed
+
     nfft = 2 * n
     rin = pyfftw.empty_aligned(nfft, dtype=np.float64)
     cbuf = pyfftw.empty_aligned(n + 1, dtype=np.complex128)
@@ -422,7 +423,7 @@ class LogKernelOperator:
     def newton_compiled(self, gap, w, load, law_form, u_ref, v, tol, max_iter):
         """The whole Newton iteration in one compiled call (:mod:`fastline._line_newton`) for a
         law with a compiled form; ``v`` (ln p, normalised) is updated in place. Returns
-        ``(u1, residual, status, steps, cg_iterations, tol_effective, history)`` (status 0
+        ``(u1, residual, status, steps, cg_iterations, tol_effective, history, u)`` (status 0
         converged, 1 max_iter, 2 line search failed) and counts the FFT convolutions; None if
         the compiled FFT path is not available."""
         if not _fftw.AVAILABLE:
@@ -431,6 +432,7 @@ class LogKernelOperator:
 
         kspec, strang, prefix = _compiled_tables(self.n)
         hist = np.zeros((max_iter, 3))
+        u = np.empty(self.n)
         N = 2 * self.n
         fft = _fftw.acquire(N)
         try:
@@ -451,12 +453,13 @@ class LogKernelOperator:
                 max_iter,
                 COARSE_AGGREGATES,
                 hist,
+                u,
             )
         finally:
             _fftw.release(N)
         self.convolutions += kapps + circ
         self.circulant_solves += circ
-        return u1, res, status, steps, cg, tol_eff, hist[:steps]
+        return u1, res, status, steps, cg, tol_eff, hist[:steps], u
 
     def preconditioner(self, D) -> BlockPreconditioner:
         """An approximate inverse of ``D + K`` for the Newton-Krylov core (:mod:`fastline._core`).

@@ -4,7 +4,8 @@ Spectrum files hold two columns, wavenumber q [1/m] and isotropic power spectrum
 Persson's convention (``h_rms^2 = 2 pi int q C dq``, docs/theory.md section 2), separated by
 whitespace or a comma; ``#`` starts a comment. :func:`read_spectrum` checks that the table is
 a plausible spectrum before it is used (a height profile, x [m] against h [m], starts at x = 0
-and is refused).
+and is refused). :func:`write_spectrum` writes such a table (``fastline psd --out``) with the
+measurement it came from in ``#`` header lines.
 
 Result files are CSV: ``# key: value`` lines describing the scene (spectrum and where it came
 from, its h_rms, rms slope and q range, E*, R, model, gamma, n, fastline version), then a
@@ -45,6 +46,8 @@ __all__ = [
     "POINT_SWEEP_COLUMNS",
     "write_point_profile_csv",
     "write_point_sweep_csv",
+    "SPECTRUM_COLUMNS",
+    "write_spectrum",
 ]
 
 #: columns of :func:`write_profile_csv`
@@ -62,6 +65,8 @@ POINT_SWEEP_COLUMNS = (
     "w_over_s",
     "converged",
 )
+#: columns of :func:`write_spectrum` (written as a comment: the file stays a two-column table)
+SPECTRUM_COLUMNS = ("q_1_per_m", "C_m4")
 #: columns of :func:`write_sweep_csv`
 SWEEP_COLUMNS = (
     "load_N_per_m",
@@ -493,3 +498,40 @@ def write_leak_sweep_csv(
     info = {**dict(meta or {}), **leak_metadata(leaks[0])}
     rows = leak_sweep_rows(results, leaks)
     write_csv(path, LEAK_SWEEP_COLUMNS, rows, info, title="fastline leak --sweep: Q against load")
+
+
+def write_spectrum(path, psd, meta: Mapping | None = None, title: str | None = None) -> None:
+    """Write a spectrum table that :func:`read_spectrum` (and ``--psd``) reads back exactly.
+
+    ``# title`` and ``# key: value`` lines, the column names as a comment (``# q_1_per_m,C_m4``),
+    then one ``q,C`` row per table point with full double precision: q [1/m], C(q) [m^4] in
+    Persson's convention. The spectrum's h_rms, rms slope and q range are added to the header.
+
+    Parameters
+    ----------
+    path : str or path-like
+    psd : TabulatedPSD
+        The table to write (its points ``psd.q``, ``psd.C``).
+    meta : mapping, optional
+        Header entries (e.g. how the spectrum was measured), written before the summary.
+    title : str, optional
+    """
+    from fastline.spectra import TabulatedPSD
+
+    if not isinstance(psd, TabulatedPSD):
+        raise TypeError(f"psd must be a TabulatedPSD, got {type(psd).__name__}")
+    s = spectrum_summary(psd)
+    info = {**(meta or {}), "h_rms_m": s["h_rms"], "rms_slope": s["rms_slope"]}
+    info.update(q0_1_per_m=s["q0"], q1_1_per_m=s["q1"], points=int(psd.q.size))
+    path = os.fspath(path)
+    try:
+        with open(path, "w", encoding="utf-8") as fh:
+            for line in (title or "").splitlines():
+                fh.write(f"# {line}\n")
+            for k, v in info.items():
+                fh.write(f"# {k}: {v if isinstance(v, str) else _fmt(v)}\n")
+            fh.write("# " + ",".join(SPECTRUM_COLUMNS) + "\n")
+            for q, C in zip(psd.q, psd.C, strict=True):
+                fh.write(f"{_fmt(q)},{_fmt(C)}\n")
+    except OSError as e:
+        raise ValueError(f"cannot write {path}: {e.strerror}") from None

@@ -164,6 +164,9 @@ class PerssonLaw(PressureLaw):
         return _pressure_from_table(u.ravel(), self.theory._t2).reshape(u.shape)
 
     def real_area(self, p):
+        p = np.asarray(p, dtype=np.float64)
+        if p.ndim == 1 and np.all(p >= 0.0):  # the solvers' own pressures: the fast path
+            return self.theory._real_area(p)
         return self.theory.contact_area(p)
 
     def _compiled_form(self):

@@ -86,7 +86,9 @@ THRESHOLD_PERSSON = 0.42
 #: the critical contact area of numerical studies (A. Wang, M.H. Mueser, Tribol. Lett. (2021),
 #: doi:10.1007/s11249-020-01378-7, arXiv:2010.13470: "near 0.415")
 THRESHOLD_NUMERICAL = 0.415
-#: Bruggeman effective-medium threshold (a two-phase 2D medium percolates at 1/2)
+#: Bruggeman effective-medium threshold (a two-phase 2D medium percolates at 1/2; B.N.J. Persson,
+#: Eur. Phys. J. E 43, 25 (2020), arXiv:2003.02007: the effective-medium flow conductivity
+#: vanishes at A/A0 = 0.5)
 THRESHOLD_BRUGGEMAN = 0.5
 
 _SQRT_PI = math.sqrt(math.pi)
@@ -818,8 +820,8 @@ def _scalars(pressure_drop, viscosity, length, threshold, method, mean_free_path
     if method not in METHODS:
         raise ValueError(
             f"method must be one of {METHODS}, got {method!r} (the effective-medium method is "
-            "not implemented: the theory's gap distribution could not be sourced, see "
-            "docs/leakage.md)"
+            "not implemented: the theory's gap distribution P(u) could not be sourced; see "
+            "docs/leakage.md, 'The effective-medium method: not included, and why')"
         )
     if mean_free_path is not None:
         mean_free_path = positive("mean_free_path", mean_free_path, "m")

@@ -18,26 +18,26 @@ loads solved); :func:`solve_line_contact` is a one-call wrapper around it.
 
 from __future__ import annotations
 
+import copy
 import math
 from collections.abc import Callable, Iterable, Sequence
 from dataclasses import dataclass, field
 
 import numpy as np
 
-from fastline import _core
+from fastline import _core, resolution
 from fastline._contact import (  # noqa: F401 (METHODS ... shared_theory: importable here as before)
     METHODS,
     MODELS,
     PREDICTOR_MAX_STEP,
     SWEEP_PREDICTOR_ORDER,
-    SWEEP_WARM_ALPHA,
     ContactModel,
     fwhm,
     log_pressure,
     peak,
     shared_theory,
 )
-from fastline._core import ConvergenceWarning, Discretisation
+from fastline._core import ConvergenceWarning, Discretisation, dot
 from fastline.elastic import LogKernelOperator, log_reference_shift
 from fastline.laws import PressureLaw
 from fastline.limits import HertzLineContact, gaussian_line_contact, hertz_line_contact
@@ -115,6 +115,9 @@ class LineContactResult:
     theory : PerssonTheory or None
         The theory the scene was solved with (None for hertz and for user laws), for
         post-processing such as leak rates.
+    error_estimate : ErrorEstimate or None
+        Estimated relative errors of p0, s, FWHM and w/s (:mod:`fastline.resolution`): set
+        when the model has ``accuracy=`` or by :meth:`LineContact.estimate_error`, else None.
     """
 
     x: np.ndarray
@@ -144,6 +147,7 @@ class LineContactResult:
     edge_pressure: float
     diagnostics: dict = field(default_factory=dict)
     theory: PerssonTheory | None = field(default=None, repr=False, compare=False)
+    error_estimate: resolution.ErrorEstimate | None = field(default=None, repr=False, compare=False)
 
     def __repr__(self):
         return (
@@ -159,8 +163,8 @@ class LineContactResult:
 def _std(x: np.ndarray, p: np.ndarray, dx: float) -> float:
     """Standard deviation of piecewise-constant p about its centroid (cell-exact)."""
     m0 = p.sum()
-    xc = np.dot(x, p) / m0
-    var = np.dot((x - xc) ** 2, p) / m0 + dx * dx / 12.0
+    xc = dot(x, p) / m0
+    var = dot((x - xc) ** 2, p) / m0 + dx * dx / 12.0
     return math.sqrt(var)
 
 
@@ -218,8 +222,8 @@ class LineContact(ContactModel):
         Newton-Krylov (default) or the plain damped fixed point (for comparison).
     gamma : float
         Yang-Persson parameter of the theory, in (0, 1] (default 0.45).
-    n : int
-        Grid points, in [16, 2^22] (default 1024).
+    n : int, optional
+        Grid points, in [16, 2^22] (default 1024; with ``accuracy``, the first grid tried).
     half_width : float, optional
         Half-width of the domain in m, the same for every load, at most 1e3 R and at least the
         Hertz half-width ``a`` of each load solved; default per load ``1.25 a + 8 sqrt(R u0)``.
@@ -238,6 +242,11 @@ class LineContact(ContactModel):
     warn : bool
         Emit a ``ConvergenceWarning`` when a solve does not converge and the diagnostics'
         ``ValidityWarning`` s.
+    accuracy : float, optional
+        Relative error wanted in p0, s and w/s, in [1e-8, 0.1] (not for ``model="hertz"``):
+        each load is solved on grids refined until the estimated error is below it, and every
+        result carries ``error_estimate`` (:mod:`fastline.resolution`, docs/accuracy.md).
+        None (default): one solve on the grid of ``n`` and ``half_width``, no estimate.
 
     Examples
     --------
@@ -258,7 +267,7 @@ class LineContact(ContactModel):
         model: str | PressureLaw = "persson",
         method: str = "newton",
         gamma: float = 0.45,
-        n: int = DEFAULT_N,
+        n: int | None = None,
         half_width: float | None = None,
         tol: float = 1e-8,
         max_iter: int | None = None,
@@ -267,10 +276,15 @@ class LineContact(ContactModel):
         theory: PerssonTheory | None = None,
         hardness: float | None = None,
         warn: bool = True,
+        accuracy: float | None = None,
     ):
-        self._check_settings(E_star, radius, method, n)
+        self._check_settings(E_star, radius, method, DEFAULT_N if n is None else n)
+        self._n_given = None if n is None else self.n  # with accuracy=, the first grid tried
+        self.accuracy = resolution.check_accuracy(accuracy)
         self.half_width = self._check_extent("half_width", half_width)
         self._check_rest(psd, model, gamma, tol, max_iter, u0, beta, theory, hardness, warn)
+        if self.accuracy is not None and self._law is None:
+            raise ValueError("accuracy needs a pressure law (model='hertz' converges at order ~1)")
 
     # -- what the shared machinery (fastline._contact.ContactModel) needs --------------------
     RESULT = LineContactResult
@@ -292,8 +306,15 @@ class LineContact(ContactModel):
         """Solve one load (N/m); ``initial`` is a neighbouring solution to start from.
 
         Stages: check the load, size the grid, make the initial guess, run the core method,
-        measure the profile, run the diagnostics.
+        measure the profile, run the diagnostics. With ``accuracy``: grids chosen by the
+        error estimate (:func:`fastline.resolution.solve_to_accuracy`).
         """
+        if self.accuracy is not None:
+            if initial is not None and not isinstance(initial, LineContactResult):
+                raise TypeError(
+                    f"initial must be a LineContactResult or None, got {type(initial).__name__}"
+                )
+            return resolution.solve_to_accuracy(self, self._check_load("load", load), initial)
         return self._solve(load, initial)
 
     def sweep(
@@ -302,10 +323,11 @@ class LineContact(ContactModel):
         """Solve a series of loads (N/m) by continuation; results in the order given.
 
         The loads are solved in increasing order. Each solve starts from a prediction made
-        from the solutions already found: ln p on the (relative) grid extrapolated in ln f_N
-        by a polynomial through the last ``SWEEP_PREDICTOR_ORDER + 1`` of them (degree 0 after
-        a step longer than ``PREDICTOR_MAX_STEP``; a cold start below ``SWEEP_WARM_ALPHA`` and
-        after a failed predicted start; :mod:`fastline._contact`). Over the paper's 50-load
+        from the solutions already found: ln p extrapolated in ln f_N by a polynomial through
+        the last ``SWEEP_PREDICTOR_ORDER + 1`` of them, in the core of the contact at the same
+        x / s, in the tail at the same place in the domain (degree 0 after a step longer than
+        ``PREDICTOR_MAX_STEP``; a cold start after a failed predicted start;
+        :mod:`fastline._contact`). Over the paper's 50-load
         sweeps this costs fewer FFT convolutions than independent solves
         (docs/performance.md gives the figure); each result is the converged solution at its
         load, equal to an independent solve to the solver tolerance. Warnings are emitted once
@@ -313,7 +335,26 @@ class LineContact(ContactModel):
         (:func:`fastline.diagnostics.warn_once`). ``progress``, if given, is called with no
         argument after each solve (e.g. a tqdm bar's ``update``).
         """
+        if self.accuracy is not None:  # each load on its own grids: no continuation
+            return resolution.sweep_to_accuracy(self, self._check_loads(loads), progress)
         return self._sweep(loads, progress)
+
+    def estimate_error(self, result: LineContactResult) -> resolution.ErrorEstimate:
+        """Relative errors of a result of this model from one companion solve on the same
+        domain (:func:`fastline.resolution.estimate_error`); also stored as
+        ``result.error_estimate``."""
+        resolution.check_result(self, result)
+        if self._law is None:
+            raise ValueError("estimate_error needs a pressure law (not model='hertz')")
+        return resolution.estimate_error(self, result)
+
+    def _with_grid(self, n: int, half_width: float) -> LineContact:
+        """This model on ``n`` cells over ``[-half_width, half_width]`` (m), one solve per
+        load, silent: a grid of the accuracy loop. Shares theory, law and settings."""
+        other = copy.copy(self)
+        other.n, other._n_given, other.half_width = n, n, half_width
+        other.accuracy, other.warn = None, False
+        return other
 
     # -- solve stages -------------------------------------------------------------------------
     def _grid(self, load: float) -> _LineGrid:
@@ -333,7 +374,9 @@ class LineContact(ContactModel):
         if self._law is None:
             separation, real = out.separation, (p > 0.0).astype(float)
         else:
-            separation = self._law.separation_and_slope(out.v)[0]
+            separation = out.separation
+            if separation is None:
+                separation = self._law.separation_and_slope(out.v)[0]
             real = self._law.real_area(p)
         p0 = peak(p)
         s = _std(x, p, dx)

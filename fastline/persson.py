@@ -730,6 +730,17 @@ class PerssonTheory:
             _area_fraction_vec(flat, self._area, out)
         return out.reshape(x.shape)
 
+    def _real_area(self, p: np.ndarray) -> np.ndarray:
+        """``P(q1, p)`` for a contiguous float64 array of p >= 0 (no checks: the solvers'
+        own pressures)."""
+        out = np.empty_like(p)
+        x = np.ascontiguousarray(self._w1 * p / self.E_star)  # as contact_area rounds
+        if self._area is None:
+            _erf_vec(x, out)
+        else:
+            _area_fraction_vec(x, self._area, out)
+        return out
+
     def exponential_fit(self) -> ExponentialFit:
         """u0 and beta of ``p = beta E* exp(-u/u0)`` (paper eq. 5) from the theory itself.
 

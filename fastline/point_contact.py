@@ -34,7 +34,7 @@ import numpy as np
 
 from fastline import _core
 from fastline._contact import ContactModel, fwhm, log_pressure, peak
-from fastline._core import ConvergenceWarning, Discretisation
+from fastline._core import ConvergenceWarning, Discretisation, dot
 from fastline.axisymmetric import MAX_N as _OPERATOR_MAX_N
 from fastline.axisymmetric import RingKernelOperator, ring_edges
 from fastline.laws import PressureLaw
@@ -225,7 +225,7 @@ def _radial_std(p: np.ndarray, dr: float, load: float) -> float:
     ``int r^2 dA = pi (e_+^4 - e_-^4) / 2``)."""
     e = ring_edges(p.size) * dr
     e2 = e * e
-    return math.sqrt(np.dot(p, 0.5 * np.pi * (e2[1:] - e2[:-1]) * (e2[1:] + e2[:-1])) / (2 * load))
+    return math.sqrt(dot(p, 0.5 * np.pi * (e2[1:] - e2[:-1]) * (e2[1:] + e2[:-1])) / (2 * load))
 
 
 def _rescaled_start(grid: _RingGrid, initial: PointContactResult) -> np.ndarray:
@@ -374,7 +374,9 @@ class PointContact(ContactModel):
         if self._law is None:
             separation, real = out.separation, (p > 0.0).astype(float)
         else:
-            separation = self._law.separation_and_slope(out.v)[0]
+            separation = out.separation
+            if separation is None:
+                separation = self._law.separation_and_slope(out.v)[0]
             real = self._law.real_area(p)
         x, pd = _diameter(r, p)
         p0 = peak(pd)
@@ -406,7 +408,7 @@ class PointContact(ContactModel):
             radius=self.radius,
             E_star=self.E_star,
             dr=dr,
-            force_error=abs(np.dot(op.weights, p) - hz.load) / hz.load,
+            force_error=abs(dot(op.weights, p) - hz.load) / hz.load,
             edge_pressure=float(p[-1] / p0),
             diagnostics={
                 "n": self.n,

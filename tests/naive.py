@@ -705,3 +705,64 @@ def gw_area(u, density, radius, std, mean):
     """Greenwood-Williamson real area fraction pi eta beta int (z - u) phi_s dz."""
     val, shift = gw_integral(u, 1.0, mean, std)
     return math.pi * density * radius * val * math.exp(-shift)
+
+
+# ----------------------------------------------------------------------------------------------
+# leakage (THEORY.md 8.2): the area that leaves the apparent contact, weighted by u1
+# ----------------------------------------------------------------------------------------------
+def leaving_area_moment(psd, E_star, p, u1, zeta_a, epsrel=1e-10):
+    """``int_{zeta_a}^{q1/q0} u1(zeta) (-dP/dzeta) dzeta`` by ``quad`` in ln zeta.
+
+    ``P(zeta) = erf(y)``, ``y = p / (E* sqrt(A(zeta q0)))``, so
+    ``-dP/d ln zeta = sqrt(pi) y exp(-y^2) q^4 C(q) / A(q)`` at ``q = zeta q0``; ``u1`` is a
+    callable of (zeta, p). The interval is split at the kinks of C. By the area balance that
+    defines u1, ``d(P u_bar)/dzeta = P' u1``, the result is ``P(zeta_a) u_bar(zeta_a)``.
+    """
+    q0 = psd.q0
+
+    def integrand(lz):
+        q = q0 * math.exp(lz)
+        A = float(psd.cumulative(q))
+        y = p / (E_star * math.sqrt(A))
+        weight = math.sqrt(math.pi) * y * math.exp(-y * y) * q**4 * float(psd(q)) / A
+        return float(u1(q / q0, p)) * weight if weight > 0.0 else 0.0
+
+    lo, hi = math.log(zeta_a), math.log(psd.q1 / q0)
+    cuts = [math.log(b / q0) for b in psd.breakpoints() if lo < math.log(b / q0) < hi]
+    return quad(integrand, lo, hi, points=cuts or None, epsabs=0.0, epsrel=epsrel, limit=400)[0]
+
+
+def peak_quartic(p):
+    """Peak of the quartic through the five samples around the discrete maximum: NumPy's
+    polyfit through the five points, then a dense scan of [-1, 1] cells refined by SciPy's
+    bounded scalar minimisation (compare :func:`fastline.resolution.peak_quartic`)."""
+    from scipy.optimize import minimize_scalar
+
+    i = int(np.argmax(p))
+    t = np.arange(-2.0, 3.0)
+    coef = np.polyfit(t, p[i - 2 : i + 3], 4)
+    scan = np.linspace(-1.0, 1.0, 2001)
+    t0 = scan[np.argmax(np.polyval(coef, scan))]
+    lo, hi = max(-1.0, t0 - 1e-3), min(1.0, t0 + 1e-3)
+    best = minimize_scalar(
+        lambda s: -np.polyval(coef, s), bounds=(lo, hi), method="bounded", options={"xatol": 1e-13}
+    )
+    return max(float(p[i]), float(-best.fun))
+
+
+def fwhm_cubic(p, dx, p0):
+    """Width between the outermost crossings of p0/2 of the cubic through four samples around
+    each crossing cell (nodes k-1..k+2 for the cell [k, k+1]), each crossing found by SciPy's
+    brentq on that cubic (compare :func:`fastline.resolution.fwhm_cubic`)."""
+    from scipy.optimize import brentq
+
+    half = 0.5 * p0
+    above = np.nonzero(p >= half)[0]
+    i, j = int(above[0]), int(above[-1])
+
+    def crossing(k):  # the crossing in [k, k+1], in cells from 0
+        nodes = np.arange(k - 1, k + 3, dtype=float)
+        coef = np.polyfit(nodes, p[k - 1 : k + 3], 3)
+        return brentq(lambda t: np.polyval(coef, t) - half, k, k + 1, xtol=1e-14)
+
+    return (crossing(j) - crossing(i - 1)) * dx

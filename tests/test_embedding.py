@@ -24,11 +24,11 @@ from fastline import elastic
 RTOL_CONTINUATION = 1e-7  # a sweep (warm starts) vs independent solves, tol 1e-8 in u/u0
 RTOL_TABLE = 1e-6  # table u(p) vs the direct quadrature (theory rtol)
 RTOL_SAME_TABLE = 1e-15  # compiled callables vs the methods reading the same table
-#: convolutions saved by LineContact.sweep over the paper's 50-load sweeps vs independent solves
-#: (measured 36%, 34%, 17% for surfaces 1-3 at n = 1024 with the two-level solver, whose cold
-#: solves are cheaper: independent 1228/1300/1816, sweep 789/853/1500 convolutions; the issue's
-#: target is 40%; surface 3 is mostly Hertz-like, where a sweep starts cold)
-SWEEP_SAVING_MIN = 0.15
+#: convolutions saved by LineContact.sweep over the paper's 50-load sweeps vs independent solves,
+#: per surface (the issue's target is 40%; measured at n = 1024: 43%, 43%, 36%, independent
+#: 1245/1284/1808, sweep 710/727/1159 convolutions; surface 3 is mostly Hertz-like, where even a
+#: good prediction leaves three Newton steps of a cold start's four or five: its target is missed)
+SWEEP_SAVING_MIN = {"surface1": 0.40, "surface2": 0.40, "surface3": 0.33}
 
 E_STAR, RADIUS = 1.33e9, 0.01
 PAPER_LOADS = np.geomspace(1e3, 1.5e6, 50)
@@ -55,8 +55,10 @@ def test_solve_equals_function_bit_for_bit(psd):
         assert a.theory is lc.theory and lc.law.theory is lc.theory
 
 
-@pytest.mark.parametrize("psd", SURFACES, ids=["surface1", "surface2", "surface3"])
-def test_sweep_equals_independent_and_costs_less(psd):
+@pytest.mark.parametrize(
+    "psd, name", zip(SURFACES, SWEEP_SAVING_MIN, strict=True), ids=list(SWEEP_SAVING_MIN)
+)
+def test_sweep_equals_independent_and_costs_less(psd, name):
     lc = fl.LineContact(psd, E_STAR, RADIUS)
     swept = lc.sweep(PAPER_LOADS[::-1])[::-1]  # any order in, same order out
     alone = [lc.solve(f) for f in PAPER_LOADS]
@@ -65,7 +67,7 @@ def test_sweep_equals_independent_and_costs_less(psd):
         assert s.p0_ratio == pytest.approx(a.p0_ratio, rel=RTOL_CONTINUATION)
         assert s.w_over_s == pytest.approx(a.w_over_s, rel=RTOL_CONTINUATION)
     saving = 1.0 - sum(r.convolutions for r in swept) / sum(r.convolutions for r in alone)
-    assert saving >= SWEEP_SAVING_MIN
+    assert saving >= SWEEP_SAVING_MIN[name]
 
 
 def test_warm_start_from_neighbour(lc):

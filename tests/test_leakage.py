@@ -17,6 +17,7 @@ import warnings
 import naive
 import numpy as np
 import pytest
+from scipy.optimize import brentq
 from scipy.special import erfinv
 
 import fastline as fl
@@ -30,6 +31,7 @@ RTOL_GAP_TABLE = 1e-6  # u_c from the leak-rate table against the direct quadrat
 RTOL_ZETA_C = 1e-8  # P(zeta_c) against the threshold (the inverse-moment table's accuracy)
 RTOL_LIMIT = 1e-6  # u_c(p) against u(p/a_c) + u0 at p = 1e-9 E*
 RTOL_MOMENT_Q, RTOL_MOMENT_SLOPE = 1e-8, 1e-5  # inverse-moment table: q and dq/dB
+RTOL_BALANCE = 1e-6  # int u1 (-dP) over zeta against P u_bar (quad of the package's u1)
 
 E_STAR, RADIUS = 1.33e9, 0.01
 ETA, DP = 1e-3, 1e5  # water, 1 bar
@@ -116,6 +118,27 @@ def test_edge_separation_exceeds_mean_and_both_fall_with_zeta(name):
     u1 = th.edge_separation(zeta, p)
     assert np.all(np.isfinite(u_bar)) and np.all(u1 >= u_bar)
     assert np.all(np.diff(u_bar, axis=0) <= 0.0)
+
+
+@pytest.mark.parametrize("name", ["surface1", "surface3", "hurst0.3_q1e13", "sum1+3"])
+@pytest.mark.parametrize("p_rel", [1e-4, 1e-2])
+@pytest.mark.parametrize("area", [0.999, 0.5])
+def test_area_leaving_contact_carries_the_mean_separation(name, p_rel, area):
+    """The balance behind u1, ``d(P u_bar)/dzeta = P' u1``, integrated from zeta_a (where
+    P = area) to q1/q0: ``int u1 (-dP) = P(zeta_a) u_bar(zeta_a)``. It checks the closed-form
+    zeta-derivatives inside u1 against the value u_bar over the whole band (a P(u) built on
+    the area balance, weights -dP at u1 and P(q1) at u = 0, has this first moment)."""
+    th = _theory(name)
+    p = p_rel * E_STAR
+    if th.contact_area(p) >= area:
+        pytest.skip("the real contact area already exceeds the area asked for")
+    target = (p / (E_STAR * float(erfinv(area)))) ** 2  # A(zeta_a q0)
+    top = math.log(th.psd.q1 / th.psd.q0)
+    lz = brentq(lambda t: float(th.psd.cumulative(th.psd.q0 * math.exp(t))) - target, 0.0, top)
+    zeta_a = math.exp(lz)
+    moment = naive.leaving_area_moment(th.psd, E_STAR, p, th.edge_separation, zeta_a)
+    expected = float(th.apparent_area(zeta_a, p) * th.mean_separation(zeta_a, p))
+    assert moment == pytest.approx(expected, rel=RTOL_BALANCE)
 
 
 def test_interface_end_points():

@@ -19,7 +19,9 @@ RTOL_REFERENCE = 1e-5  # against the dense SciPy solve at equal n
 RTOL_HERTZ = 5e-3  # p0 and a against Hertz at default n (issue: 0.5 %)
 RTOL_GAUSS = 1e-2  # eq. 14 and w/s of the Gaussian limit at alpha >= 100 (issue: 1 %)
 RTOL_CONTINUATION = 1e-7  # a sweep (warm starts) against independent solves, tol 1e-8 in u/u0
-CONVOLUTION_BUDGET = 100  # FFT convolutions per solve at alpha >= 1e-3, default settings (issue 3)
+#: FFT convolutions per solve, every alpha in [1e-4, 1e3] on the five hard surfaces, by n
+#: (two-level compiled solver; measured maxima 41 / 55 / 81 / 119; issue 13's target is 30)
+CONVOLUTION_BUDGET = {256: 45, 1024: 60, 4096: 90, 16384: 130}
 
 E_STAR, RADIUS = 1.33e9, 0.01
 SURFACES = {
@@ -141,17 +143,19 @@ def test_hard_cases_converge(name):
         assert math.isfinite(res.w_over_s) and math.isfinite(res.p0_ratio)
 
 
+@pytest.mark.parametrize("n", list(CONVOLUTION_BUDGET))
 @pytest.mark.parametrize("name", list(HARD))
-def test_convolution_budget(name):
+def test_convolution_budget(name, n):
     """A count, not a timing: every FFT convolution (K products and the preconditioner's
     circulant solves) is counted on the operator, so this holds on any machine."""
     counts = []
-    for alpha in [a for a in ALPHAS if a >= 1e-3]:
-        res = solve(HARD[name], alpha, warn=False)
+    for alpha in ALPHAS:
+        res = solve(HARD[name], alpha, n=n, warn=False)
         d = res.diagnostics
+        assert res.converged
         assert d["k_applications"] + d["circulant_solves"] == res.convolutions
         counts.append(res.convolutions)
-    assert max(counts) <= CONVOLUTION_BUDGET, counts
+    assert max(counts) <= CONVOLUTION_BUDGET[n], counts
 
 
 def test_non_converged_says_so():
