@@ -34,7 +34,6 @@ import math
 import numba
 import numpy as np
 from numpy.polynomial import chebyshev as _cheb
-from scipy.special import erf, exp1, roots_laguerre, roots_legendre
 
 from fastline._jit import JIT
 
@@ -52,7 +51,9 @@ _DEG1, _DEG2, _DEG3 = 18, 15, 14
 
 def _g_integral(x: np.ndarray) -> np.ndarray:
     """G(x) for x in [0, 9] by composite Gauss-Legendre (panels <= 0.25 wide, 24 nodes)."""
-    t_ref, w_ref = roots_legendre(24)
+    from scipy.special import erf  # here: a solve needs SciPy only to build these tables
+
+    t_ref, w_ref = np.polynomial.legendre.leggauss(24)
     out = np.empty(x.shape)
     for n, a in enumerate(x.ravel()):
         inner = np.arange(math.ceil(a * 4.0) / 4.0, 9.0 + 1e-12, 0.25)
@@ -76,13 +77,15 @@ def _phi_a(y: np.ndarray) -> np.ndarray:
 
 def _scaled_e1(z: np.ndarray) -> np.ndarray:
     """z exp(z) E1(z) = int_0^inf exp(-s) / (1 + s/z) ds for z >= 36 (Gauss-Laguerre)."""
-    t, w = roots_laguerre(80)
+    t, w = np.polynomial.laguerre.laggauss(80)
     return np.sum(w / (1.0 + t / z[:, None]), axis=1)
 
 
 @functools.lru_cache(maxsize=1)
 def _gamma_free_tables():
     """Chebyshev coefficients of the gamma-free parts, (region1 a/b, region2 a/b, region3)."""
+    from scipy.special import exp1
+
     c1a = _cheb.chebinterpolate(lambda s: _phi_a(0.5 * (s + 1.0)), _DEG1)
     c1b = _cheb.chebinterpolate(lambda s: _g_integral(np.sqrt(0.5 * (s + 1.0))), _DEG1)
     c2a = np.empty((_N2, _DEG2 + 1))

@@ -45,7 +45,6 @@ import math
 import numba
 import numpy as np
 from numpy.polynomial import chebyshev as _cheb
-from scipy.special import erf, exp1
 
 from fastline._jit import JIT
 from fastline._special import _H2, _N2, _X1, _X2, _clenshaw, _gamma_free_tables
@@ -91,6 +90,8 @@ class _YPanels:
     """Phi(y) and the y-form of F as piecewise Chebyshev series in s = ln y (module docstring)."""
 
     def __init__(self, gamma: float, s2: float, s4: float):
+        from scipy.special import erf, exp1  # here: only the area-corrected variant needs it
+
         # uniform in ln y up to y = 1, uniform in y above (where exp(-y^2) sets the scale)
         n = math.ceil(-math.log(_Y_BOTTOM) / _S_WIDTH)
         top = np.log(np.linspace(1.0, _Y_TOP, math.ceil((_Y_TOP - 1.0) / _Y_WIDTH) + 1))

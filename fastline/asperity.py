@@ -54,8 +54,6 @@ from dataclasses import dataclass
 import numba
 import numpy as np
 from numpy.polynomial import chebyshev as _cheb
-from scipy.special import gamma as _gamma_fn
-from scipy.special import roots_legendre
 
 from fastline._jit import JIT
 from fastline._validate import E_STAR_RANGE, in_span, positive
@@ -82,7 +80,7 @@ MCCOOL_VARIANCE = 0.8968
 def _moment(psd: PSD, k: int) -> float:
     """``int q^k C dq`` over the spectrum, Gauss-Legendre in ln q on panels (<= 0.25 decade)
     between the kinks of C (exact to ~1e-15 for the power-law pieces)."""
-    t, w = roots_legendre(20)
+    t, w = np.polynomial.legendre.leggauss(20)
     edges = []
     bps = np.unique(np.concatenate([[psd.q0], psd.breakpoints(), [psd.q1]]))
     bps = bps[(bps >= psd.q0) & (bps <= psd.q1)]
@@ -160,7 +158,7 @@ def _ln_summit_quadrature(t: np.ndarray) -> np.ndarray:
     ``F = int_0^inf 2 r^4 phi(r^2 + t) dr``, a smooth integrand, with ``exp(-t^2/2)`` taken
     out for t > 0; 60 panels of 20 nodes on [0, sqrt(max(-t, 0)) + 7] (relative error ~1e-15;
     SciPy's parabolic cylinder function ``pbdv`` was off by up to 1e-9 near t = 6)."""
-    x, w = roots_legendre(20)
+    x, w = np.polynomial.legendre.leggauss(20)
     out = np.empty(t.shape)
     for i, ti in enumerate(t):
         top = math.sqrt(max(-ti, 0.0)) + 7.0
@@ -193,7 +191,7 @@ def _tables():
     neg *= np.array([math.prod(range(1, 2 * k, 2)) for k in range(_N_NEG)], dtype=float)
     pos = np.array(
         [
-            (-1) ** k * _gamma_fn(2.5 + 2 * k) / (2.0**k * math.factorial(k) * _gamma_fn(2.5))
+            (-1) ** k * math.gamma(2.5 + 2 * k) / (2.0**k * math.factorial(k) * math.gamma(2.5))
             for k in range(_N_POS)
         ]
     )

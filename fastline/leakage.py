@@ -59,7 +59,6 @@ from dataclasses import dataclass
 
 import numba
 import numpy as np
-from scipy.special import erf, erfinv, roots_legendre
 
 from fastline._special import _F, JIT, f_coefficients
 from fastline._validate import finite_array, in_range, positive, positive_array
@@ -158,6 +157,13 @@ class _MomentTable:
         return self.y, self.coef, self.lin
 
 
+def _erfinv(t: float) -> float:
+    """erfinv(t) for a threshold in (0, 1) (SciPy imported here, not with the module)."""
+    from scipy.special import erfinv
+
+    return float(erfinv(t))
+
+
 @numba.njit(**JIT)
 def _inverse_moment(B, k, qtab):
     """Q(B) and dQ/dB for B > 0 from ``qtab = (y, coef, (q0, B'(q0)))``, with k a cell index
@@ -196,8 +202,8 @@ class _TauRule:
             order, per_decade, levels, graded = 10, 2.0, 6, 12
         else:
             order, per_decade, levels, graded = 14, 4.0, 8, 16
-        t, w = roots_legendre(order)
-        tg, wg = roots_legendre(graded)
+        t, w = np.polynomial.legendre.leggauss(order)
+        tg, wg = np.polynomial.legendre.leggauss(graded)
         self.t, self.w = 0.5 * (t + 1.0), 0.5 * w
         self.tg, self.wg = 0.5 * (tg + 1.0), 0.5 * wg
         self.per_decade = per_decade
@@ -459,6 +465,8 @@ def apparent_area(theory, zeta, p) -> np.ndarray:
     """
     _state(theory)
     shape, m, p = _zeta_moment(theory, zeta, p)
+    from scipy.special import erf  # here, not at import (~0.2 s)
+
     with np.errstate(divide="ignore"):
         x = p / (theory.E_star * np.sqrt(m))
     return erf(x).reshape(shape)
@@ -583,7 +591,7 @@ def critical_gap(theory, p, threshold=THRESHOLD_PERSSON) -> CriticalGap:
     x1 = _x1(theory, p.ravel())
     gap, qc = np.empty_like(x1), np.empty_like(x1)
     sealed = np.empty(x1.shape, dtype=np.bool_)
-    X_t = float(erfinv(threshold))
+    X_t = _erfinv(threshold)
     _critical_vec(x1, X_t, threshold, *sp.kernel_args(), gap, qc, sealed)
     qc = _polish_root(theory.psd, qc, sp.table.B1 * (x1 / X_t) ** 2, ~sealed)
     shape = p.shape
@@ -627,7 +635,7 @@ class _GapTable:
     def __init__(self, theory, threshold: float):
         sp = _spectrum(theory)
         self.threshold = threshold
-        self.X_t = float(erfinv(threshold))
+        self.X_t = _erfinv(threshold)
         self.kappa0 = (self.X_t / threshold) ** 2
         rtol = theory.rtol
         h = 0.2 if rtol >= 1e-4 else (0.075 if rtol >= 1e-7 else 0.03)

@@ -42,7 +42,6 @@ from dataclasses import dataclass
 
 import numba
 import numpy as np
-from scipy.special import roots_legendre
 
 from fastline._jit import JIT
 from fastline._special import _F, EULER_GAMMA, G0, f_coefficients
@@ -461,7 +460,7 @@ def _q_quadrature(psd: PSD, settings: TableSettings):
     """
     if isinstance(psd, TabulatedPSD):
         return tabulated_quadrature(psd, settings.tabulated)
-    t_ref, w_ref = roots_legendre(settings.order)
+    t_ref, w_ref = np.polynomial.legendre.leggauss(settings.order)
     t_ref = 0.5 * (t_ref + 1.0)
     w_ref = 0.5 * w_ref
     q0, q1 = psd.q0, psd.q1
@@ -475,7 +474,7 @@ def _q_quadrature(psd: PSD, settings: TableSettings):
     # first panel: q = q0 + L tau^2, graded in tau
     L = edges[1] - q0
     ratio = 0.15
-    tg, wg = roots_legendre(settings.graded_order)
+    tg, wg = np.polynomial.legendre.leggauss(settings.graded_order)
     tg, wg = 0.5 * (tg + 1.0), 0.5 * wg
     tau_edges = np.concatenate([[0.0], ratio ** np.arange(settings.grading_levels, -1, -1)])
     ta, tb = tau_edges[:-1, None], tau_edges[1:, None]
