@@ -169,12 +169,14 @@ def _asperities(out, result, theory, hardness, msgs) -> None:
         out["rms_slope"] = out["asperity_pressure"] = out["real_area_at_peak"] = None
         out["plastic_likely"] = None
         return
-    slope = float(theory.psd.rms_slope)
+    slope = theory.rms_slope
     p_asp = 0.5 * slope * result.E_star
     out["rms_slope"] = slope
     out["asperity_pressure"] = p_asp
-    with np.errstate(all="ignore"):
-        out["real_area_at_peak"] = float(np.ravel(theory.contact_area([result.p0]))[0])
+    if math.isfinite(result.p0) and result.p0 >= 0.0:  # a solver's own peak: no checks needed
+        out["real_area_at_peak"] = float(theory._real_area(np.array([result.p0]))[0])
+    else:
+        out["real_area_at_peak"] = math.nan
     out["plastic_likely"] = None if hardness is None else bool(p_asp > hardness)
     if out["plastic_likely"]:
         msgs["plastic"] = (

@@ -694,6 +694,12 @@ class PerssonTheory:
         _separation_and_slope(v, *self._t1, u, d)
         return u.reshape(p.shape), d.reshape(p.shape)
 
+    @property
+    def rms_slope(self) -> float:
+        """Root-mean-square slope h' of the spectrum (dimensionless), ``h'^2 = 2 A(q1)``; kept
+        from the construction (the solvers' diagnostics ask for it on every solve)."""
+        return math.sqrt(2.0) / self._w1
+
     def contact_area(self, p, q=None) -> np.ndarray:
         """Relative contact area ``P(q, p) = erf(w(q) p / E*)`` (dimensionless); for the
         ``"wang-mueser"`` variant ``erf(Y(w(q) p / E*))`` (:mod:`fastline._special_area`).
@@ -819,11 +825,6 @@ class PerssonTheory:
             float(v_lo),
             float(v_first),
         )
-
-    @property
-    def rms_slope(self) -> float:
-        """rms slope h' of the spectrum (dimensionless)."""
-        return self.psd.rms_slope
 
     def __repr__(self):
         extra = "" if self.variant == DEFAULT_VARIANT else f", variant={self.variant!r}"
