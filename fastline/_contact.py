@@ -57,7 +57,9 @@ PREDICTOR_MAX_STEP = math.log(1.5)
 #: Either alone leaves an error of ~0.01-0.5 in ln p where the other is exact (at the edge of a
 #: Hertz-like contact, in a tail 100-300 below the peak); blended, the paper's 50-load sweeps
 #: cost 43 / 43 / 36 % fewer convolutions than independent solves (domain alone: 36 / 36 / 17
-#: %, with cold starts below alpha 5e-3).
+#: %, with cold starts below alpha 5e-3); with the core interpolated by cubic Hermite
+#: (:func:`hermite_interp`) instead of linearly, 46 / 47 / 40 %, and with the first Newton
+#: step's forcing scaled to the start's residual (``fastline._core.ETA0_SCALE``) 49 / 47 / 42 %.
 CORE_DEPTH = (3.0, 10.0)
 
 
@@ -114,6 +116,25 @@ def fwhm(x: np.ndarray, p: np.ndarray, p0: float) -> float:
 def log_pressure(result) -> np.ndarray:
     """ln p of a result (p in Pa), with 0 mapped to ln 1e-300."""
     return np.log(np.maximum(result.pressure, 1e-300))
+
+
+def hermite_interp(xq: np.ndarray, x: np.ndarray, y: np.ndarray) -> np.ndarray:
+    """y(xq) by the cubic Hermite interpolant of (x, y) with second-order finite-difference
+    slopes (``np.gradient``, exact for quadratics); constant beyond the ends, like
+    ``np.interp``. A sweep predicts the core of each contact with it: linear interpolation of
+    ln p onto the moved cells left residuals that cost extra Newton steps (the paper's
+    surface-3 sweep: 1159 convolutions with linear, 1089 with cubic interpolation)."""
+    m = np.gradient(y, x, edge_order=2)
+    i = np.clip(np.searchsorted(x, xq) - 1, 0, x.size - 2)
+    h = x[i + 1] - x[i]
+    t = np.clip((xq - x[i]) / h, 0.0, 1.0)
+    t2, s = t * t, 1.0 - t
+    return (
+        (1.0 + 2.0 * t) * s * s * y[i]
+        + t * s * s * h * m[i]
+        + t2 * (3.0 - 2.0 * t) * y[i + 1]
+        - t2 * s * h * m[i + 1]
+    )
 
 
 class _Solved(NamedTuple):
@@ -369,7 +390,7 @@ class ContactModel:
         terms = list(zip(weights, pts, strict=True))
         width = math.exp(sum(w * a.ln_width for w, a in terms))
         in_domain = sum(w * a.v for w, a in terms)
-        in_contact = sum(w * np.interp(grid.x / width, a.xi, a.v) for w, a in terms)
+        in_contact = sum(w * hermite_interp(grid.x / width, a.xi, a.v) for w, a in terms)
         depth = np.max(in_domain) - in_domain
         tail = np.clip((depth - CORE_DEPTH[0]) / (CORE_DEPTH[1] - CORE_DEPTH[0]), 0.0, 1.0)
         return tail * in_domain + (1.0 - tail) * in_contact

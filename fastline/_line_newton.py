@@ -27,6 +27,7 @@ import numpy as np
 from fastline._core import (
     _LN_TINY,
     DV_MAX,
+    ETA0_SCALE,
     ETA_FLOOR,
     ETA_MAX,
     ETA_RETRY_MIN,
@@ -258,7 +259,7 @@ def newton_line(
 def _forcing(res, res_prev, eta_prev, tol):
     """Eisenstat-Walker choice 2 (:func:`fastline._core._forcing`)."""
     if res_prev != res_prev:
-        eta = ETA_MAX
+        eta = min(ETA_MAX, ETA0_SCALE * res)
     else:
         eta = 0.9 * (res / res_prev) ** 2
         if 0.9 * eta_prev * eta_prev > 0.1:
