@@ -17,6 +17,7 @@ from fastline.cli import (
     CLIError,
     _check_outputs,
     _count,
+    _executor,
     _figure_options,
     _gamma,
     _number,
@@ -62,6 +63,7 @@ docs/validation.md (H 0.8, q1/q0 = 32, h_rms 0.5 um, E* 10 MPa, R 32.8 mm, alpha
 EPILOG = """\
 examples:
   fastline validate --realizations 8 --plot validate.png
+  fastline validate --realizations 40 --scheduler tcp://host:8786 --csv profile.csv
   fastline validate --alpha 0.1 --all-variants --gw --csv profile.csv
   fastline validate --leak --pressure 2e3 1e4 5e4 --all-variants --plot flat.png"""
 
@@ -138,6 +140,13 @@ def validate_parser(sub, fmt) -> None:
         "in this process)",
     )
     b.add_argument(
+        "--scheduler",
+        metavar="ADDRESS",
+        help="solve the realisations on the dask.distributed cluster whose scheduler is at "
+        'ADDRESS, e.g. tcp://host:8786 (needs dask: pip install "fastline-contact[dask]" for '
+        "the extra)",
+    )
+    b.add_argument(
         "--points-per-wavelength",
         type=_positive,
         default=4.0,
@@ -196,28 +205,17 @@ def _check_grid(grid) -> None:
         )
 
 
-class _Pool:
-    """A process pool for the realisations (None with one worker), closed on exit."""
-
-    def __init__(self, workers: int):
-        self.executor = None
-        if workers > 1:
-            from concurrent.futures import ProcessPoolExecutor
-
-            self.executor = ProcessPoolExecutor(max_workers=workers)
-
-    def __enter__(self):
-        return self.executor
-
-    def __exit__(self, *exc):
-        if self.executor is not None:
-            self.executor.shutdown()
-
-
 def _workers(args) -> int:
     if args.workers is not None:
         return args.workers
     return max(1, min(os.cpu_count() or 1, args.realizations))
+
+
+def _where(args) -> str:
+    if args.scheduler is not None:
+        return f"dask scheduler {args.scheduler}"
+    workers = _workers(args)
+    return f"{workers} process{'es' if workers > 1 else ''}"
 
 
 # ----------------------------------------------------------------------------------------------
@@ -230,6 +228,8 @@ def cmd_validate(args) -> int:
 
     if args.points_per_wavelength < 2.0:
         raise CLIError("--points-per-wavelength must be >= 2 (Nyquist)")
+    if args.workers is not None and args.scheduler is not None:
+        raise CLIError("give either --workers or --scheduler, not both")
     if args.validate_gamma is not None:
         in_span("gamma", args.validate_gamma, GAMMA_RANGE, "(dimensionless)")
     if args.leak:
@@ -244,13 +244,26 @@ def cmd_validate(args) -> int:
 
 
 def _header(psd, E, source, grid, args, what: str) -> list[str]:
-    workers = _workers(args)
+    from fastline.bem import lattice_moments
+
+    h_rms, slope = lattice_moments(psd, grid)
     return [
         _spectrum_line(psd, source),
         f"BEM              {what}: {args.realizations} realisations (seed {args.seed}) on "
-        f"{grid.nx} x {grid.ny} cells of {grid.dx:.4g} m, {workers} process"
-        f"{'es' if workers > 1 else ''}",
+        f"{grid.nx} x {grid.ny} cells of {grid.dx:.4g} m, {_where(args)}",
+        f"BEM surfaces     h_rms {h_rms:.4g} m (spectrum {psd.h_rms:.4g} m), rms slope "
+        f"{slope:.4g} (spectrum {psd.rms_slope:.4g})",
     ]
+
+
+def _run(args, validate, *params, **options):
+    """``validate(*params, **options)`` on the workers or the dask scheduler of the options."""
+    client, release = _executor(args)
+    try:
+        workers = _workers(args) if client is None else None
+        return validate(*params, executor=client, workers=workers, **options)
+    finally:
+        release()
 
 
 def _line(args) -> int:
@@ -271,20 +284,20 @@ def _line(args) -> int:
     _check_grid(scene.grid)
     print("\n".join(_header(psd, E, source, scene.grid, args, "rigid cylinder")))
     print(f"scene            E* {E:.4g} Pa, R {R:.4g} m, load {load:.6g} N/m")
-    with _Pool(_workers(args)) as pool:
-        v = validate_line_contact(
-            psd,
-            E,
-            R,
-            load,
-            models=_models(args),
-            gamma=args.validate_gamma,
-            realizations=args.realizations,
-            seed=args.seed,
-            executor=pool,
-            n=args.n,
-            scene=scene,
-        )
+    v = _run(
+        args,
+        validate_line_contact,
+        psd,
+        E,
+        R,
+        load,
+        models=_models(args),
+        gamma=args.validate_gamma,
+        realizations=args.realizations,
+        seed=args.seed,
+        n=args.n,
+        scene=scene,
+    )
     e = v.ensemble
     print(
         f"alpha            {e.alpha:.6g} (h_rms / delta, delta = {e.delta:.6g} m); BEM "
@@ -316,19 +329,19 @@ def _flat(args) -> int:
     )
     _check_grid(grid)
     print("\n".join(_header(psd, E, source, grid, args, "flat contact")))
-    with _Pool(_workers(args)) as pool:
-        fv = validate_flat_contact(
-            psd,
-            E,
-            np.asarray(args.pressure),
-            models=_models(args),
-            gamma=args.validate_gamma,
-            realizations=args.realizations,
-            seed=args.seed,
-            executor=pool,
-            points_per_wavelength=args.points_per_wavelength,
-            periods=args.periods,
-        )
+    fv = _run(
+        args,
+        validate_flat_contact,
+        psd,
+        E,
+        np.asarray(args.pressure),
+        models=_models(args),
+        gamma=args.validate_gamma,
+        realizations=args.realizations,
+        seed=args.seed,
+        points_per_wavelength=args.points_per_wavelength,
+        periods=args.periods,
+    )
     per = float(np.mean(np.concatenate([e.seconds for e in fv.ensembles])))
     print(f"E*               {E:.4g} Pa; BEM {fv.seconds_bem:.1f} s ({per:.2f} s per realisation)")
     print(fv.table())

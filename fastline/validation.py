@@ -11,8 +11,10 @@ pressures (the building block of a seal): the BEM contact fraction, mean gap and
 effective gap (:mod:`fastline.bem.flow`) against the theory's real contact area ``P(q1, p)``,
 mean separation ``u(p)`` and critical-junction gap ``u_c`` (:mod:`fastline.leakage`).
 
-The BEM realisations are independent; pass a :class:`concurrent.futures.Executor` (a process
-pool) to run them in parallel. ``fastline validate`` is the command line of both.
+The BEM realisations are independent: ``executor=`` and ``workers=`` run them where
+:func:`fastline.sweep` runs its tasks (a local process pool, a dask scheduler address or Client,
+any :class:`concurrent.futures.Executor`; :func:`fastline.bem.run_ensemble`). ``fastline
+validate`` is the command line of both.
 """
 
 from __future__ import annotations
@@ -108,21 +110,43 @@ class LineValidation:
 
     def table(self) -> str:
         """Plain text: BEM values with standard errors, then each model's values and their
-        difference from the BEM (relative, and z in BEM standard errors)."""
+        difference from the BEM (relative, and z in BEM standard errors); columns at least two
+        spaces apart whatever the widths of the values."""
         e = self.ensemble
-        head = f"{'':<22}{'p0/p0_Hertz':>24}{'s [m]':>26}{'w/s':>24}{'profile chi2/bin':>18}"
+        head = ["", "p0/p0_Hertz", "s [m]", "w/s", "profile chi2/bin"]
         rows = [
-            head,
-            f"{'BEM':<22}{_pm(e.p0_ratio, e.p0_ratio_error):>24}{_pm(e.s, e.s_error):>26}"
-            f"{_pm(e.w_over_s, e.w_over_s_error):>24}",
+            [
+                "BEM",
+                _pm(e.p0_ratio, e.p0_ratio_error),
+                _pm(e.s, e.s_error),
+                _pm(e.w_over_s, e.w_over_s_error),
+                "",
+            ]
         ]
         for name, c in self.comparisons.items():
-            r = self.results[name]
             rows.append(
-                f"{name:<22}{_vz(r.p0_ratio, c.p0):>24}{_vz(c.s.theory, c.s):>26}"
-                f"{_vz(c.w_over_s.theory, c.w_over_s):>24}{c.chi2_per_bin:>18.3g}"
+                [
+                    name,
+                    _vz(self.results[name].p0_ratio, c.p0),
+                    _vz(c.s.theory, c.s),
+                    _vz(c.w_over_s.theory, c.w_over_s),
+                    f"{c.chi2_per_bin:.3g}",
+                ]
             )
-        return "\n".join(rows)
+        return _columns([head, *rows])
+
+
+def _columns(rows: list[list[str]], gap: int = 2) -> str:
+    """Rows of cells as text: the first column left-aligned, the others right-aligned, each
+    as wide as its widest cell, columns ``gap`` spaces apart."""
+    widths = [max(len(r[k]) for r in rows) for k in range(len(rows[0]))]
+    lines = []
+    for r in rows:
+        cells = [r[0].ljust(widths[0])] + [
+            c.rjust(w) for c, w in zip(r[1:], widths[1:], strict=True)
+        ]
+        lines.append((" " * gap).join(cells).rstrip())
+    return "\n".join(lines)
 
 
 def _pm(value: float, error: float) -> str:
@@ -145,6 +169,7 @@ def validate_line_contact(
     realizations: int = 8,
     seed: int = 0,
     executor=None,
+    workers: int | None = None,
     points_per_wavelength: float = 4.0,
     periods: float = 2.0,
     n: int = 1024,
@@ -164,8 +189,12 @@ def validate_line_contact(
         Parameter of the Persson variants (default: each variant's own).
     realizations, seed : int
         BEM surfaces and root seed (:func:`fastline.bem.run_ensemble`; >= 2 for error bars).
-    executor : concurrent.futures.Executor, optional
-        Runs the realisations (default: serially here).
+    executor : None, "serial", str, concurrent.futures.Executor or dask Client
+        Where the realisations run, as for :func:`fastline.sweep`: a dask scheduler address
+        (``"tcp://host:8786"``) or Client, any executor (default: this process;
+        :func:`fastline.bem.run_ensemble`).
+    workers : int, optional
+        Run the realisations on a local pool of this many processes (``executor=None`` only).
     points_per_wavelength, periods : float
         BEM grid (:func:`fastline.bem.line_contact_scene`).
     n : int
@@ -199,7 +228,7 @@ def validate_line_contact(
         law = law_of(m, psd, E_star, gamma)
         results[m] = LineContact(psd, E_star, radius, model=law, n=n, warn=False).solve(load)
     t1 = time.perf_counter()
-    ensemble = bem.run_ensemble(scene, realizations, seed, executor=executor)
+    ensemble = bem.run_ensemble(scene, realizations, seed, executor=executor, workers=workers)
     t2 = time.perf_counter()
     comparisons = {m: compare_line_contact(r, ensemble) for m, r in results.items()}
     return LineValidation(ensemble, results, comparisons, t2 - t1, t1 - t0)
@@ -276,6 +305,7 @@ def validate_flat_contact(
     realizations: int = 8,
     seed: int = 0,
     executor=None,
+    workers: int | None = None,
     points_per_wavelength: float = 4.0,
     periods: float = 2.0,
     thresholds: Sequence[float] = THRESHOLDS,
@@ -289,9 +319,10 @@ def validate_flat_contact(
         Effective modulus [Pa].
     pressures : float or array_like
         Nominal contact pressures [Pa], > 0.
-    models, gamma, realizations, seed, executor, points_per_wavelength, periods
-        As :func:`validate_line_contact`; the critical gap uses the first Yang-Persson variant
-        in ``models`` (the leak-rate theory needs the contact area erf(x)).
+    models, gamma, realizations, seed, executor, workers, points_per_wavelength, periods
+        As :func:`validate_line_contact` (one pool or client serves every pressure); the
+        critical gap uses the first Yang-Persson variant in ``models`` (the leak-rate theory
+        needs the contact area erf(x)).
     thresholds : sequence of float
         Percolation thresholds of the critical junction (default 0.42 and 0.5).
 
@@ -308,13 +339,18 @@ def validate_flat_contact(
     persson = [m for m in models if m != GW and not VARIANTS[m].area_correction]
     leak_model = persson[0] if persson else DEFAULT_VARIANT
     leak_theory = laws[leak_model].theory if leak_model in laws else PerssonTheory(psd, E_star)
-    t0 = time.perf_counter()
-    ensembles = []
-    for i, pi in enumerate(p):
-        scene = bem.flat_contact_scene(
+    scenes = [
+        bem.flat_contact_scene(
             psd, E_star, float(pi), points_per_wavelength=points_per_wavelength, periods=periods
         )
-        ensembles.append(bem.run_ensemble(scene, realizations, seed + i, executor=executor))
+        for pi in p
+    ]
+    t0 = time.perf_counter()
+    with bem.ensemble_executor(executor, workers, realizations) as ex:
+        ensembles = [
+            bem.run_ensemble(scene, realizations, seed + i, executor=ex)
+            for i, scene in enumerate(scenes)
+        ]
     seconds = time.perf_counter() - t0
     area, separation = {}, {}
     for m, law in laws.items():

@@ -766,3 +766,22 @@ def fwhm_cubic(p, dx, p0):
         return brentq(lambda t: np.polyval(coef, t) - half, k, k + 1, xtol=1e-14)
 
     return (crossing(j) - crossing(i - 1)) * dx
+
+
+def cell_mean_spectrum(psd, qx: float, qy: float, dqx: float, dqy: float) -> float:
+    """Mean of the isotropic ``C(|q|)`` over the lattice cell ``[qx +- dqx/2] x [qy +- dqy/2]``
+    by nested adaptive quadrature, split where ``|q|`` crosses the spectrum's breakpoints (the
+    reference of the BEM surface generator's cell means, fastline.bem.surface)."""
+    radii = psd.breakpoints()
+
+    def inner(x):
+        cuts = [s * math.sqrt(r * r - x * x) for r in radii if r > abs(x) for s in (-1, 1)]
+        lo, hi = qy - 0.5 * dqy, qy + 0.5 * dqy
+        pts = [c for c in cuts if lo < c < hi]
+        f = lambda y: float(psd(math.hypot(x, y)))  # noqa: E731
+        return quad(f, lo, hi, points=pts or None, epsabs=0.0, epsrel=1e-10, limit=200)[0]
+
+    lo, hi = qx - 0.5 * dqx, qx + 0.5 * dqx
+    pts = [s * r for r in radii for s in (-1, 1) if lo < s * r < hi]
+    total = quad(inner, lo, hi, points=pts or None, epsabs=0.0, epsrel=1e-9, limit=200)[0]
+    return total / (dqx * dqy)

@@ -30,7 +30,7 @@ from dataclasses import dataclass, field
 import numba
 import numpy as np
 
-from fastline._special import JIT
+from fastline._jit import JIT
 from fastline._validate import finite_array, finite_scalar, integer, positive
 from fastline.bem.halfspace import ElasticHalfSpace
 from fastline.bem.surface import Grid

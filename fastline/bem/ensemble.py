@@ -5,8 +5,9 @@ A :class:`Scene` holds everything one realisation needs (spectrum, material, geo
 grid, solver settings).  :func:`run_realization` ``(seed, scene)`` is a plain module-level
 function: it draws the surface from ``seed``, solves the contact (and for a flat scene the
 Reynolds flow through the gap) and returns a small picklable :class:`Realization`, so an
-ensemble can be dispatched through any :class:`concurrent.futures.Executor`
-(:func:`run_ensemble` ``(..., executor=pool)`` uses ``executor.map``).
+ensemble runs wherever :func:`fastline.sweep` runs its tasks (:func:`run_ensemble`
+``(..., executor=..., workers=...)``: this process, a local process pool, a dask cluster or any
+:class:`concurrent.futures.Executor`; :func:`ensemble_executor`).
 
 Statistics (:func:`run_ensemble`):
 
@@ -34,8 +35,8 @@ from __future__ import annotations
 
 import math
 import time
+from contextlib import contextmanager
 from dataclasses import dataclass, field, replace
-from itertools import repeat
 
 import numpy as np
 import scipy.fft
@@ -63,6 +64,7 @@ __all__ = [
     "flat_contact_scene",
     "run_realization",
     "run_ensemble",
+    "ensemble_executor",
     "with_grid",
 ]
 
@@ -754,7 +756,56 @@ def _flat_ensemble(scene, runs):
     )
 
 
-def run_ensemble(scene: Scene, realizations=8, seed=0, *, executor=None):
+@contextmanager
+def ensemble_executor(executor=None, workers: int | None = None, tasks: int = 2):
+    """Where the realisations run, chosen as :func:`fastline.sweep` chooses (a context
+    manager: what it starts, it shuts down on exit).
+
+    Parameters
+    ----------
+    executor : None, "serial", str, concurrent.futures.Executor or dask Client
+        None: a local pool of ``workers`` processes (spawned) if ``workers`` > 1, else this
+        process. ``"serial"``: this process, in order. A dask scheduler address
+        (``"tcp://host:8786"``): a ``dask.distributed`` client is connected for the duration
+        (needs the ``dask`` extra). An executor (``ProcessPoolExecutor``,
+        ``ThreadPoolExecutor``, ``client.get_executor()``) or a ``distributed.Client``: used as
+        given and left running.
+    workers : int, optional
+        Processes of the local pool (only with ``executor=None``; default: this process,
+        unlike :func:`fastline.sweep`, whose default pool has one process per CPU).
+    tasks : int
+        Realisations to run (one task: no pool is started).
+
+    Yields
+    ------
+    concurrent.futures.Executor or None
+        None means in this process; pass it on as ``run_ensemble(..., executor=...)``.
+    """
+    from fastline.batch import _close, _engine
+
+    if executor is None and workers is None:
+        executor = "serial"
+    engine = _engine(executor, workers, tasks)
+    try:
+        yield engine.executor
+    finally:
+        _close(engine)
+
+
+def _map(executor, scene, seeds) -> list:
+    """``run_realization`` over the seeds, results in seed order (``submit``, not ``map``: a
+    dask executor's ``map`` needs sized iterables and batches differently)."""
+    if executor is None:
+        return [run_realization(s, scene) for s in seeds]
+    futures = [executor.submit(run_realization, s, scene) for s in seeds]
+    try:
+        return [f.result() for f in futures]
+    finally:
+        for f in futures:
+            f.cancel()
+
+
+def run_ensemble(scene: Scene, realizations=8, seed=0, *, executor=None, workers=None):
     """Run ``realizations`` independent realisations of ``scene`` and average them.
 
     Parameters
@@ -765,15 +816,23 @@ def run_ensemble(scene: Scene, realizations=8, seed=0, *, executor=None):
     seed : int or numpy.random.SeedSequence
         Root seed; realisation k uses ``SeedSequence(seed).spawn(realizations)[k]``, so results
         do not depend on the executor or the order of execution.
-    executor : concurrent.futures.Executor, optional
-        If given, realisations are dispatched with ``executor.map(run_realization, seeds,
-        scenes)`` (a process pool needs the scene to pickle: the package's spectra do); default
-        serial.
+    executor : None, "serial", str, concurrent.futures.Executor or dask Client
+        Where the realisations run, as for :func:`fastline.sweep`
+        (:func:`ensemble_executor`): default this process; a local process pool with
+        ``workers``; a dask scheduler address or Client; any executor (a process pool or a
+        dask cluster needs the scene to pickle: the package's spectra do).
+    workers : int, optional
+        Processes of a local pool made and shut down here (``executor=None`` only).
 
     Returns
     -------
     ProfileEnsemble or FlatEnsemble
         Cylinder and sphere: :class:`ProfileEnsemble`; flat: :class:`FlatEnsemble`.
+
+    Raises
+    ------
+    ValueError, TypeError
+        Before any work, for a bad scene, count, seed, ``workers`` or ``executor``.
     """
     if not isinstance(scene, Scene):
         raise TypeError(f"scene must be a fastline.bem.Scene, got {type(scene).__name__}")
@@ -782,11 +841,9 @@ def run_ensemble(scene: Scene, realizations=8, seed=0, *, executor=None):
         root = seed
     else:
         root = np.random.SeedSequence(integer("seed", seed, 0))
-    if executor is not None and not callable(getattr(executor, "map", None)):
-        raise TypeError("executor must provide map() (a concurrent.futures.Executor)")
     seeds = root.spawn(n)
-    mapper = map if executor is None else executor.map
-    runs = list(mapper(run_realization, seeds, repeat(scene, n)))
+    with ensemble_executor(executor, workers, n) as ex:
+        runs = _map(ex, scene, seeds)
     if scene.geometry == "flat":
         return _flat_ensemble(scene, runs)
     return _profile_ensemble(scene, runs)

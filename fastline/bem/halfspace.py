@@ -62,7 +62,7 @@ import numba
 import numpy as np
 import pyfftw
 
-from fastline._special import JIT
+from fastline._jit import JIT
 from fastline._validate import integer, positive
 
 __all__ = ["ElasticHalfSpace", "love_coefficient", "ALIAS_ORDER"]
