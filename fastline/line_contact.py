@@ -220,8 +220,14 @@ class LineContact(ContactModel):
         object (:mod:`fastline.laws`: :class:`~fastline.laws.TabulatedLaw`, your own).
     method : {"newton", "picard"}
         Newton-Krylov (default) or the plain damped fixed point (for comparison).
-    gamma : float
-        Yang-Persson parameter of the theory, in (0, 1] (default 0.45).
+    gamma : float, optional
+        Parameter gamma of the theory's correction S(P), in (0, 1] (default: the variant's
+        own, 0.45; 5/9 for ``"wang-mueser"``).
+    variant : str, optional
+        Variant of the theory's u(p) (:mod:`fastline.variants`, docs/theory.md):
+        ``"yang-persson-energy"`` (None, the default), ``"yang-persson-printed"`` or
+        ``"wang-mueser"``. Ignored for ``model="hertz"`` and for laws without a theory;
+        with ``theory=`` it must name the theory's own variant (or be None).
     n : int, optional
         Grid points, in [16, 2^22] (default 1024; with ``accuracy``, the first grid tried).
     half_width : float, optional
@@ -236,7 +242,7 @@ class LineContact(ContactModel):
     u0, beta : float, optional
         Exponential-law parameters for ``model="exponential"`` (m, dimensionless).
     theory : PerssonTheory, optional
-        A prebuilt theory for ``psd`` and ``E_star`` (its gamma is used).
+        A prebuilt theory for ``psd`` and ``E_star`` (its gamma and variant are used).
     hardness : float, optional
         Indentation hardness of the softer solid in Pa, for the plasticity diagnostic.
     warn : bool
@@ -266,7 +272,8 @@ class LineContact(ContactModel):
         *,
         model: str | PressureLaw = "persson",
         method: str = "newton",
-        gamma: float = 0.45,
+        gamma: float | None = None,
+        variant: str | None = None,
         n: int | None = None,
         half_width: float | None = None,
         tol: float = 1e-8,
@@ -282,7 +289,9 @@ class LineContact(ContactModel):
         self._n_given = None if n is None else self.n  # with accuracy=, the first grid tried
         self.accuracy = resolution.check_accuracy(accuracy)
         self.half_width = self._check_extent("half_width", half_width)
-        self._check_rest(psd, model, gamma, tol, max_iter, u0, beta, theory, hardness, warn)
+        self._check_rest(
+            psd, model, gamma, variant, tol, max_iter, u0, beta, theory, hardness, warn
+        )
         if self.accuracy is not None and self._law is None:
             raise ValueError("accuracy needs a pressure law (model='hertz' converges at order ~1)")
 
@@ -443,8 +452,8 @@ def solve_line_contact(
     load : float
         Normal load per unit length f_N in N/m.
     **options
-        Keyword options of :class:`LineContact` (model, method, gamma, n, half_width, tol,
-        max_iter, u0, beta, theory, hardness, warn).
+        Keyword options of :class:`LineContact` (model, method, gamma, variant, n, half_width,
+        tol, max_iter, u0, beta, theory, hardness, warn).
 
     Returns
     -------

@@ -71,7 +71,7 @@ class PSD:
     @property
     def _theories(self) -> dict:
         """Persson theories built for this spectrum by the one-call solvers, keyed by
-        (E*, gamma) (:func:`fastline.line_contact.shared_theory`); not pickled."""
+        (E*, gamma, variant) (:func:`fastline.line_contact.shared_theory`); not pickled."""
         cache = self.__dict__.get("_theory_cache")
         if cache is None:
             cache = self.__dict__.setdefault("_theory_cache", {})
