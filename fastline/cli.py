@@ -421,7 +421,8 @@ def build_parser() -> argparse.ArgumentParser:
         "scene. Columns (header row; units in the name optional, e.g. E_star or E_star_Pa): "
         "the spectrum as h_rms, hurst, q0, qr, q1 or as psd (a spectrum file, relative to the "
         "CSV file); E_star [Pa], radius [m], load [N/m]; optional label, geometry (cylinder), "
-        "model, method, n, gamma, tol, max_iter, hardness [Pa]; an empty cell takes the "
+        "model, method, n, variant (yang-persson-energy, yang-persson-printed, wang-mueser), "
+        "gamma (default: the variant's), tol, max_iter, hardness [Pa]; an empty cell takes the "
         "default. A scene that fails (a value out of range, an unreadable spectrum file) is "
         "reported in its row's error column; the others are solved.",
     )
@@ -845,6 +846,7 @@ def _sweep_in_parallel(psd, E, args, loads):
         "model": [args.model] * k,
         "n": [args.n] * k,
         "gamma": [args.gamma] * k,
+        "variant": [args.variant] * k,
         "max_iter": [args.max_iter or 0] * k,
         "hardness": [math.nan if args.hardness is None else args.hardness] * k,
     }
@@ -871,8 +873,6 @@ def cmd_sweep(args) -> int:
         with _progress(len(loads), "sweep") as bar:
             results = model.sweep(loads, progress=bar.update)
     else:
-        if args.variant != "yang-persson-energy":
-            raise CLIError("--variant is not available with --workers/--scheduler yet")
         results, table = _sweep_in_parallel(psd, E, args, loads)
     print(_spectrum_line(psd, source))
     print(
