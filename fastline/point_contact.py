@@ -257,7 +257,7 @@ class PointContact(ContactModel):
     method : {"newton", "picard"}
         Newton-Krylov (default) or the plain damped fixed point (for comparison).
     gamma : float, optional
-        Parameter gamma of the theory's correction S(P), in (0, 1] (default: the variant's
+        Parameter gamma of the theory's correction S(P), in [0.05, 1] (default: the variant's
         own, 0.45; 5/9 for ``"wang-mueser"``).
     variant : str, optional
         Variant of the theory's u(p) (:mod:`fastline.variants`, docs/theory.md):
