@@ -18,7 +18,7 @@ from __future__ import annotations
 import math
 import os
 from collections.abc import Mapping, Sequence
-from typing import TYPE_CHECKING, Literal
+from typing import TYPE_CHECKING, Literal, TypeAlias
 
 import numpy as np
 from numpy.typing import ArrayLike
@@ -34,9 +34,9 @@ if TYPE_CHECKING:  # annotations only: matplotlib and the solvers load on first 
     from fastline.spectra import PSD
     from fastline.validation import FlatValidation, LineValidation
 
-    ContactResult = LineContactResult | PointContactResult
+    ContactResult: TypeAlias = LineContactResult | PointContactResult
     #: one load sweep, or several by label
-    Sweeps = Sequence[ContactResult] | Mapping[str, Sequence[ContactResult]]
+    Sweeps: TypeAlias = Sequence[ContactResult] | Mapping[str, Sequence[ContactResult]]
 
 __all__ = [
     "FORMATS",

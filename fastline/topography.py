@@ -32,7 +32,7 @@ import os
 import warnings
 from collections.abc import Iterator
 from dataclasses import dataclass, field
-from typing import Any, Literal, NamedTuple
+from typing import Any, Literal, NamedTuple, TypeVar
 
 import numpy as np
 from numpy.typing import ArrayLike
@@ -83,6 +83,8 @@ PLAUSIBLE_SLOPE = (1e-6, 5.0)
 
 #: a usable range: "auto" (the rules), None (everything), or (lo, hi) in 1/m with None for a rule
 QRange = Literal["auto"] | tuple[float | None, float | None] | None
+
+_T = TypeVar("_T")
 
 _INSTALL = 'pip install "fastline-contact[topography]" (the optional SurfaceTopography)'
 
@@ -424,7 +426,7 @@ class ProfileSpectrum:
 _DETRENDS = ("mean", "linear", "parabola", "circle")
 
 
-def _choice(name: str, value, allowed) -> str:
+def _choice(name: str, value: _T, allowed: tuple[str, ...]) -> _T:
     if value not in allowed:
         raise ValueError(f"{name} must be one of {', '.join(map(repr, allowed))}, got {value!r}")
     return value
@@ -583,7 +585,9 @@ def psd_from_profile(
 # ----------------------------------------------------------------------------------------------
 # 1D -> isotropic 2D, and power-law extensions
 # ----------------------------------------------------------------------------------------------
-def _table(name_q: str, q, name_c: str, C, *, positive_values: bool):
+def _table(
+    name_q: str, q: ArrayLike, name_c: str, C: ArrayLike, *, positive_values: bool
+) -> tuple[np.ndarray, np.ndarray]:
     q = np.asarray(q, dtype=np.float64)
     C = np.asarray(C, dtype=np.float64)
     if q.ndim != 1 or C.shape != q.shape:
