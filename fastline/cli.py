@@ -112,9 +112,12 @@ def _fraction(text: str) -> float:
 
 
 def _gamma(text: str) -> float:
+    from fastline.persson import GAMMA_RANGE
+
     v = _number(text)
-    if not 0.0 < v <= 1.0:
-        raise argparse.ArgumentTypeError(f"must lie in (0, 1], got {text!r}")
+    lo, hi = GAMMA_RANGE
+    if not lo <= v <= hi:
+        raise argparse.ArgumentTypeError(f"must lie in [{lo:g}, {hi:g}], got {text!r}")
     return v
 
 
@@ -221,7 +224,7 @@ def _numerics_options(
         type=_gamma,
         default=None,
         metavar="G",
-        help="parameter gamma of the theory's correction S(P), in (0, 1] (default: the "
+        help="parameter gamma of the theory's correction S(P), in [0.05, 1] (default: the "
         "variant's, 0.45; 5/9 for wang-mueser)",
     )
     _variant_option(s)

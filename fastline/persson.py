@@ -843,12 +843,12 @@ class PerssonTheory:
         extra = "" if self.variant == DEFAULT_VARIANT else f", variant={self.variant!r}"
         return f"PerssonTheory({self.psd!r}, E_star={self.E_star!r}, gamma={self.gamma!r}{extra})"
 
-    # -- the interface at magnification zeta: leakage (fastline.leakage, THEORY.md section 8) --
+    # -- the interface at magnification zeta: leakage (fastline.leakage, docs/leakage.md) --
     # Issue 12's names: P(zeta) -> apparent_area, u_bar(zeta, p) -> mean_separation,
     # u1(zeta) -> edge_separation, critical_gap. The work is done in fastline.leakage.
     def apparent_area(self, zeta: ArrayLike, p: ArrayLike) -> np.ndarray:
         """Apparent relative contact area ``P(zeta)`` at magnification zeta for a uniform
-        nominal pressure p in Pa; ``contact_area(p, zeta * q0)`` (THEORY.md 8.1).
+        nominal pressure p in Pa; ``contact_area(p, zeta * q0)`` (docs/leakage.md §1).
 
         See :func:`fastline.leakage.apparent_area`.
         """
@@ -858,7 +858,7 @@ class PerssonTheory:
 
     def mean_separation(self, zeta: ArrayLike, p: ArrayLike) -> np.ndarray:
         """Mean separation ``u_bar(zeta, p)`` in m inside the apparent contact at magnification
-        zeta (THEORY.md 8.2); ``mean_separation(1, p) == separation(p)``.
+        zeta (docs/leakage.md §2); ``mean_separation(1, p) == separation(p)``.
 
         See :func:`fastline.leakage.mean_separation`.
         """
@@ -868,7 +868,7 @@ class PerssonTheory:
 
     def edge_separation(self, zeta: ArrayLike, p: ArrayLike) -> np.ndarray:
         """Persson's ``u1(zeta) = u_bar + u_bar' P / P'`` in m: the separation in the area
-        leaving contact at magnification zeta (THEORY.md 8.2); ``>= mean_separation``.
+        leaving contact at magnification zeta (docs/leakage.md §2); ``>= mean_separation``.
 
         See :func:`fastline.leakage.edge_separation`.
         """
@@ -877,7 +877,7 @@ class PerssonTheory:
         return leakage.edge_separation(self, zeta, p)
 
     def critical_gap(self, p: ArrayLike, threshold: float = 0.42) -> CriticalGap:
-        """The critical constriction for uniform nominal pressures p in Pa (THEORY.md 8.3):
+        """The critical constriction for uniform nominal pressures p in Pa (docs/leakage.md §3):
         a :class:`fastline.leakage.CriticalGap` with ``u_c`` (the gap in m), ``zeta``
         (zeta_c), ``sealed`` (``P(q1, p) >= threshold``, where ``u_c`` is 0) and
         ``threshold``.
