@@ -56,13 +56,19 @@ from __future__ import annotations
 import math
 import warnings
 from dataclasses import dataclass
+from typing import TYPE_CHECKING, Literal
 
 import numba
 import numpy as np
+from numpy.typing import ArrayLike
 
 from fastline._special import _F, JIT, f_coefficients
 from fastline._validate import finite_array, in_range, positive, positive_array
 from fastline.diagnostics import ValidityWarning
+
+if TYPE_CHECKING:  # annotations only: persson and the solver are imported on first use
+    from fastline.line_contact import LineContactResult
+    from fastline.persson import PerssonTheory
 
 __all__ = [
     "LeakResult",
@@ -443,7 +449,7 @@ def _interface_arrays(theory, zeta, p):
 # ----------------------------------------------------------------------------------------------
 # public: the interface at magnification zeta (PerssonTheory methods delegate here)
 # ----------------------------------------------------------------------------------------------
-def apparent_area(theory, zeta, p) -> np.ndarray:
+def apparent_area(theory: PerssonTheory, zeta: ArrayLike, p: ArrayLike) -> np.ndarray:
     """Apparent relative contact area ``P(zeta) = erf(w(zeta q0) p / E*)`` (dimensionless).
 
     docs/leakage.md §1; the ``P(q, p)`` of the full theory at ``q = zeta q0``, so it equals
@@ -472,7 +478,7 @@ def apparent_area(theory, zeta, p) -> np.ndarray:
     return erf(x).reshape(shape)
 
 
-def mean_separation(theory, zeta, p) -> np.ndarray:
+def mean_separation(theory: PerssonTheory, zeta: ArrayLike, p: ArrayLike) -> np.ndarray:
     """Mean separation ``u_bar(zeta, p)`` in m of the surfaces inside the apparent contact at
     magnification zeta (docs/leakage.md §2; Persson & Yang 2008, with the separation of Yang &
     Persson, J. Phys.: Condens. Matter 20, 215214 (2008)).
@@ -499,7 +505,7 @@ def mean_separation(theory, zeta, p) -> np.ndarray:
     return u_bar.reshape(shape)
 
 
-def edge_separation(theory, zeta, p) -> np.ndarray:
+def edge_separation(theory: PerssonTheory, zeta: ArrayLike, p: ArrayLike) -> np.ndarray:
     """Persson's ``u1(zeta) = u_bar + u_bar'(zeta) P(zeta) / P'(zeta)`` in m (docs/leakage.md §2).
 
     The mean separation in the area that leaves the apparent contact when the magnification
@@ -561,7 +567,9 @@ def _x1(theory, p: np.ndarray) -> np.ndarray:
     return np.ascontiguousarray(w1 * p / theory.E_star, dtype=np.float64)
 
 
-def critical_gap(theory, p, threshold=THRESHOLD_PERSSON) -> CriticalGap:
+def critical_gap(
+    theory: PerssonTheory, p: ArrayLike, threshold: float = THRESHOLD_PERSSON
+) -> CriticalGap:
     """Gap ``u_c`` of the critical constriction at a uniform nominal pressure p (leakage.md §3).
 
     Solves ``P(zeta_c) = threshold`` (P falls monotonically with zeta; the root is in closed
@@ -912,16 +920,16 @@ def _validity(theory, p, pressure_drop, width90, min_gap, sealed, mean_free_path
 
 
 def leak_rate_profile(
-    x,
-    p,
-    theory,
-    pressure_drop,
-    viscosity,
-    length=1.0,
+    x: ArrayLike,
+    p: ArrayLike,
+    theory: PerssonTheory,
+    pressure_drop: float,
+    viscosity: float,
+    length: float = 1.0,
     *,
-    threshold=THRESHOLD_PERSSON,
-    method: str = "critical-junction",
-    mean_free_path=None,
+    threshold: float = THRESHOLD_PERSSON,
+    method: Literal["critical-junction"] = "critical-junction",
+    mean_free_path: float | None = None,
     warn: bool = True,
 ) -> LeakResult:
     """Leak rate of a seal with a nominal pressure profile p(x) (docs/leakage.md §3-4).
@@ -1044,15 +1052,15 @@ def _leak(
 
 
 def leak_rate(
-    result,
-    pressure_drop,
-    viscosity,
-    length=1.0,
+    result: LineContactResult,
+    pressure_drop: float,
+    viscosity: float,
+    length: float = 1.0,
     *,
-    theory=None,
-    threshold=THRESHOLD_PERSSON,
-    method: str = "critical-junction",
-    mean_free_path=None,
+    theory: PerssonTheory | None = None,
+    threshold: float = THRESHOLD_PERSSON,
+    method: Literal["critical-junction"] = "critical-junction",
+    mean_free_path: float | None = None,
     warn: bool = True,
 ) -> LeakResult:
     """Leak rate of a solved line contact: the flow across the contact (along x).

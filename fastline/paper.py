@@ -29,8 +29,13 @@ from __future__ import annotations
 import math
 from collections.abc import Callable
 from dataclasses import dataclass, field
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
+from numpy.typing import ArrayLike
+
+if TYPE_CHECKING:  # annotations only: the solvers load on first use
+    from fastline.variants import Variant, VariantName
 
 __all__ = [
     "E_STAR",
@@ -84,7 +89,9 @@ def surfaces(q1: float = Q1) -> tuple:
     return tuple(SelfAffinePSD(h, H, Q0, QR, q1) for _label, h, H in SURFACES)
 
 
-def load_for_alpha(alpha, h_rms: float = 10e-6, E_star: float = E_STAR):
+def load_for_alpha(
+    alpha: ArrayLike, h_rms: float = 10e-6, E_star: float = E_STAR
+) -> float | np.ndarray:
     """Load per unit length f_N [N/m] that gives ``alpha = h_rms / delta``.
 
     With the Hertz penetration ``delta = 4 f_N / (pi E*)`` (paper eq. 9),
@@ -164,8 +171,8 @@ def paper_data(
     n: int = 1024,
     gamma: float = 0.45,
     progress: Callable[[str], None] | None = None,
-    variant: str = "yang-persson-energy",
-    **solve_options,
+    variant: VariantName | Variant = "yang-persson-energy",
+    **solve_options: Any,
 ) -> PaperData:
     """Solve the scenes behind the paper's Figs. 2-5 (no plotting, no files, no warnings).
 
@@ -215,7 +222,9 @@ def paper_data(
 # ----------------------------------------------------------------------------------------------
 # the sphere versions
 # ----------------------------------------------------------------------------------------------
-def sphere_load_for_alpha(alpha, h_rms: float = 10e-6, E_star: float = E_STAR, radius=RADIUS):
+def sphere_load_for_alpha(
+    alpha: ArrayLike, h_rms: float = 10e-6, E_star: float = E_STAR, radius: float = RADIUS
+) -> float | np.ndarray:
     """Load F [N] on a sphere that gives ``alpha = h_rms / delta``.
 
     With the Hertz penetration ``delta = a^2 / R`` and ``a^3 = 3 F R / (4 E*)``,
@@ -231,8 +240,8 @@ def sphere_paper_data(
     n: int = 512,
     gamma: float = 0.45,
     progress: Callable[[str], None] | None = None,
-    variant: str = "yang-persson-energy",
-    **solve_options,
+    variant: VariantName | Variant = "yang-persson-energy",
+    **solve_options: Any,
 ) -> PaperData:
     """Solve the sphere versions of the paper's Figs. 3-5 (no plotting, no files, no warnings).
 
