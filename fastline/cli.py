@@ -1,9 +1,13 @@
-"""Command-line interface: ``fastline paper | profile | sweep | leak | batch | psd`` (``python -m
-fastline``).
+"""Command-line interface: ``fastline paper | profile | sweep | leak | batch | psd | validate``
+(``python -m fastline``).
 
 Argument parsing and printing only: the scenes of the paper live in :mod:`fastline.paper`,
 files in :mod:`fastline.io`, figures in :mod:`fastline.plotting`, validity checks in
-:mod:`fastline.diagnostics`, measured surfaces in :mod:`fastline.scan`.
+:mod:`fastline.diagnostics`, measured surfaces in :mod:`fastline.scan`. This module holds the
+parser, the cylinder's ``profile``, ``sweep``, ``batch`` and ``paper`` and :func:`main`; the
+other commands have their own modules (:mod:`fastline.cli_leak`, :mod:`fastline.cli_psd`,
+:mod:`fastline.cli_sphere` for ``--geometry sphere``, :mod:`fastline.cli_validate`) and what
+they share is in :mod:`fastline._cli_common`.
 
 Exit status: 0 done; 1 a solve did not converge or a scene of a batch failed (results are still
 printed and written); 2 bad usage or input (one ``fastline: error: ...`` line on stderr,
