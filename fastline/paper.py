@@ -61,6 +61,8 @@ __all__ = [
     "write_sphere_files",
 ]
 
+_Format = Literal["png", "pdf", "svg"]
+
 #: effective modulus E* of the paper's scene [Pa]
 E_STAR = 1.33e9
 #: cylinder radius R [m]
@@ -309,7 +311,7 @@ def write_files(
     data: PaperData,
     out: str | os.PathLike,
     *,
-    format: Literal["png", "pdf", "svg"] | None = None,
+    format: _Format | None = None,
     dpi: float | None = None,
 ) -> list[str]:
     """Write the paper's Figs. 2-5 and the CSV table behind each into the directory ``out``.
@@ -375,7 +377,7 @@ def write_sphere_files(
     data: PaperData,
     out: str | os.PathLike,
     *,
-    format: Literal["png", "pdf", "svg"] | None = None,
+    format: _Format | None = None,
     dpi: float | None = None,
 ) -> list[str]:
     """Write the sphere versions of the paper's Figs. 3-5 and their CSV tables into ``out``.
@@ -439,7 +441,7 @@ def write_sphere_files(
 class _Files:
     """Writes into the directory ``out`` and keeps the names written, in order."""
 
-    def __init__(self, out: str | os.PathLike, format: str | None, dpi: float | None) -> None:
+    def __init__(self, out: str | os.PathLike, format: _Format | None, dpi: float | None) -> None:
         self.out, self.format, self.dpi = out, format, dpi
         self.written: list[str] = []
 
@@ -459,13 +461,21 @@ class _Files:
         save_figure(fig, path, format=self.format, dpi=self.dpi)
 
 
-def _sweep_files(files: _Files, names, data: PaperData, table, meta: dict, title: str) -> None:
+def _sweep_files(
+    files: _Files,
+    names: tuple[str, str],
+    data: PaperData,
+    table: tuple[list, list],
+    meta: dict,
+    title: str,
+) -> None:
     """The two sweep tables (the same rows in each CSV), then Figs. 4 (w/s) and 5 (p0 ratio)."""
     from fastline import plotting
 
     fig4, fig5 = names
-    files.csv(fig4, *table, meta, title)
-    files.csv(fig5, *table, meta, title)
+    header, rows = table
+    files.csv(fig4, header, rows, meta, title)
+    files.csv(fig5, header, rows, meta, title)
     series = {s.label: s.results for s in data.surfaces}
     files.figure(fig4, plotting.plot_w_over_s(series))
     gamma_u = {s.label: s.gamma_u for s in data.surfaces}
@@ -478,8 +488,9 @@ def _files_metadata(data: PaperData, **geometry: str) -> dict:
     from fastline.variants import DEFAULT_VARIANT
 
     variant = {} if data.variant == DEFAULT_VARIANT else {"variant": data.variant}
-    scene = {"model": "persson", "gamma": data.gamma, "n": data.n, **variant}
-    meta = scene_metadata(None, E_STAR, RADIUS, **scene)
+    meta = scene_metadata(
+        None, E_STAR, RADIUS, model="persson", gamma=data.gamma, n=data.n, **variant
+    )
     meta.pop("spectrum")
     meta.update(**geometry, q0_1_per_m=Q0, qr_1_per_m=QR, q1_1_per_m=data.q1)
     for s in data.surfaces:
