@@ -34,7 +34,7 @@ from fastline import _core
 from fastline._core import ConvergenceWarning, normalise
 from fastline._validate import E_STAR_RANGE, RADIUS_RANGE, finite_scalar, in_span, integer, positive
 from fastline.diagnostics import assess, warn_once
-from fastline.laws import ExponentialLaw, PerssonLaw, check_law
+from fastline.laws import ExponentialLaw, PerssonLaw, PressureLaw, check_law
 from fastline.persson import PerssonTheory
 from fastline.spectra import PSD
 from fastline.variants import DEFAULT_VARIANT, VARIANTS, get_variant
@@ -257,7 +257,7 @@ class ContactModel:
         return self._theory
 
     @property
-    def law(self):
+    def law(self) -> PressureLaw | None:
         """The pressure law the solver uses (None for ``model="hertz"``)."""
         return self._law
 

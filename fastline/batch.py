@@ -47,10 +47,20 @@ import warnings
 from collections import OrderedDict
 from collections.abc import Iterable, Mapping, Sequence
 from dataclasses import dataclass, field
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
+from numpy.typing import ArrayLike
 
 from fastline.variants import DEFAULT_VARIANT, VARIANTS
+
+if TYPE_CHECKING:  # annotations only: pandas and dask are optional
+    import pandas as pd
+    from distributed import Client
+
+    #: a table of scenes: rows (dicts), columns (a dict of sequences), a NumPy structured array
+    #: or a pandas DataFrame
+    Scenes = Iterable[Mapping[str, Any]] | Mapping[str, ArrayLike] | np.ndarray | pd.DataFrame
 
 __all__ = [
     "sweep",
@@ -854,7 +864,9 @@ class SweepTable:
     ``table_obj["p0"]`` is a column, ``len(table_obj)`` the number of scenes.
     """
 
-    def __init__(self, table: np.ndarray, warnings: list[tuple[str, str]], stats: SweepStats):
+    def __init__(
+        self, table: np.ndarray, warnings: list[tuple[str, str]], stats: SweepStats
+    ) -> None:
         self.table = table
         self.warnings = warnings
         self.stats = stats
@@ -914,7 +926,7 @@ class SweepTable:
     def _unconverged(self) -> int:
         return int(((self.table["error"] == "") & ~self.table["converged"]).sum())
 
-    def to_pandas(self):
+    def to_pandas(self) -> pd.DataFrame:
         """The table as a pandas DataFrame (needs pandas)."""
         try:
             import pandas as pd
@@ -972,8 +984,8 @@ def _progress_bar(total: int, progress: bool | None):
 
 
 def sweep(
-    scenes,
-    executor=None,
+    scenes: Scenes,
+    executor: str | cf.Executor | Client | None = None,
     *,
     workers: int | None = None,
     chunksize: int | None = None,

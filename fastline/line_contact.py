@@ -20,10 +20,12 @@ from __future__ import annotations
 
 import copy
 import math
-from collections.abc import Callable, Iterable, Sequence
+from collections.abc import Callable, Iterable
 from dataclasses import dataclass, field
+from typing import Any
 
 import numpy as np
+from numpy.typing import ArrayLike
 
 from fastline import _core, resolution
 from fastline._contact import (  # noqa: F401 (METHODS ... shared_theory: importable here as before)
@@ -284,7 +286,7 @@ class LineContact(ContactModel):
         hardness: float | None = None,
         warn: bool = True,
         accuracy: float | None = None,
-    ):
+    ) -> None:
         self._check_settings(E_star, radius, method, DEFAULT_N if n is None else n)
         self._n_given = None if n is None else self.n  # with accuracy=, the first grid tried
         self.accuracy = resolution.check_accuracy(accuracy)
@@ -432,7 +434,7 @@ class LineContact(ContactModel):
 # one-call functions
 # ----------------------------------------------------------------------------------------------
 def solve_line_contact(
-    psd: PSD | None, E_star: float, radius: float, load: float, **options
+    psd: PSD | None, E_star: float, radius: float, load: float, **options: Any
 ) -> LineContactResult:
     """Solve for the nominal pressure under a rigid cylinder on a rough elastic half-space.
 
@@ -462,13 +464,17 @@ def solve_line_contact(
     return LineContact(psd, E_star, radius, **options).solve(load)
 
 
-def profile(psd, E_star, radius, load, **options) -> tuple[np.ndarray, np.ndarray]:
+def profile(
+    psd: PSD | None, E_star: float, radius: float, load: float, **options: Any
+) -> tuple[np.ndarray, np.ndarray]:
     """Pressure profile ``(x [m], p [Pa])`` of one scene (see :func:`solve_line_contact`)."""
     res = solve_line_contact(psd, E_star, radius, load, **options)
     return res.x, res.pressure
 
 
-def _per_load(attr: str, psd, E_star, radius, load, options) -> float | np.ndarray:
+def _per_load(
+    attr: str, psd: PSD | None, E_star: float, radius: float, load: ArrayLike, options: dict
+) -> float | np.ndarray:
     loads = np.asarray(load, dtype=np.float64)
     lc = LineContact(psd, E_star, radius, **options)
     if loads.ndim == 0:
@@ -477,11 +483,15 @@ def _per_load(attr: str, psd, E_star, radius, load, options) -> float | np.ndarr
     return np.array([getattr(r, attr) for r in results]).reshape(loads.shape)
 
 
-def w_over_s(psd, E_star, radius, load: float | Sequence[float], **options):
+def w_over_s(
+    psd: PSD | None, E_star: float, radius: float, load: ArrayLike, **options: Any
+) -> float | np.ndarray:
     """FWHM-to-standard-deviation ratio w/s; a float, or an array for an array of loads."""
     return _per_load("w_over_s", psd, E_star, radius, load, options)
 
 
-def p0_ratio(psd, E_star, radius, load: float | Sequence[float], **options):
+def p0_ratio(
+    psd: PSD | None, E_star: float, radius: float, load: ArrayLike, **options: Any
+) -> float | np.ndarray:
     """Peak-pressure ratio p0(rough)/p0(Hertz); a float, or an array for an array of loads."""
     return _per_load("p0_ratio", psd, E_star, radius, load, options)

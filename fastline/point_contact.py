@@ -28,7 +28,7 @@ from __future__ import annotations
 import math
 from collections.abc import Callable, Iterable
 from dataclasses import dataclass, field
-from typing import ClassVar
+from typing import Any, ClassVar
 
 import numpy as np
 
@@ -329,7 +329,7 @@ class PointContact(ContactModel):
         theory: PerssonTheory | None = None,
         hardness: float | None = None,
         warn: bool = True,
-    ):
+    ) -> None:
         self._check_settings(E_star, radius, method, n)
         self.domain_radius = self._check_extent("domain_radius", domain_radius)
         self._check_rest(
@@ -431,7 +431,7 @@ class PointContact(ContactModel):
 
 
 def solve_point_contact(
-    psd: PSD | None, E_star: float, radius: float, load: float, **options
+    psd: PSD | None, E_star: float, radius: float, load: float, **options: Any
 ) -> PointContactResult:
     """Solve for the nominal pressure under a rigid sphere on a rough elastic half-space.
 
