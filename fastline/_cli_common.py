@@ -360,6 +360,26 @@ def _save(fig, path, args) -> None:
     save_figure(fig, path, format=args.format, dpi=args.dpi)
 
 
+def run_profile(args, solve, result_lines, write_csv, meta) -> int:
+    """One scene of ``fastline profile`` for either geometry: solve with ``solve(psd, E*, R,
+    load, ...)``, print the spectrum and ``result_lines``, report the warnings, write the CSV
+    (``write_csv(path, result, meta(psd, E*, args, source))``) and the figure; the exit status."""
+    psd, E, source = _scene(args)
+    _check_outputs(args)
+    th = _theory(psd, E, args)
+    r = solve(psd, E, args.radius, args.load, model=args.model, **_solve_kwargs(args, th))
+    print(_spectrum_line(psd, source))
+    print("\n".join(result_lines(r, r.diagnostics)))
+    _report_warnings([r])
+    if args.csv:
+        write_csv(args.csv, r, meta(psd, E, args, source))
+    if args.plot:
+        from fastline.plotting import plot_profile
+
+        _save(plot_profile(r), args.plot, args)
+    return _convergence_status([r])
+
+
 # ----------------------------------------------------------------------------------------------
 # results
 # ----------------------------------------------------------------------------------------------

@@ -49,6 +49,7 @@ from fastline._cli_common import (  # noqa: F401
     _theory,
     _variant_option,
     _warn,
+    run_profile,
 )
 from fastline.cli_leak import cmd_leak, leak_parser
 from fastline.cli_psd import _scan_options, cmd_psd, psd_parser
@@ -283,28 +284,12 @@ def build_parser() -> argparse.ArgumentParser:
 # commands
 # ----------------------------------------------------------------------------------------------
 def cmd_profile(args) -> int:
-    from fastline.line_contact import solve_line_contact
-
     if geometry_defaults(args) == "sphere":
         return cmd_sphere_profile(args)
-    psd, E, source = _scene(args)
-    _check_outputs(args)
-    th = _theory(psd, E, args)
-    r = solve_line_contact(
-        psd, E, args.radius, args.load, model=args.model, **_solve_kwargs(args, th)
-    )
-    print(_spectrum_line(psd, source))
-    print("\n".join(_result_lines(r, r.diagnostics)))
-    _report_warnings([r])
-    if args.csv:
-        from fastline.io import write_profile_csv
+    from fastline.io import write_profile_csv
+    from fastline.line_contact import solve_line_contact
 
-        write_profile_csv(args.csv, r, _meta(psd, E, args, source))
-    if args.plot:
-        from fastline.plotting import plot_profile
-
-        _save(plot_profile(r), args.plot, args)
-    return _convergence_status([r])
+    return run_profile(args, solve_line_contact, _result_lines, write_profile_csv, _meta)
 
 
 def _executor(args):

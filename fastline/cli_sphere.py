@@ -30,6 +30,7 @@ from fastline._cli_common import (
     _solve_kwargs,
     _spectrum_line,
     _theory,
+    run_profile,
 )
 
 __all__ = [
@@ -131,26 +132,12 @@ def _sphere_meta(psd, E_star, args, source):
 
 def cmd_sphere_profile(args: argparse.Namespace) -> int:
     """``fastline profile --geometry sphere``: one scene; returns the exit status."""
+    from fastline.io import write_point_profile_csv
     from fastline.point_contact import solve_point_contact
 
-    psd, E, source = _scene(args)
-    _check_outputs(args)
-    th = _theory(psd, E, args)
-    r = solve_point_contact(
-        psd, E, args.radius, args.load, model=args.model, **_solve_kwargs(args, th)
+    return run_profile(
+        args, solve_point_contact, _sphere_result_lines, write_point_profile_csv, _sphere_meta
     )
-    print(_spectrum_line(psd, source))
-    print("\n".join(_sphere_result_lines(r, r.diagnostics)))
-    _report_warnings([r])
-    if args.csv:
-        from fastline.io import write_point_profile_csv
-
-        write_point_profile_csv(args.csv, r, _sphere_meta(psd, E, args, source))
-    if args.plot:
-        from fastline.plotting import plot_profile
-
-        _save(plot_profile(r), args.plot, args)
-    return _convergence_status([r])
 
 
 def cmd_sphere_sweep(args: argparse.Namespace) -> int:
