@@ -21,15 +21,14 @@ from bench.conftest import E_STAR, RADIUS, load_for_alpha
 from fastline import _fftw
 from fastline._toeplitz_pcg import _convolve
 from fastline.elastic import _compiled_tables
+from fastline.paper import SURFACES, surfaces
 
 ALPHAS = (1e-4, 1e-3, 1e-2, 0.1, 1.0, 10.0, 100.0, 1e3)
 COUNT_NS = (256, 1024, 4096, 16384)
 SHARE_NS = (512, 1024, 4096, 16384)
 SHARE_ALPHAS = (1e-4, 1e-2, 1.0, 100.0)
 HARD = {
-    "surface 1": fl.SelfAffinePSD(10e-6, 0.8, 1e3, 1e4, 1e9),
-    "surface 2": fl.SelfAffinePSD(10e-6, 1.0, 1e3, 1e4, 1e9),
-    "surface 3": fl.SelfAffinePSD(1e-6, 0.8, 1e3, 1e4, 1e9),
+    **{label: psd for (label, _h, _H), psd in zip(SURFACES, surfaces(), strict=True)},
     "H = 0.3": fl.SelfAffinePSD(10e-6, 0.3, 1e3, 1e4, 1e9),
     "q1/q0 = 1e10": fl.SelfAffinePSD(10e-6, 0.8, 1e3, 1e4, 1e13),
 }

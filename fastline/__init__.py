@@ -46,7 +46,7 @@ from fastline.point_contact import PointContact, PointContactResult, solve_point
 from fastline.resolution import AccuracyWarning, ErrorEstimate
 from fastline.spectra import PSD, SelfAffinePSD, SumPSD, TabulatedPSD, effective_modulus
 
-__version__ = "0.1.0"
+__version__ = "0.2.0"
 
 __all__ = [
     "PSD",

@@ -34,9 +34,10 @@ from fastline import _core
 from fastline._core import ConvergenceWarning, normalise
 from fastline._validate import E_STAR_RANGE, RADIUS_RANGE, finite_scalar, in_span, integer, positive
 from fastline.diagnostics import assess, warn_once
-from fastline.laws import ExponentialLaw, PerssonLaw, check_law
+from fastline.laws import ExponentialLaw, PerssonLaw, PressureLaw, check_law
 from fastline.persson import PerssonTheory
 from fastline.spectra import PSD
+from fastline.variants import DEFAULT_VARIANT, VARIANTS, get_variant
 
 MODELS = ("persson", "exponential", "hertz")
 METHODS = ("newton", "picard")
@@ -71,19 +72,35 @@ CORE_DEPTH = (3.0, 10.0)
 _shared_lock = threading.Lock()
 
 
-def shared_theory(psd: PSD, E_star: float, gamma: float) -> PerssonTheory:
-    """The :class:`PerssonTheory` of ``(psd, E_star, gamma)``, built once per spectrum object.
+def shared_theory(
+    psd: PSD, E_star: float, gamma: float | None = None, variant: str | None = None
+) -> PerssonTheory:
+    """The :class:`PerssonTheory` of ``(psd, E_star, gamma, variant)``, built once per spectrum
+    object. ``variant`` None is the default variant, ``gamma`` None the variant's own gamma
+    (:mod:`fastline.variants`); both are checked (ValueError naming them).
 
     Thread-safe. The theories are kept on the spectrum (dropped with it, left out of pickles).
     """
-    key = (float(E_star), float(gamma))
+    var = get_variant(DEFAULT_VARIANT if variant is None else variant)
+    gamma = var.default_gamma if gamma is None else finite_scalar("gamma", gamma)
+    key = (float(E_star), gamma, var.name)
     with _shared_lock:
         hit = psd._theories.get(key)
     if hit is not None:
         return hit
-    theory = PerssonTheory(psd, E_star, gamma=gamma)  # outside the lock (milliseconds)
+    theory = PerssonTheory(psd, E_star, gamma=gamma, variant=var)  # outside the lock (ms)
     with _shared_lock:
         return psd._theories.setdefault(key, theory)
+
+
+def _check_variant(variant) -> str | None:
+    """None (the default variant, or the given theory's) or the name of a known variant;
+    ValueError naming ``variant`` and the allowed names otherwise."""
+    if variant is None:
+        return None
+    if not isinstance(variant, str) or variant not in VARIANTS:
+        raise ValueError(f"variant must be one of {tuple(VARIANTS)} or None, got {variant!r}")
+    return variant
 
 
 # ----------------------------------------------------------------------------------------------
@@ -187,7 +204,9 @@ class ContactModel:
             return None
         return in_span(name, value, (0.0, 1e3 * self.radius), "m")
 
-    def _check_rest(self, psd, model, gamma, tol, max_iter, u0, beta, theory, hardness, warn):
+    def _check_rest(
+        self, psd, model, gamma, variant, tol, max_iter, u0, beta, theory, hardness, warn
+    ):
         """tol, max_iter, hardness, warn, the spectrum and the model (the last checks)."""
         self.tol = finite_scalar("tol", tol)
         if not 0.0 < self.tol <= 1e-2:
@@ -200,10 +219,17 @@ class ContactModel:
         if theory is not None and not isinstance(theory, PerssonTheory):
             raise TypeError(f"theory must be a PerssonTheory or None, got {type(theory).__name__}")
         self.psd = psd
-        self._theory, self._law = self._resolve_model(model, psd, theory, gamma, u0, beta)
+        variant = _check_variant(variant)
+        self._theory, self._law = self._resolve_model(model, psd, theory, gamma, variant, u0, beta)
         self.model = "hertz" if self._law is None else self._law.name
+        if variant is not None and self._theory is not None and self._theory.variant != variant:
+            raise ValueError(
+                f"variant={variant!r} differs from the variant of the given theory "
+                f"({self._theory.variant!r}): pass variant=None (the theory's) or a theory "
+                "built with that variant"
+            )
 
-    def _resolve_model(self, model, psd, theory, gamma, u0, beta):
+    def _resolve_model(self, model, psd, theory, gamma, variant, u0, beta):
         """(theory or None, law or None for hertz) from the ``model`` argument."""
         if isinstance(model, str):
             if model not in MODELS:
@@ -213,7 +239,7 @@ class ContactModel:
             if psd is None:
                 raise ValueError(f"psd must be a PSD for model={model!r} (None only for 'hertz')")
             if theory is None:
-                theory = shared_theory(psd, self.E_star, finite_scalar("gamma", gamma))
+                theory = shared_theory(psd, self.E_star, gamma, variant)
             elif theory.psd is not psd or theory.E_star != self.E_star:
                 raise ValueError("theory must be built for the same psd and E_star")
             if model == "persson":
@@ -231,7 +257,7 @@ class ContactModel:
         return self._theory
 
     @property
-    def law(self):
+    def law(self) -> PressureLaw | None:
         """The pressure law the solver uses (None for ``model="hertz"``)."""
         return self._law
 

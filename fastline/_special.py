@@ -30,12 +30,17 @@ from __future__ import annotations
 
 import functools
 import math
+from typing import TYPE_CHECKING
 
 import numba
 import numpy as np
 from numpy.polynomial import chebyshev as _cheb
+from numpy.typing import ArrayLike
 
 from fastline._jit import JIT
+
+if TYPE_CHECKING:
+    from fastline.variants import Variant, VariantName
 
 __all__ = ["universal_F", "f_coefficients", "G0"]
 
@@ -161,7 +166,9 @@ def _F_vec(x, gamma, c1, c2, c3, out):
         out[i] = _F(x[i], gamma, c1, c2, c3)
 
 
-def universal_F(x0, gamma: float = 0.45, variant: str = "yang-persson-energy") -> np.ndarray:
+def universal_F(
+    x0: ArrayLike, gamma: float = 0.45, variant: VariantName | Variant = "yang-persson-energy"
+) -> np.ndarray:
     """Evaluate F(x0) (docs/theory.md section 3) for x0 > 0, vectorised.
 
     Parameters

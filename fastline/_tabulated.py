@@ -9,7 +9,7 @@ whose error does not depend on the table at all.
 The change of variable
 ----------------------
 With ``A(q) = pi int_{q0}^q q'^3 C dq'`` and ``w = A^(-1/2)``, the separation integral is
-(THEORY.md section 3)
+(docs/theory.md, section 3)
 
     u(p) = sqrt(pi) int w F(w p / E*) q^2 C dq = sqrt(pi) int F(exp(-eta) p / E*) d nu(eta),
 

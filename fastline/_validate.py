@@ -24,10 +24,14 @@ def finite_scalar(name: str, value) -> float:
     """Return ``value`` as a float, rejecting NaN, inf, bools and non-numbers."""
     if isinstance(value, bool | np.bool_):
         raise TypeError(f"{name} must be a real number, not a bool ({value!r})")
+    if isinstance(value, str | bytes):
+        raise TypeError(f"{name} must be a real number, not a string ({value!r})")
     try:
         out = float(value)
     except (TypeError, ValueError):
-        raise ValueError(f"{name} must be a finite real number, got {value!r}") from None
+        raise TypeError(
+            f"{name} must be a real number, got {type(value).__name__} ({value!r})"
+        ) from None
     if not math.isfinite(out):
         raise ValueError(f"{name} must be finite (not NaN or inf), got {value!r}")
     return out

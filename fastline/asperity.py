@@ -54,6 +54,7 @@ from dataclasses import dataclass
 import numba
 import numpy as np
 from numpy.polynomial import chebyshev as _cheb
+from numpy.typing import ArrayLike
 
 from fastline._jit import JIT
 from fastline._validate import E_STAR_RANGE, in_span, positive
@@ -295,7 +296,7 @@ def _gw_lnp(u, lnK, mean, std, tail, tab, out):
             out[i] = lnK + _ln_summit((u[i] - mean) / std, c, dc, neg, pos)[0]
 
 
-def summit_integral(t) -> np.ndarray:
+def summit_integral(t: ArrayLike) -> np.ndarray:
     """``F_{3/2}(t) = int_t^inf (z - t)^(3/2) phi(z) dz`` (compiled; relative error < 1e-11
     against quadrature, tests/test_asperity.py), vectorised over finite t."""
     t = np.asarray(t, dtype=np.float64)
@@ -349,7 +350,7 @@ class GreenwoodWilliamsonLaw(PressureLaw):
 
     name = "greenwood-williamson"
 
-    def __init__(self, statistics: SummitStatistics, E_star):
+    def __init__(self, statistics: SummitStatistics, E_star: float) -> None:
         if not isinstance(statistics, SummitStatistics):
             raise TypeError(
                 f"statistics must be a SummitStatistics, got {type(statistics).__name__}"
@@ -365,7 +366,7 @@ class GreenwoodWilliamsonLaw(PressureLaw):
         self._tail = (float(L_c), s.height_mean + s.height_std * TAIL_T, self.u0)
 
     @classmethod
-    def from_psd(cls, psd: PSD, E_star) -> GreenwoodWilliamsonLaw:
+    def from_psd(cls, psd: PSD, E_star: float) -> GreenwoodWilliamsonLaw:
         """The law of an isotropic spectrum (McCool's summit statistics)."""
         return cls(SummitStatistics.from_psd(psd), E_star)
 
@@ -380,24 +381,24 @@ class GreenwoodWilliamsonLaw(PressureLaw):
         s = self.statistics
         return self._lnK, s.height_mean, s.height_std, self._tail, _tables()
 
-    def separation_and_slope(self, v):
+    def separation_and_slope(self, v: ArrayLike) -> tuple[np.ndarray, np.ndarray]:
         v = np.asarray(v, dtype=np.float64)
         flat = np.ascontiguousarray(v.ravel())
         u, d = np.empty_like(flat), np.empty_like(flat)
         _gw_u(flat, *self._args(), u, d)
         return u.reshape(v.shape), d.reshape(v.shape)
 
-    def log_pressure(self, u):
+    def log_pressure(self, u: ArrayLike) -> np.ndarray:
         u = np.asarray(u, dtype=np.float64)
         flat = np.ascontiguousarray(u.ravel())
         out = np.empty_like(flat)
         _gw_lnp(flat, *self._args(), out)
         return out.reshape(u.shape)
 
-    def pressure(self, u):
+    def pressure(self, u: ArrayLike) -> np.ndarray:
         return np.exp(self.log_pressure(u))
 
-    def real_area(self, p):
+    def real_area(self, p: ArrayLike) -> np.ndarray:
         """``pi eta beta sigma_s F_1(t)`` at the separation of pressure p, capped at 1 (GW
         does not know full contact)."""
         p = np.asarray(p, dtype=np.float64)

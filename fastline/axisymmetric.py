@@ -70,6 +70,7 @@ from collections import OrderedDict
 
 import numba
 import numpy as np
+from numpy.typing import ArrayLike
 
 from fastline._jit import JIT
 from fastline._validate import integer, positive
@@ -99,7 +100,7 @@ _coarse: OrderedDict[tuple[int, int], tuple] = OrderedDict()
 # ----------------------------------------------------------------------------------------------
 # geometry of the cells (dimensionless: dr = 1)
 # ----------------------------------------------------------------------------------------------
-def ring_edges(n) -> np.ndarray:
+def ring_edges(n: int) -> np.ndarray:
     """Cell edges ``0, 1/2, 3/2, ..., n - 1/2`` in units of dr (length n + 1)."""
     n = integer("n", n, 1)
     e = np.empty(n + 1)
@@ -108,7 +109,7 @@ def ring_edges(n) -> np.ndarray:
     return e
 
 
-def ring_areas(n) -> np.ndarray:
+def ring_areas(n: int) -> np.ndarray:
     """Cell areas in units of dr^2: ``pi/4`` for the central disc, ``2 pi j`` for ring j."""
     e = ring_edges(n)
     return np.pi * (e[1:] - e[:-1]) * (e[1:] + e[:-1])
@@ -136,7 +137,7 @@ def _g_elliptic(m: np.ndarray, m1: np.ndarray) -> np.ndarray:
     return ((1.0 + m) * ellipe(m) - km1) / 3.0
 
 
-def disc_interaction(a, c) -> np.ndarray:
+def disc_interaction(a: ArrayLike, c: ArrayLike) -> np.ndarray:
     """``Phi(a, c) = int_{|x|<a} int_{|x'|<c} dA dA' / |x - x'|`` of two concentric discs.
 
     Parameters
@@ -198,7 +199,7 @@ def _khat(n: int) -> np.ndarray:
     return _khat_t(n).T
 
 
-def ring_influence_coefficients(n) -> np.ndarray:
+def ring_influence_coefficients(n: int) -> np.ndarray:
     """Dimensionless influence coefficients ``khat`` (n x n) of the ring operator.
 
     ``K_ij = (dr / E*) khat_ij`` is the displacement averaged over cell i per unit pressure on
@@ -374,7 +375,7 @@ class RingKernelOperator:
         "_kt",
     )
 
-    def __init__(self, n, dr, E_star):
+    def __init__(self, n: int, dr: float, E_star: float) -> None:
         self.n = integer("n", n, 2, MAX_N, " (the coefficient matrix is dense: 8 n^2 bytes)")
         self.dr = positive("dr", dr, "m")
         self.E_star = positive("E_star", E_star, "Pa")
@@ -388,7 +389,7 @@ class RingKernelOperator:
     def __repr__(self) -> str:
         return f"RingKernelOperator(n={self.n}, dr={self.dr!r}, E_star={self.E_star!r})"
 
-    def apply(self, p, out=None) -> np.ndarray:
+    def apply(self, p: ArrayLike, out: np.ndarray | None = None) -> np.ndarray:
         """Return the cell-averaged displacement ``K p``.
 
         Parameters
@@ -418,7 +419,7 @@ class RingKernelOperator:
 
     __call__ = apply
 
-    def preconditioner(self, D) -> BalancingPreconditioner:
+    def preconditioner(self, D: ArrayLike) -> BalancingPreconditioner:
         """An approximate inverse of ``D + K`` for the Newton-Krylov core (:mod:`fastline._core`).
 
         Parameters
@@ -492,7 +493,7 @@ class BalancingPreconditioner:
 
     __slots__ = ("_op", "_w", "_minv", "_b", "_ap", "_apt", "_chol", "_scale")
 
-    def __init__(self, op: RingKernelOperator, D):
+    def __init__(self, op: RingKernelOperator, D: ArrayLike) -> None:
         D = np.ascontiguousarray(D, dtype=np.float64)
         n = op.n
         b = coarse_block(n)

@@ -10,7 +10,7 @@ the order given, with the inputs and the results.
 How the work is cut (the *plan*):
 
 1. scenes are grouped by *model*: everything but the load (spectrum, E*, geometry and its
-   size, model, method, n, gamma, tol, max_iter, hardness);
+   size, model, method, n, gamma, variant, tol, max_iter, hardness);
 2. the scenes of a group are ordered by load and cut into *pieces* of at most ``chunksize``
    scenes; a piece is solved by one ``LineContact.sweep`` (continuation along its loads);
 3. pieces are packed, in table order, into *tasks* of at most ``chunksize`` scenes: a task is
@@ -47,8 +47,20 @@ import warnings
 from collections import OrderedDict
 from collections.abc import Iterable, Mapping, Sequence
 from dataclasses import dataclass, field
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
+from numpy.typing import ArrayLike
+
+from fastline.variants import DEFAULT_VARIANT, VARIANTS
+
+if TYPE_CHECKING:  # annotations only: pandas and dask are optional
+    import pandas as pd
+    from distributed import Client
+
+    #: a table of scenes: rows (dicts), columns (a dict of sequences), a NumPy structured array
+    #: or a pandas DataFrame
+    Scenes = Iterable[Mapping[str, Any]] | Mapping[str, ArrayLike] | np.ndarray | pd.DataFrame
 
 __all__ = [
     "sweep",
@@ -107,7 +119,8 @@ _INPUTS = (
     _Column("model", "text", default="persson"),
     _Column("method", "text", default="newton"),
     _Column("n", "int", default=1024),
-    _Column("gamma", "float", "-", 0.45),
+    _Column("gamma", "float", "-", math.nan),  # NaN: the variant's own (_normalise)
+    _Column("variant", "text", default=DEFAULT_VARIANT),
     _Column("tol", "float", "-", 1e-8),
     _Column("max_iter", "int", default=0),
     _Column("hardness", "float", "Pa", math.nan),
@@ -162,6 +175,7 @@ def _cylinder(spec, psd, theory):
         model=spec.model,
         method=spec.method,
         gamma=spec.gamma,
+        variant=spec.variant,
         n=spec.n,
         tol=spec.tol,
         max_iter=spec.max_iter,
@@ -175,7 +189,7 @@ def _cylinder(spec, psd, theory):
 #: ``solve(load)`` and ``sweep(loads)`` returning results with p0, p0_ratio, s, fwhm, w_over_s,
 #: alpha, converged, iterations, convolutions, residual and ``diagnostics``
 GEOMETRIES = {"cylinder": _cylinder}
-_CATEGORIES = {"geometry": GEOMETRIES, "model": _MODELS, "method": _METHODS}
+_CATEGORIES = {"geometry": GEOMETRIES, "model": _MODELS, "method": _METHODS, "variant": VARIANTS}
 
 
 # ----------------------------------------------------------------------------------------------
@@ -334,6 +348,10 @@ def _normalise(scenes) -> dict[str, list]:
             out[col.name] = [col.default] * size
     for name in _CATEGORIES:
         _check_category(name, out[name])
+    out["gamma"] = [
+        VARIANTS[v].default_gamma if math.isnan(g) else g
+        for g, v in zip(out["gamma"], out["variant"], strict=True)
+    ]
     return out
 
 
@@ -356,6 +374,7 @@ class _ModelSpec:
     method: str
     n: int
     gamma: float
+    variant: str
     tol: float
     max_iter: int | None
     hardness: float | None
@@ -396,7 +415,9 @@ class _SpectrumKeys:
 
 
 #: the columns that, with the spectrum, make a model (in :class:`_ModelSpec`'s order)
-_MODEL_COLUMNS = ("geometry", "E_star", "radius", "model", "method", "n", "gamma", "tol")
+_MODEL_COLUMNS = (
+    "geometry", "E_star", "radius", "model", "method", "n", "gamma", "variant", "tol"
+)  # fmt: skip
 
 
 def _groups(cols: Mapping) -> dict[_ModelSpec, list[int]]:
@@ -477,7 +498,7 @@ class _ModelCache:
         builder = GEOMETRIES[spec.geometry]
         theory = None
         if spec.model in _NEEDS_THEORY:
-            key = (spec.spectrum, spec.E_star, spec.gamma)
+            key = (spec.spectrum, spec.E_star, spec.gamma, spec.variant)
             theory = _lru(
                 self._theories,
                 key,
@@ -495,7 +516,7 @@ class _ModelCache:
         psd = self._spectrum(spec)
         if psd is None:
             raise ValueError(f"psd must be a PSD for model={spec.model!r} (None only for 'hertz')")
-        theory = PerssonTheory(psd, spec.E_star, gamma=spec.gamma)
+        theory = PerssonTheory(psd, spec.E_star, gamma=spec.gamma, variant=spec.variant)
         counts["theories"] += 1
         return theory
 
@@ -843,7 +864,9 @@ class SweepTable:
     ``table_obj["p0"]`` is a column, ``len(table_obj)`` the number of scenes.
     """
 
-    def __init__(self, table: np.ndarray, warnings: list[tuple[str, str]], stats: SweepStats):
+    def __init__(
+        self, table: np.ndarray, warnings: list[tuple[str, str]], stats: SweepStats
+    ) -> None:
         self.table = table
         self.warnings = warnings
         self.stats = stats
@@ -903,7 +926,7 @@ class SweepTable:
     def _unconverged(self) -> int:
         return int(((self.table["error"] == "") & ~self.table["converged"]).sum())
 
-    def to_pandas(self):
+    def to_pandas(self) -> pd.DataFrame:
         """The table as a pandas DataFrame (needs pandas)."""
         try:
             import pandas as pd
@@ -961,8 +984,8 @@ def _progress_bar(total: int, progress: bool | None):
 
 
 def sweep(
-    scenes,
-    executor=None,
+    scenes: Scenes,
+    executor: str | cf.Executor | Client | None = None,
     *,
     workers: int | None = None,
     chunksize: int | None = None,
@@ -980,11 +1003,14 @@ def sweep(
         file read by :func:`fastline.io.read_spectrum` on the worker, or None for
         ``model="hertz"``). Optional, with defaults: ``label`` (""), ``geometry``
         ("cylinder"), ``model`` ("persson", "exponential", "hertz"), ``method`` ("newton",
-        "picard"), ``n`` (1024), ``gamma`` (0.45), ``tol`` (1e-8), ``max_iter`` (0: the
-        method's default), ``hardness`` [Pa] (NaN: none). A missing cell (None, NaN) in an
-        optional column takes the default. Each scene is solved as
-        ``LineContact(psd, E_star, radius, model=..., ...).solve(load)`` would, its values
-        checked there (a bad value fails that scene only).
+        "picard"), ``n`` (1024), ``variant`` of the theory's u(p) ("yang-persson-energy",
+        the default, "yang-persson-printed" or "wang-mueser"; :mod:`fastline.variants`),
+        ``gamma`` (the variant's own: 0.45, 5/9 for "wang-mueser"; the table shows the value
+        used), ``tol`` (1e-8), ``max_iter`` (0: the method's default), ``hardness`` [Pa]
+        (NaN: none). A missing cell (None, NaN) in an optional column takes the default.
+        Each scene is solved as ``LineContact(psd, E_star, radius, model=...,
+        variant=..., ...).solve(load)`` would, its values checked there (a bad value fails
+        that scene only).
     executor : None, "serial", str, concurrent.futures.Executor or dask Client
         None (default): a local pool of ``workers`` processes (spawned; made and shut down
         here; a single task or ``workers=1`` runs in this process). ``"serial"``: in this
@@ -1016,7 +1042,7 @@ def sweep(
     ------
     ValueError, TypeError
         Before any work, for unknown or missing columns, a cell of the wrong type, an unknown
-        geometry, model or method, a bad ``chunksize``, ``workers`` or ``executor``.
+        geometry, model, method or variant, a bad ``chunksize``, ``workers`` or ``executor``.
     ImportError
         For a scheduler address without dask installed.
     OSError

@@ -36,8 +36,15 @@ from __future__ import annotations
 import math
 import warnings
 from collections.abc import Iterable
+from typing import TYPE_CHECKING
 
 import numpy as np
+
+if TYPE_CHECKING:  # annotations only: the solvers import this module
+    from fastline.line_contact import LineContactResult
+    from fastline.persson import PerssonTheory
+    from fastline.point_contact import PointContactResult
+    from fastline.spectra import PSD
 
 __all__ = [
     "ValidityWarning",
@@ -206,7 +213,14 @@ def _exponential(out, result, theory, msgs) -> None:
         )
 
 
-def assess(result, theory=None, hardness=None, *, psd=None, warn=True) -> dict:
+def assess(
+    result: LineContactResult | PointContactResult,
+    theory: PerssonTheory | None = None,
+    hardness: float | None = None,
+    *,
+    psd: PSD | None = None,
+    warn: bool = True,
+) -> dict:
     """Regime and validity checks of a solved line or point contact.
 
     Parameters

@@ -49,6 +49,7 @@ import threading
 from collections import OrderedDict
 
 import numpy as np
+from numpy.typing import ArrayLike
 
 from fastline import _fftw
 from fastline._toeplitz_pcg import apply_kernel, solve_newton_system
@@ -63,7 +64,7 @@ __all__ = [
 _TWO_OVER_PI = 2.0 / math.pi
 
 
-def influence_coefficients(n) -> np.ndarray:
+def influence_coefficients(n: int) -> np.ndarray:
     """Dimensionless influence coefficients ``khat_0 .. khat_{n-1}`` of the log kernel.
 
     ``khat_m = -(2/pi) [g(m + 1/2) - g(m - 1/2)]`` with ``g(t) = t ln|t| - t``; the physical
@@ -99,7 +100,7 @@ def influence_coefficients(n) -> np.ndarray:
     return -_TWO_OVER_PI * d
 
 
-def log_reference_shift(load, dx, E_star, length) -> float:
+def log_reference_shift(load: float, dx: float, E_star: float, length: float) -> float:
     """Uniform displacement change when the log reference length goes from ``dx`` to ``length``.
 
     Returns ``-(2 / (pi E*)) ln(dx / length) * load``: the displacement computed with
@@ -305,7 +306,7 @@ class LogKernelOperator:
         "_spec",
     )
 
-    def __init__(self, n, dx, E_star):
+    def __init__(self, n: int, dx: float, E_star: float) -> None:
         self.n = integer("n", n, 2)
         self.dx = positive("dx", dx, "m")
         self.E_star = positive("E_star", E_star, "Pa")
@@ -318,7 +319,7 @@ class LogKernelOperator:
     def __repr__(self) -> str:
         return f"LogKernelOperator(n={self.n}, dx={self.dx!r}, E_star={self.E_star!r})"
 
-    def apply(self, p, out=None) -> np.ndarray:
+    def apply(self, p: ArrayLike, out: np.ndarray | None = None) -> np.ndarray:
         """Return the displacement ``K p``.
 
         Parameters
@@ -367,7 +368,7 @@ class LogKernelOperator:
 
     __call__ = apply
 
-    def circulant_inverse(self, shift) -> CirculantInverse:
+    def circulant_inverse(self, shift: float) -> CirculantInverse:
         """An approximate inverse of ``K + shift I`` for vectors supported on at most n cells.
 
         The block of ``K`` seen by such a vector is a symmetric Toeplitz matrix; it is replaced
@@ -387,7 +388,9 @@ class LogKernelOperator:
         # the backward FFT is unnormalised: fold 1/(2n) into the inverse eigenvalues
         return CirculantInverse(self, np.repeat(1.0 / (eig * (2 * self.n)), 2))
 
-    def solve_newton(self, D, w, rhs, rtol, maxit):
+    def solve_newton(
+        self, D: np.ndarray, w: np.ndarray, rhs: np.ndarray, rtol: float, maxit: int
+    ) -> tuple[np.ndarray, float, int] | None:
         """Solve the Newton system ``(D + K) dp + du1 = rhs``, ``sum(w dp) = 0`` in one compiled
         call (:mod:`fastline._toeplitz_pcg`: projected CG, two-level preconditioner, FFTs
         included). Returns ``dp, du1, iterations`` and counts the FFT convolutions; None if the
@@ -420,7 +423,17 @@ class LogKernelOperator:
         self.circulant_solves += circ
         return dp, du1, its
 
-    def newton_compiled(self, gap, w, load, law_form, u_ref, v, tol, max_iter):
+    def newton_compiled(
+        self,
+        gap: np.ndarray,
+        w: np.ndarray,
+        load: float,
+        law_form: tuple,
+        u_ref: float,
+        v: np.ndarray,
+        tol: float,
+        max_iter: int,
+    ) -> tuple[float, float, int, int, int, float, np.ndarray, np.ndarray] | None:
         """The whole Newton iteration in one compiled call (:mod:`fastline._line_newton`) for a
         law with a compiled form; ``v`` (ln p, normalised) is updated in place. Returns
         ``(u1, residual, status, steps, cg_iterations, tol_effective, history, u)`` (status 0
@@ -461,7 +474,7 @@ class LogKernelOperator:
         self.circulant_solves += circ
         return u1, res, status, steps, cg, tol_eff, hist[:steps], u
 
-    def preconditioner(self, D) -> BlockPreconditioner:
+    def preconditioner(self, D: np.ndarray) -> BlockPreconditioner:
         """An approximate inverse of ``D + K`` for the Newton-Krylov core (:mod:`fastline._core`).
 
         Parameters
@@ -503,7 +516,7 @@ class BlockPreconditioner:
 
     __slots__ = ("minv", "core", "cinv")
 
-    def __init__(self, op: LogKernelOperator, D: np.ndarray):
+    def __init__(self, op: LogKernelOperator, D: np.ndarray) -> None:
         self.minv = 1.0 / (D + op.diagonal)
         core = np.flatnonzero(D < CORE_THETA * op.diagonal)
         self.core = None
@@ -527,11 +540,11 @@ class CirculantInverse:
 
     __slots__ = ("_op", "_inv")
 
-    def __init__(self, op: LogKernelOperator, inv_spec: np.ndarray):
+    def __init__(self, op: LogKernelOperator, inv_spec: np.ndarray) -> None:
         self._op = op
         self._inv = inv_spec
 
-    def apply(self, y, out) -> np.ndarray:
+    def apply(self, y: np.ndarray, out: np.ndarray) -> np.ndarray:
         """Write ``(C^{-1} y)[:m]`` into ``out`` (both of length ``m <= n``) and return it."""
         m = y.shape[0]
         op = self._op

@@ -19,8 +19,15 @@ from __future__ import annotations
 
 import os
 from collections.abc import Iterable, Mapping, Sequence
+from typing import TYPE_CHECKING
 
 import numpy as np
+
+if TYPE_CHECKING:  # annotations only: this module stays light at import
+    from fastline.leakage import LeakResult
+    from fastline.line_contact import LineContactResult
+    from fastline.point_contact import PointContactResult
+    from fastline.spectra import PSD, TabulatedPSD
 
 __all__ = [
     "SpectrumFileError",
@@ -134,7 +141,7 @@ def _parse_rows(path: str) -> np.ndarray:
     return np.array(rows)
 
 
-def read_spectrum(path: str | os.PathLike):
+def read_spectrum(path: str | os.PathLike) -> TabulatedPSD:
     """Read a two-column spectrum file (q [1/m], C [m^4]) into a :class:`~fastline.TabulatedPSD`.
 
     Parameters
@@ -174,7 +181,7 @@ def read_spectrum(path: str | os.PathLike):
         raise SpectrumFileError(f"{path}: {e}") from None
 
 
-def spectrum_summary(psd) -> dict:
+def spectrum_summary(psd: PSD) -> dict:
     """h_rms [m], rms slope [-] and the wavenumber range [1/m] of a spectrum.
 
     Returns
@@ -192,7 +199,7 @@ def spectrum_summary(psd) -> dict:
 
 
 def scene_metadata(
-    psd,
+    psd: PSD | None,
     E_star: float,
     radius: float,
     *,
@@ -200,7 +207,7 @@ def scene_metadata(
     gamma: float,
     n: int,
     source: str | None = None,
-    **extra,
+    **extra: object,
 ) -> dict:
     """The ``key: value`` lines of a result file's header (see :func:`write_csv`).
 
@@ -312,7 +319,9 @@ def write_csv(
         raise ValueError(f"cannot write {path}: {e.strerror}") from None
 
 
-def write_profile_csv(path, result, meta: Mapping | None = None) -> None:
+def write_profile_csv(
+    path: str | os.PathLike, result: LineContactResult, meta: Mapping | None = None
+) -> None:
     """Write p(x) of one result: columns ``x_m, p_Pa, u_m``; ``meta`` as the header.
 
     The load, alpha, p0, widths and convergence of the result are added to the header.
@@ -338,12 +347,16 @@ def sweep_rows(results: Iterable) -> list[tuple]:
     ]
 
 
-def write_sweep_csv(path, results: Sequence, meta: Mapping | None = None) -> None:
+def write_sweep_csv(
+    path: str | os.PathLike, results: Sequence, meta: Mapping | None = None
+) -> None:
     """Write a load sweep: one row per result, columns :data:`SWEEP_COLUMNS`."""
     write_csv(path, SWEEP_COLUMNS, sweep_rows(results), meta, title="fastline sweep")
 
 
-def write_point_profile_csv(path, result, meta: Mapping | None = None) -> None:
+def write_point_profile_csv(
+    path: str | os.PathLike, result: PointContactResult, meta: Mapping | None = None
+) -> None:
     """Write p(r) of a point contact: columns ``r_m, p_Pa, u_m``; ``meta`` as the header.
 
     The load F [N], alpha, p0, widths (s, the FWHM along a diameter w), the Hertz radius, the
@@ -368,7 +381,9 @@ def write_point_profile_csv(path, result, meta: Mapping | None = None) -> None:
     write_csv(path, POINT_PROFILE_COLUMNS, rows, info, title="fastline profile: p(r) and u(r)")
 
 
-def write_point_sweep_csv(path, results: Sequence, meta: Mapping | None = None) -> None:
+def write_point_sweep_csv(
+    path: str | os.PathLike, results: Sequence, meta: Mapping | None = None
+) -> None:
     """Write a point-contact load sweep: one row per result, columns
     :data:`POINT_SWEEP_COLUMNS` (the same numbers as :func:`sweep_rows`, the load in N)."""
     info = {**(meta or {}), "geometry": "sphere"}
@@ -406,7 +421,7 @@ def read_csv(path: str | os.PathLike) -> tuple[dict, dict]:
     return meta, columns
 
 
-def leak_metadata(leak) -> dict:
+def leak_metadata(leak: LeakResult) -> dict:
     """The inputs of a leak rate as header entries: ``pressure_drop_Pa``, ``viscosity_Pa_s``,
     ``length_m``, ``threshold``, ``method`` (add ``mean_free_path_m`` yourself when used)."""
     return {
@@ -418,7 +433,13 @@ def leak_metadata(leak) -> dict:
     }
 
 
-def write_leak_csv(path, leak, meta: Mapping | None = None, *, result=None) -> None:
+def write_leak_csv(
+    path: str | os.PathLike,
+    leak: LeakResult,
+    meta: Mapping | None = None,
+    *,
+    result: LineContactResult | None = None,
+) -> None:
     """Write where along the contact a seal leaks: one row per strip, :data:`LEAK_COLUMNS`.
 
     Columns: strip centre x [m], nominal pressure p [Pa], critical gap u_c [m] (0 in sealed
@@ -483,7 +504,7 @@ def leak_sweep_rows(results: Iterable, leaks: Iterable) -> list[tuple]:
 
 
 def write_leak_sweep_csv(
-    path, results: Sequence, leaks: Sequence, meta: Mapping | None = None
+    path: str | os.PathLike, results: Sequence, leaks: Sequence, meta: Mapping | None = None
 ) -> None:
     """Write leak rate against load: one row per load, columns :data:`LEAK_SWEEP_COLUMNS`.
 
@@ -500,7 +521,12 @@ def write_leak_sweep_csv(
     write_csv(path, LEAK_SWEEP_COLUMNS, rows, info, title="fastline leak --sweep: Q against load")
 
 
-def write_spectrum(path, psd, meta: Mapping | None = None, title: str | None = None) -> None:
+def write_spectrum(
+    path: str | os.PathLike,
+    psd: TabulatedPSD,
+    meta: Mapping | None = None,
+    title: str | None = None,
+) -> None:
     """Write a spectrum table that :func:`read_spectrum` (and ``--psd``) reads back exactly.
 
     ``# title`` and ``# key: value`` lines, the column names as a comment (``# q_1_per_m,C_m4``),

@@ -42,9 +42,11 @@ from __future__ import annotations
 
 import abc
 import math
+from typing import Any
 
 import numba
 import numpy as np
+from numpy.typing import ArrayLike
 
 from fastline._jit import JIT
 from fastline._validate import E_STAR_RANGE, finite_array, in_span, positive
@@ -71,10 +73,10 @@ class PressureLaw(abc.ABC):
     u0: float
 
     @abc.abstractmethod
-    def separation_and_slope(self, v: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    def separation_and_slope(self, v: ArrayLike) -> tuple[np.ndarray, np.ndarray]:
         """u [m] and du/d(ln p) [m] at ``v = ln p`` (arrays, same shape as v)."""
 
-    def log_pressure(self, u: np.ndarray) -> np.ndarray:
+    def log_pressure(self, u: ArrayLike) -> np.ndarray:
         """ln p(u) (p in Pa) by safeguarded Newton on :meth:`separation_and_slope`."""
         u = np.asarray(u, dtype=np.float64)
         v = np.zeros_like(u)
@@ -86,16 +88,16 @@ class PressureLaw(abc.ABC):
                 break
         return v
 
-    def pressure(self, u: np.ndarray) -> np.ndarray:
+    def pressure(self, u: ArrayLike) -> np.ndarray:
         """p(u) in Pa for separations u in m."""
         return np.exp(self.log_pressure(u))
 
-    def real_area(self, p: np.ndarray) -> np.ndarray | None:
+    def real_area(self, p: ArrayLike) -> np.ndarray | None:
         """Real contact area fraction at pressure p, or None if the law does not know it."""
         return None
 
 
-def check_law(law) -> PressureLaw:
+def check_law(law: Any) -> PressureLaw:
     """Check that ``law`` satisfies the protocol (duck typing allowed); return it.
 
     Raises a ``TypeError`` naming what is missing and a ``ValueError`` when a probe evaluation
@@ -139,7 +141,7 @@ class PerssonLaw(PressureLaw):
 
     name = "persson"
 
-    def __init__(self, theory: PerssonTheory):
+    def __init__(self, theory: PerssonTheory) -> None:
         if not isinstance(theory, PerssonTheory):
             raise TypeError(f"theory must be a PerssonTheory, got {type(theory).__name__}")
         self.theory = theory
@@ -148,22 +150,22 @@ class PerssonLaw(PressureLaw):
     def __repr__(self):
         return f"PerssonLaw({self.theory!r})"
 
-    def separation_and_slope(self, v):
+    def separation_and_slope(self, v: ArrayLike) -> tuple[np.ndarray, np.ndarray]:
         v = np.ascontiguousarray(v, dtype=np.float64)
         u = np.empty_like(v)
         d = np.empty_like(v)
         _separation_and_slope(v.ravel(), *self.theory._t1, u.ravel(), d.ravel())
         return u, d
 
-    def log_pressure(self, u):
+    def log_pressure(self, u: ArrayLike) -> np.ndarray:
         u = np.ascontiguousarray(np.maximum(u, 1e-300), dtype=np.float64)
         return _log_pressure_from_table(u.ravel(), self.theory._t2).reshape(u.shape)
 
-    def pressure(self, u):
+    def pressure(self, u: ArrayLike) -> np.ndarray:
         u = np.ascontiguousarray(np.maximum(u, 1e-300), dtype=np.float64)
         return _pressure_from_table(u.ravel(), self.theory._t2).reshape(u.shape)
 
-    def real_area(self, p):
+    def real_area(self, p: ArrayLike) -> np.ndarray:
         p = np.asarray(p, dtype=np.float64)
         if p.ndim == 1 and np.all(p >= 0.0):  # the solvers' own pressures: the fast path
             return self.theory._real_area(p)
@@ -197,7 +199,9 @@ class ExponentialLaw(PressureLaw):
 
     name = "exponential"
 
-    def __init__(self, u0, beta, E_star, theory: PerssonTheory | None = None):
+    def __init__(
+        self, u0: float, beta: float, E_star: float, theory: PerssonTheory | None = None
+    ) -> None:
         if theory is not None and not isinstance(theory, PerssonTheory):
             raise TypeError(f"theory must be a PerssonTheory or None, got {type(theory).__name__}")
         self._set(
@@ -212,7 +216,9 @@ class ExponentialLaw(PressureLaw):
         self._lnpb = math.log(beta) + math.log(E_star)
 
     @classmethod
-    def from_theory(cls, theory: PerssonTheory, u0=None, beta=None) -> ExponentialLaw:
+    def from_theory(
+        cls, theory: PerssonTheory, u0: float | None = None, beta: float | None = None
+    ) -> ExponentialLaw:
         """The law of ``theory.exponential_fit()``; u0 and/or beta may be overridden (then
         checked against the ranges of the constructor). The theory's own values are used as
         they are: for extreme spectra its beta can lie outside the range a user may give."""
@@ -231,17 +237,17 @@ class ExponentialLaw(PressureLaw):
     def __repr__(self):
         return f"ExponentialLaw(u0={self.u0!r}, beta={self.beta!r}, E_star={self.E_star!r})"
 
-    def separation_and_slope(self, v):
+    def separation_and_slope(self, v: ArrayLike) -> tuple[np.ndarray, np.ndarray]:
         v = np.asarray(v, dtype=np.float64)
         return self.u0 * (self._lnpb - v), np.full_like(v, -self.u0)
 
-    def log_pressure(self, u):
+    def log_pressure(self, u: ArrayLike) -> np.ndarray:
         return self._lnpb - np.asarray(u, dtype=np.float64) / self.u0
 
-    def pressure(self, u):
+    def pressure(self, u: ArrayLike) -> np.ndarray:
         return np.exp(self.log_pressure(u))
 
-    def real_area(self, p):
+    def real_area(self, p: ArrayLike) -> np.ndarray | None:
         return None if self.theory is None else self.theory.contact_area(p)
 
     def _compiled_form(self):
@@ -385,7 +391,7 @@ class TabulatedLaw(PressureLaw):
 
     name = "tabulated"
 
-    def __init__(self, u, p, real_area=None):
+    def __init__(self, u: ArrayLike, p: ArrayLike, real_area: ArrayLike | None = None) -> None:
         u = finite_array("u", u, ndim=1)
         p = finite_array("p", p, ndim=1)
         if u.size < 3:
@@ -421,27 +427,27 @@ class TabulatedLaw(PressureLaw):
         p = np.exp(self._V)
         return f"TabulatedLaw(<{p.size} points, p from {p[0]:.3g} to {p[-1]:.3g} Pa>)"
 
-    def separation_and_slope(self, v):
+    def separation_and_slope(self, v: ArrayLike) -> tuple[np.ndarray, np.ndarray]:
         v = np.ascontiguousarray(v, dtype=np.float64)
         u = np.empty_like(v)
         d = np.empty_like(v)
         _tabulated_u(v.ravel(), self._V, self._U, self._S, u.ravel(), d.ravel())
         return u, d
 
-    def log_pressure(self, u):
+    def log_pressure(self, u: ArrayLike) -> np.ndarray:
         u = np.ascontiguousarray(u, dtype=np.float64)
         out = np.empty_like(u)
         _tabulated_v(u.ravel(), self._V, self._U, self._S, out.ravel())
         return out
 
-    def pressure(self, u):
+    def pressure(self, u: ArrayLike) -> np.ndarray:
         return np.exp(self.log_pressure(u))
 
     def _compiled_form(self):
         """``(kind, prm, V, U, S, -)`` for the compiled line-contact Newton."""
         return 2, np.zeros(1), self._V, self._U, self._S, np.zeros(1)
 
-    def real_area(self, p):
+    def real_area(self, p: ArrayLike) -> np.ndarray | None:
         if self._area is None:
             return None
         v = np.log(np.maximum(np.asarray(p, dtype=np.float64), 1e-300))

@@ -1,7 +1,7 @@
 """Seal leakage from the nominal contact pressure: Persson's critical-junction theory.
 
 The interface at magnification zeta (roughness with ``q < zeta q0`` resolved), for a uniform
-nominal pressure p (THEORY.md section 8; B.N.J. Persson, C. Yang, J. Phys.: Condens. Matter 20,
+nominal pressure p (docs/leakage.md; B.N.J. Persson, C. Yang, J. Phys.: Condens. Matter 20,
 315011 (2008), doi:10.1088/0953-8984/20/31/315011; B. Lorenz, B.N.J. Persson, EPL 86, 44006
 (2009), doi:10.1209/0295-5075/86/44006), with the moment ``A(q) = pi int_{q0}^q q'^3 C dq'`` of
 :mod:`fastline.spectra` written ``B(q)`` here (A is the contact area below), ``a = zeta q0`` and
@@ -56,13 +56,19 @@ from __future__ import annotations
 import math
 import warnings
 from dataclasses import dataclass
+from typing import TYPE_CHECKING, Literal
 
 import numba
 import numpy as np
+from numpy.typing import ArrayLike
 
 from fastline._special import _F, JIT, f_coefficients
 from fastline._validate import finite_array, in_range, positive, positive_array
 from fastline.diagnostics import ValidityWarning
+
+if TYPE_CHECKING:  # annotations only: persson and the solver are imported on first use
+    from fastline.line_contact import LineContactResult
+    from fastline.persson import PerssonTheory
 
 __all__ = [
     "LeakResult",
@@ -316,7 +322,7 @@ def _interface_vec(m, p, E_star, band, rule, fc, qtab, P, u_bar, u1):
 
 @numba.njit(**JIT)
 def _critical_vec(x1, X_t, t, E_star, band, rule, fc, qtab, gap, qc, sealed):
-    """u_c = u1(zeta_c) and q_c = zeta_c q0 for x1 = w(q1) p / E* (THEORY.md 8.3).
+    """u_c = u1(zeta_c) and q_c = zeta_c q0 for x1 = w(q1) p / E* (docs/leakage.md §3).
 
     ``P(zeta_c) = t`` has the closed-form root ``B(q_c) = m = B1 (x1 / X_t)^2``,
     ``X_t = erfinv(t)``; sealed where ``erf(x1) >= t`` (gap 0, q_c = q1)."""
@@ -383,7 +389,7 @@ class _Spectrum:
             raise ValueError(
                 f"leakage needs a theory whose contact area is erf(x): variant "
                 f"{theory.variant!r} corrects the contact-area recursion, which the "
-                "critical-junction interface (THEORY.md 8) does not; use 'yang-persson-energy' "
+                "critical-junction interface (docs/leakage.md) does not; use 'yang-persson-energy' "
                 "or 'yang-persson-printed'"
             )
         self.table = _MomentTable(theory.psd)
@@ -443,10 +449,10 @@ def _interface_arrays(theory, zeta, p):
 # ----------------------------------------------------------------------------------------------
 # public: the interface at magnification zeta (PerssonTheory methods delegate here)
 # ----------------------------------------------------------------------------------------------
-def apparent_area(theory, zeta, p) -> np.ndarray:
+def apparent_area(theory: PerssonTheory, zeta: ArrayLike, p: ArrayLike) -> np.ndarray:
     """Apparent relative contact area ``P(zeta) = erf(w(zeta q0) p / E*)`` (dimensionless).
 
-    THEORY.md 8.1; the ``P(q, p)`` of the full theory at ``q = zeta q0``, so it equals
+    docs/leakage.md §1; the ``P(q, p)`` of the full theory at ``q = zeta q0``, so it equals
     ``theory.contact_area(p, zeta * q0)``. It falls from 1 at ``zeta = 1`` to the real contact
     area at ``zeta = q1/q0``.
 
@@ -472,9 +478,9 @@ def apparent_area(theory, zeta, p) -> np.ndarray:
     return erf(x).reshape(shape)
 
 
-def mean_separation(theory, zeta, p) -> np.ndarray:
+def mean_separation(theory: PerssonTheory, zeta: ArrayLike, p: ArrayLike) -> np.ndarray:
     """Mean separation ``u_bar(zeta, p)`` in m of the surfaces inside the apparent contact at
-    magnification zeta (THEORY.md 8.2; Persson & Yang 2008, with the separation of Yang &
+    magnification zeta (docs/leakage.md §2; Persson & Yang 2008, with the separation of Yang &
     Persson, J. Phys.: Condens. Matter 20, 215214 (2008)).
 
     The Yang-Persson separation of the roughness not resolved at zeta (q from ``zeta q0`` to q1)
@@ -499,8 +505,8 @@ def mean_separation(theory, zeta, p) -> np.ndarray:
     return u_bar.reshape(shape)
 
 
-def edge_separation(theory, zeta, p) -> np.ndarray:
-    """Persson's ``u1(zeta) = u_bar + u_bar'(zeta) P(zeta) / P'(zeta)`` in m (THEORY.md 8.2).
+def edge_separation(theory: PerssonTheory, zeta: ArrayLike, p: ArrayLike) -> np.ndarray:
+    """Persson's ``u1(zeta) = u_bar + u_bar'(zeta) P(zeta) / P'(zeta)`` in m (docs/leakage.md §2).
 
     The mean separation in the area that leaves the apparent contact when the magnification
     grows from zeta to zeta + d zeta (the edges of the contact patches); at the critical
@@ -526,7 +532,7 @@ def edge_separation(theory, zeta, p) -> np.ndarray:
 
 
 # ----------------------------------------------------------------------------------------------
-# the critical junction (THEORY.md 8.3)
+# the critical junction (docs/leakage.md §3)
 # ----------------------------------------------------------------------------------------------
 @dataclass(frozen=True)
 class CriticalGap:
@@ -561,8 +567,10 @@ def _x1(theory, p: np.ndarray) -> np.ndarray:
     return np.ascontiguousarray(w1 * p / theory.E_star, dtype=np.float64)
 
 
-def critical_gap(theory, p, threshold=THRESHOLD_PERSSON) -> CriticalGap:
-    """Gap of the critical constriction ``u_c`` for a uniform nominal pressure p (THEORY.md 8.3).
+def critical_gap(
+    theory: PerssonTheory, p: ArrayLike, threshold: float = THRESHOLD_PERSSON
+) -> CriticalGap:
+    """Gap ``u_c`` of the critical constriction at a uniform nominal pressure p (leakage.md §3).
 
     Solves ``P(zeta_c) = threshold`` (P falls monotonically with zeta; the root is in closed
     form, ``A(zeta_c q0) = (p / (E* erfinv(threshold)))^2``, with the inverse moment table) and
@@ -715,7 +723,7 @@ def _gap_table(theory, threshold: float) -> _GapTable:
 
 
 # ----------------------------------------------------------------------------------------------
-# leak rate of a pressure profile: strips in series (THEORY.md 8.4)
+# leak rate of a pressure profile: strips in series (docs/leakage.md §4)
 # ----------------------------------------------------------------------------------------------
 METHODS = ("critical-junction",)
 #: warn when fewer roll-off wavelengths 2 pi/qr than this fit across the region holding 90 % of
@@ -876,7 +884,8 @@ def _where(x, widths, p, share):
 
 
 def _validity(theory, p, pressure_drop, width90, min_gap, sealed, mean_free_path):
-    """Out-of-range checks (THEORY.md 8.5): numbers for the diagnostics, messages for warnings."""
+    """Out-of-range checks (docs/leakage.md, "When the model is out of its range"): numbers for
+    the diagnostics, messages for warnings."""
     lam_r = 2.0 * math.pi / _rolloff_wavenumber(theory.psd)
     p_max = float(p.max())
     out = {
@@ -911,19 +920,19 @@ def _validity(theory, p, pressure_drop, width90, min_gap, sealed, mean_free_path
 
 
 def leak_rate_profile(
-    x,
-    p,
-    theory,
-    pressure_drop,
-    viscosity,
-    length=1.0,
+    x: ArrayLike,
+    p: ArrayLike,
+    theory: PerssonTheory,
+    pressure_drop: float,
+    viscosity: float,
+    length: float = 1.0,
     *,
-    threshold=THRESHOLD_PERSSON,
-    method: str = "critical-junction",
-    mean_free_path=None,
+    threshold: float = THRESHOLD_PERSSON,
+    method: Literal["critical-junction"] = "critical-junction",
+    mean_free_path: float | None = None,
     warn: bool = True,
 ) -> LeakResult:
-    """Leak rate of a seal with a nominal pressure profile p(x) (THEORY.md 8.3-8.4).
+    """Leak rate of a seal with a nominal pressure profile p(x) (docs/leakage.md §3-4).
 
     Each strip of the profile is a uniform-pressure seal of local conductance
     ``sigma = u_c(p)^3 / (12 eta)`` (Persson & Yang 2008; Lorenz & Persson, EPL 86, 44006
@@ -1043,15 +1052,15 @@ def _leak(
 
 
 def leak_rate(
-    result,
-    pressure_drop,
-    viscosity,
-    length=1.0,
+    result: LineContactResult,
+    pressure_drop: float,
+    viscosity: float,
+    length: float = 1.0,
     *,
-    theory=None,
-    threshold=THRESHOLD_PERSSON,
-    method: str = "critical-junction",
-    mean_free_path=None,
+    theory: PerssonTheory | None = None,
+    threshold: float = THRESHOLD_PERSSON,
+    method: Literal["critical-junction"] = "critical-junction",
+    mean_free_path: float | None = None,
     warn: bool = True,
 ) -> LeakResult:
     """Leak rate of a solved line contact: the flow across the contact (along x).
@@ -1059,7 +1068,7 @@ def leak_rate(
     The post-processing step of a seal calculation: the nominal pressure p(x) of a
     :class:`~fastline.solver.LineContactResult` (any model with a roughness spectrum) and the
     Persson theory of its interface give the leak rate by :func:`leak_rate_profile` (strips in
-    series, THEORY.md 8.4). Costs well under the solve it post-processes once the gap table of
+    series, docs/leakage.md §4). Costs well under the solve it post-processes once the gap table of
     the theory is built (first call per theory and threshold: ~10 ms).
 
     Parameters

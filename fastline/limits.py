@@ -30,6 +30,7 @@ import math
 from dataclasses import dataclass
 
 import numpy as np
+from numpy.typing import ArrayLike
 
 from fastline._validate import finite_array, positive
 
@@ -61,12 +62,12 @@ WS_GAUSSIAN = 2.0 * math.sqrt(2.0 * math.log(2.0))
 WS_HERTZ_SPHERE = math.sqrt(15.0)
 
 
-def _as_result(out: np.ndarray):
+def _as_result(out: np.ndarray) -> float | np.ndarray:
     """A Python float for 0-d results, the array otherwise."""
     return float(out) if out.ndim == 0 else out
 
 
-def penetration(E_star, load) -> float:
+def penetration(E_star: float, load: float) -> float:
     """Hertz penetration ``delta = 4 f_N / (pi E*)`` of a line contact.
 
     Parameters
@@ -86,7 +87,7 @@ def penetration(E_star, load) -> float:
     return 4.0 * load / (math.pi * E_star)
 
 
-def alpha(h_rms, E_star, load) -> float:
+def alpha(h_rms: float, E_star: float, load: float) -> float:
     """Roughness parameter ``alpha = h_rms / delta`` (paper, text after eq. 5).
 
     Parameters
@@ -144,7 +145,7 @@ class HertzLineContact:
         """Full width at half maximum, ``sqrt(3) a`` [m] (so ``fwhm / s = WS_HERTZ``)."""
         return math.sqrt(3.0) * self.a
 
-    def pressure(self, x):
+    def pressure(self, x: ArrayLike) -> float | np.ndarray:
         """Pressure ``p0 sqrt(1 - (x/a)^2)`` for ``|x| < a``, 0 outside (paper eq. 6).
 
         Parameters
@@ -198,7 +199,7 @@ class GaussianLineContact:
         """Full width at half maximum, ``2 sqrt(2 ln 2) s`` [m] (``fwhm / s = WS_GAUSSIAN``)."""
         return WS_GAUSSIAN * self.s
 
-    def pressure(self, x):
+    def pressure(self, x: ArrayLike) -> float | np.ndarray:
         """Pressure ``p0 exp(-x^2 / (2 s^2))`` (paper eq. 12).
 
         Parameters
@@ -215,7 +216,7 @@ class GaussianLineContact:
         return _as_result(self.p0 * np.exp(-0.5 * t * t))
 
 
-def hertz_line_contact(E_star, radius, load) -> HertzLineContact:
+def hertz_line_contact(E_star: float, radius: float, load: float) -> HertzLineContact:
     """Hertz solution for a smooth cylinder pressed on a half-space (paper eqs. 6-9).
 
     Parameters
@@ -246,7 +247,7 @@ def hertz_line_contact(E_star, radius, load) -> HertzLineContact:
     )
 
 
-def gaussian_line_contact(u0, radius, load) -> GaussianLineContact:
+def gaussian_line_contact(u0: float, radius: float, load: float) -> GaussianLineContact:
     """Gaussian (large-alpha) limit of the rough line contact (paper eqs. 12-13).
 
     Parameters
@@ -273,7 +274,7 @@ def gaussian_line_contact(u0, radius, load) -> GaussianLineContact:
     )
 
 
-def p0_ratio_gaussian(alpha, gamma_u):
+def p0_ratio_gaussian(alpha: ArrayLike, gamma_u: float) -> float | np.ndarray:
     """Peak-pressure ratio ``p0(rough) / p0(smooth)`` in the Gaussian limit (paper eq. 14).
 
     ``(pi / (8 gamma_u alpha))^(1/2)``: the Gaussian ``p0`` with ``u0 = gamma_u h_rms`` over the
@@ -301,7 +302,7 @@ def p0_ratio_gaussian(alpha, gamma_u):
 # ----------------------------------------------------------------------------------------------
 # point contact (sphere on a flat)
 # ----------------------------------------------------------------------------------------------
-def _radial(r) -> np.ndarray:
+def _radial(r: ArrayLike) -> np.ndarray:
     """|r| as a float array (a profile along a diameter may pass negative positions)."""
     return np.abs(finite_array("r", r))
 
@@ -344,7 +345,7 @@ class HertzPointContact:
         (``fwhm / s = WS_HERTZ_SPHERE``)."""
         return math.sqrt(3.0) * self.a
 
-    def pressure(self, r):
+    def pressure(self, r: ArrayLike) -> float | np.ndarray:
         """Pressure ``p0 sqrt(1 - r^2/a^2)`` for ``|r| < a``, 0 outside.
 
         Parameters
@@ -365,7 +366,7 @@ class HertzPointContact:
         out[inside] = self.p0 * np.sqrt((1.0 - ti) * (1.0 + ti))
         return _as_result(out)
 
-    def displacement(self, r):
+    def displacement(self, r: ArrayLike) -> float | np.ndarray:
         """Elastic displacement of the half-space inside the contact,
         ``(pi p0 / (4 a E*)) (2 a^2 - r^2)`` [m] for ``|r| <= a`` (Johnson 1985, eq. 3.41); NaN
         outside (not provided).
@@ -412,13 +413,13 @@ class GaussianPointContact:
         """Full width at half maximum along a diameter, ``2 sqrt(2 ln 2) s`` [m]."""
         return WS_GAUSSIAN * self.s
 
-    def pressure(self, r):
+    def pressure(self, r: ArrayLike) -> float | np.ndarray:
         """Pressure ``p0 exp(-r^2 / (2 s^2))`` [Pa] at distance(s) ``r`` [m] from the centre."""
         t = _radial(r) / self.s
         return _as_result(self.p0 * np.exp(-0.5 * t * t))
 
 
-def hertz_point_contact(E_star, radius, load) -> HertzPointContact:
+def hertz_point_contact(E_star: float, radius: float, load: float) -> HertzPointContact:
     """Hertz solution for a smooth sphere pressed on a half-space (Johnson 1985, section 4.2).
 
     Parameters
@@ -449,7 +450,7 @@ def hertz_point_contact(E_star, radius, load) -> HertzPointContact:
     )
 
 
-def gaussian_point_contact(u0, radius, load) -> GaussianPointContact:
+def gaussian_point_contact(u0: float, radius: float, load: float) -> GaussianPointContact:
     """Gaussian (large-alpha) limit of the rough point contact (paper, section 2).
 
     Parameters
@@ -475,7 +476,7 @@ def gaussian_point_contact(u0, radius, load) -> GaussianPointContact:
     )
 
 
-def p0_ratio_gaussian_sphere(alpha, gamma_u):
+def p0_ratio_gaussian_sphere(alpha: ArrayLike, gamma_u: float) -> float | np.ndarray:
     """Peak-pressure ratio ``p0(rough) / p0(smooth)`` of a point contact in the Gaussian limit.
 
     ``1 / (3 gamma_u alpha)``: the Gaussian ``p0 = F / (2 pi R u0)`` with ``u0 = gamma_u h_rms``

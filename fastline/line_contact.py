@@ -20,10 +20,12 @@ from __future__ import annotations
 
 import copy
 import math
-from collections.abc import Callable, Iterable, Sequence
+from collections.abc import Callable, Iterable
 from dataclasses import dataclass, field
+from typing import Any
 
 import numpy as np
+from numpy.typing import ArrayLike
 
 from fastline import _core, resolution
 from fastline._contact import (  # noqa: F401 (METHODS ... shared_theory: importable here as before)
@@ -220,8 +222,14 @@ class LineContact(ContactModel):
         object (:mod:`fastline.laws`: :class:`~fastline.laws.TabulatedLaw`, your own).
     method : {"newton", "picard"}
         Newton-Krylov (default) or the plain damped fixed point (for comparison).
-    gamma : float
-        Yang-Persson parameter of the theory, in (0, 1] (default 0.45).
+    gamma : float, optional
+        Parameter gamma of the theory's correction S(P), in [0.05, 1] (default: the variant's
+        own, 0.45; 5/9 for ``"wang-mueser"``).
+    variant : str, optional
+        Variant of the theory's u(p) (:mod:`fastline.variants`, docs/theory.md):
+        ``"yang-persson-energy"`` (None, the default), ``"yang-persson-printed"`` or
+        ``"wang-mueser"``. Ignored for ``model="hertz"`` and for laws without a theory;
+        with ``theory=`` it must name the theory's own variant (or be None).
     n : int, optional
         Grid points, in [16, 2^22] (default 1024; with ``accuracy``, the first grid tried).
     half_width : float, optional
@@ -236,7 +244,7 @@ class LineContact(ContactModel):
     u0, beta : float, optional
         Exponential-law parameters for ``model="exponential"`` (m, dimensionless).
     theory : PerssonTheory, optional
-        A prebuilt theory for ``psd`` and ``E_star`` (its gamma is used).
+        A prebuilt theory for ``psd`` and ``E_star`` (its gamma and variant are used).
     hardness : float, optional
         Indentation hardness of the softer solid in Pa, for the plasticity diagnostic.
     warn : bool
@@ -266,7 +274,8 @@ class LineContact(ContactModel):
         *,
         model: str | PressureLaw = "persson",
         method: str = "newton",
-        gamma: float = 0.45,
+        gamma: float | None = None,
+        variant: str | None = None,
         n: int | None = None,
         half_width: float | None = None,
         tol: float = 1e-8,
@@ -277,12 +286,14 @@ class LineContact(ContactModel):
         hardness: float | None = None,
         warn: bool = True,
         accuracy: float | None = None,
-    ):
+    ) -> None:
         self._check_settings(E_star, radius, method, DEFAULT_N if n is None else n)
         self._n_given = None if n is None else self.n  # with accuracy=, the first grid tried
         self.accuracy = resolution.check_accuracy(accuracy)
         self.half_width = self._check_extent("half_width", half_width)
-        self._check_rest(psd, model, gamma, tol, max_iter, u0, beta, theory, hardness, warn)
+        self._check_rest(
+            psd, model, gamma, variant, tol, max_iter, u0, beta, theory, hardness, warn
+        )
         if self.accuracy is not None and self._law is None:
             raise ValueError("accuracy needs a pressure law (model='hertz' converges at order ~1)")
 
@@ -423,7 +434,7 @@ class LineContact(ContactModel):
 # one-call functions
 # ----------------------------------------------------------------------------------------------
 def solve_line_contact(
-    psd: PSD | None, E_star: float, radius: float, load: float, **options
+    psd: PSD | None, E_star: float, radius: float, load: float, **options: Any
 ) -> LineContactResult:
     """Solve for the nominal pressure under a rigid cylinder on a rough elastic half-space.
 
@@ -443,8 +454,8 @@ def solve_line_contact(
     load : float
         Normal load per unit length f_N in N/m.
     **options
-        Keyword options of :class:`LineContact` (model, method, gamma, n, half_width, tol,
-        max_iter, u0, beta, theory, hardness, warn).
+        Keyword options of :class:`LineContact` (model, method, gamma, variant, n, half_width,
+        tol, max_iter, u0, beta, theory, hardness, warn).
 
     Returns
     -------
@@ -453,13 +464,17 @@ def solve_line_contact(
     return LineContact(psd, E_star, radius, **options).solve(load)
 
 
-def profile(psd, E_star, radius, load, **options) -> tuple[np.ndarray, np.ndarray]:
+def profile(
+    psd: PSD | None, E_star: float, radius: float, load: float, **options: Any
+) -> tuple[np.ndarray, np.ndarray]:
     """Pressure profile ``(x [m], p [Pa])`` of one scene (see :func:`solve_line_contact`)."""
     res = solve_line_contact(psd, E_star, radius, load, **options)
     return res.x, res.pressure
 
 
-def _per_load(attr: str, psd, E_star, radius, load, options) -> float | np.ndarray:
+def _per_load(
+    attr: str, psd: PSD | None, E_star: float, radius: float, load: ArrayLike, options: dict
+) -> float | np.ndarray:
     loads = np.asarray(load, dtype=np.float64)
     lc = LineContact(psd, E_star, radius, **options)
     if loads.ndim == 0:
@@ -468,11 +483,15 @@ def _per_load(attr: str, psd, E_star, radius, load, options) -> float | np.ndarr
     return np.array([getattr(r, attr) for r in results]).reshape(loads.shape)
 
 
-def w_over_s(psd, E_star, radius, load: float | Sequence[float], **options):
+def w_over_s(
+    psd: PSD | None, E_star: float, radius: float, load: ArrayLike, **options: Any
+) -> float | np.ndarray:
     """FWHM-to-standard-deviation ratio w/s; a float, or an array for an array of loads."""
     return _per_load("w_over_s", psd, E_star, radius, load, options)
 
 
-def p0_ratio(psd, E_star, radius, load: float | Sequence[float], **options):
+def p0_ratio(
+    psd: PSD | None, E_star: float, radius: float, load: ArrayLike, **options: Any
+) -> float | np.ndarray:
     """Peak-pressure ratio p0(rough)/p0(Hertz); a float, or an array for an array of loads."""
     return _per_load("p0_ratio", psd, E_star, radius, load, options)

@@ -27,10 +27,16 @@ roughness*.
 from __future__ import annotations
 
 import math
-from collections.abc import Callable
+import os
+from collections.abc import Callable, Iterable
 from dataclasses import dataclass, field
+from typing import TYPE_CHECKING, Any, Literal
 
 import numpy as np
+from numpy.typing import ArrayLike
+
+if TYPE_CHECKING:  # annotations only: the solvers load on first use
+    from fastline.variants import Variant, VariantName
 
 __all__ = [
     "E_STAR",
@@ -51,7 +57,11 @@ __all__ = [
     "SPHERE_FIG3_ALPHA",
     "sphere_load_for_alpha",
     "sphere_paper_data",
+    "write_files",
+    "write_sphere_files",
 ]
+
+_Format = Literal["png", "pdf", "svg"]
 
 #: effective modulus E* of the paper's scene [Pa]
 E_STAR = 1.33e9
@@ -84,7 +94,9 @@ def surfaces(q1: float = Q1) -> tuple:
     return tuple(SelfAffinePSD(h, H, Q0, QR, q1) for _label, h, H in SURFACES)
 
 
-def load_for_alpha(alpha, h_rms: float = 10e-6, E_star: float = E_STAR):
+def load_for_alpha(
+    alpha: ArrayLike, h_rms: float = 10e-6, E_star: float = E_STAR
+) -> float | np.ndarray:
     """Load per unit length f_N [N/m] that gives ``alpha = h_rms / delta``.
 
     With the Hertz penetration ``delta = 4 f_N / (pi E*)`` (paper eq. 9),
@@ -143,6 +155,8 @@ class PaperData:
         Cut-off in 1/m and the theory's gamma.
     n : int
         Grid points of every solve.
+    variant : str
+        Name of the theory's variant (:mod:`fastline.variants`).
     """
 
     surfaces: list
@@ -151,6 +165,7 @@ class PaperData:
     q1: float
     gamma: float
     n: int
+    variant: str = "yang-persson-energy"
 
     @property
     def results(self) -> list:
@@ -164,8 +179,8 @@ def paper_data(
     n: int = 1024,
     gamma: float = 0.45,
     progress: Callable[[str], None] | None = None,
-    variant: str = "yang-persson-energy",
-    **solve_options,
+    variant: VariantName | Variant = "yang-persson-energy",
+    **solve_options: Any,
 ) -> PaperData:
     """Solve the scenes behind the paper's Figs. 2-5 (no plotting, no files, no warnings).
 
@@ -194,6 +209,7 @@ def paper_data(
     """
     from fastline.line_contact import solve_line_contact
     from fastline.persson import PerssonTheory
+    from fastline.variants import get_variant
 
     kw = {**solve_options, "warn": False}
     fN = paper_loads(loads)
@@ -209,13 +225,16 @@ def paper_data(
         out.append(surf)
     s1 = out[0]
     fig3 = solve_line_contact(s1.psd, E_STAR, RADIUS, FIG3_LOAD, n=n, theory=s1.theory, **kw)
-    return PaperData(surfaces=out, fig3=fig3, loads=fN, q1=q1, gamma=gamma, n=n)
+    name = get_variant(variant).name
+    return PaperData(surfaces=out, fig3=fig3, loads=fN, q1=q1, gamma=gamma, n=n, variant=name)
 
 
 # ----------------------------------------------------------------------------------------------
 # the sphere versions
 # ----------------------------------------------------------------------------------------------
-def sphere_load_for_alpha(alpha, h_rms: float = 10e-6, E_star: float = E_STAR, radius=RADIUS):
+def sphere_load_for_alpha(
+    alpha: ArrayLike, h_rms: float = 10e-6, E_star: float = E_STAR, radius: float = RADIUS
+) -> float | np.ndarray:
     """Load F [N] on a sphere that gives ``alpha = h_rms / delta``.
 
     With the Hertz penetration ``delta = a^2 / R`` and ``a^3 = 3 F R / (4 E*)``,
@@ -231,8 +250,8 @@ def sphere_paper_data(
     n: int = 512,
     gamma: float = 0.45,
     progress: Callable[[str], None] | None = None,
-    variant: str = "yang-persson-energy",
-    **solve_options,
+    variant: VariantName | Variant = "yang-persson-energy",
+    **solve_options: Any,
 ) -> PaperData:
     """Solve the sphere versions of the paper's Figs. 3-5 (no plotting, no files, no warnings).
 
@@ -265,6 +284,7 @@ def sphere_paper_data(
     """
     from fastline.persson import PerssonTheory
     from fastline.point_contact import PointContact
+    from fastline.variants import get_variant
 
     kw = {**solve_options, "warn": False}
     alphas = np.geomspace(SPHERE_ALPHA_RANGE[0], SPHERE_ALPHA_RANGE[1], loads)
@@ -280,4 +300,203 @@ def sphere_paper_data(
     model = PointContact(s1.psd, E_STAR, RADIUS, n=n, theory=s1.theory, **kw)
     fig3 = model.solve(float(sphere_load_for_alpha(SPHERE_FIG3_ALPHA, s1.h_rms)))
     fN = sphere_load_for_alpha(alphas, SURFACES[0][1])
-    return PaperData(surfaces=out, fig3=fig3, loads=fN, q1=q1, gamma=gamma, n=n)
+    name = get_variant(variant).name
+    return PaperData(surfaces=out, fig3=fig3, loads=fN, q1=q1, gamma=gamma, n=n, variant=name)
+
+
+# ----------------------------------------------------------------------------------------------
+# files: the figures and the CSV tables behind them
+# ----------------------------------------------------------------------------------------------
+def write_files(
+    data: PaperData,
+    out: str | os.PathLike,
+    *,
+    format: _Format | None = None,
+    dpi: float | None = None,
+) -> list[str]:
+    """Write the paper's Figs. 2-5 and the CSV table behind each into the directory ``out``.
+
+    Files (figures in ``format``, PNG by default): ``fig2_psd`` (C(q) of surfaces 1-3 at 400
+    log-spaced q from q0 to q1), ``fig3_profile`` (p(x) of surface 1 at :data:`FIG3_LOAD`, rough
+    and Hertz), ``fig4_ws`` and ``fig5_p0ratio`` (the load sweeps: alpha, p0, p0 ratio, s, w, w/s
+    and the Gaussian asymptote of paper eq. 14, one row per surface and load). Each CSV's
+    header records the scene (:func:`fastline.io.scene_metadata`: E*, R, gamma, n, the
+    variant when not the default, q0, qr, q1 and the surfaces).
+
+    Parameters
+    ----------
+    data : PaperData
+        From :func:`paper_data`.
+    out : str or path-like
+        Existing, writable directory.
+    format : {"png", "pdf", "svg"}, optional
+        Figure format (default PNG).
+    dpi : float, optional
+        Resolution of PNG figures (default: :func:`fastline.plotting.save_figure`'s).
+
+    Returns
+    -------
+    list of str
+        The names of the files written (relative to ``out``), in the order written.
+    """
+    from fastline import plotting
+    from fastline.io import sweep_rows
+    from fastline.limits import hertz_line_contact, p0_ratio_gaussian
+
+    files, surfs, meta = _Files(out, format, dpi), data.surfaces, _files_metadata(data)
+    q = np.geomspace(Q0, data.q1, 400)
+    cols = [s.psd(q) for s in surfs]
+    header = ["q_1_per_m", "C1_m4", "C2_m4", "C3_m4"]
+    files.csv("fig2_psd", header, zip(q, *cols, strict=True), meta, "Fig. 2: C(q) of surfaces 1-3")
+    files.figure("fig2_psd", plotting.plot_psd({_surface_label(s): s.psd for s in surfs}))
+
+    r3 = data.fig3
+    hz = hertz_line_contact(E_STAR, RADIUS, FIG3_LOAD)
+    files.csv(
+        "fig3_profile",
+        ["x_m", "p_rough_Pa", "p_hertz_Pa"],
+        zip(r3.x, r3.pressure, hz.pressure(r3.x), strict=True),
+        {**meta, "load_N_per_m": FIG3_LOAD, "alpha": r3.alpha},
+        "Fig. 3: p(x) of surface 1, rough and smooth (Hertz)",
+    )
+    files.figure("fig3_profile", plotting.plot_profile(r3, label="rough (surface 1)"))
+
+    header = ["surface", "h_rms_m", "hurst", "load_N_per_m", "alpha", "p0_Pa", "p0_ratio", "s_m"]
+    header += ["w_m", "w_over_s", "converged", "gamma_u", "p0_ratio_eq14"]
+    rows = []
+    for i, s in enumerate(surfs):
+        for row in sweep_rows(s.results):
+            eq14 = float(p0_ratio_gaussian(row[1], s.gamma_u))
+            rows.append((str(i + 1), s.h_rms, s.hurst, *row[:7], row[7], s.gamma_u, eq14))
+    title = "Figs. 4-5: load sweeps 1e3..1.5e6 N/m (log-spaced)"
+    _sweep_files(files, ("fig4_ws", "fig5_p0ratio"), data, (header, rows), meta, title)
+    return files.written
+
+
+def write_sphere_files(
+    data: PaperData,
+    out: str | os.PathLike,
+    *,
+    format: _Format | None = None,
+    dpi: float | None = None,
+) -> list[str]:
+    """Write the sphere versions of the paper's Figs. 3-5 and their CSV tables into ``out``.
+
+    Files (figures in ``format``, PNG by default): ``fig3_profile_sphere`` (p(r) of surface 1
+    at alpha = :data:`SPHERE_FIG3_ALPHA`, rough and Hertz), ``fig4_ws_sphere`` and
+    ``fig5_p0ratio_sphere`` (the sweeps over :data:`SPHERE_ALPHA_RANGE`, with the Gaussian
+    asymptote 1/(3 gamma_u alpha), :func:`fastline.limits.p0_ratio_gaussian_sphere`). The CSV
+    headers record the scene as :func:`write_files` does, with ``geometry: sphere``.
+
+    Parameters
+    ----------
+    data : PaperData
+        From :func:`sphere_paper_data`.
+    out : str or path-like
+        Existing, writable directory.
+    format : {"png", "pdf", "svg"}, optional
+        Figure format (default PNG).
+    dpi : float, optional
+        Resolution of PNG figures.
+
+    Returns
+    -------
+    list of str
+        The names of the files written (relative to ``out``), in the order written.
+    """
+    from fastline import plotting
+    from fastline.io import sweep_rows
+    from fastline.limits import hertz_point_contact, p0_ratio_gaussian_sphere
+
+    files, meta = _Files(out, format, dpi), _files_metadata(data, geometry="sphere")
+    r3 = data.fig3
+    hz = hertz_point_contact(E_STAR, RADIUS, r3.load)
+    files.csv(
+        "fig3_profile_sphere",
+        ["r_m", "p_rough_Pa", "p_hertz_Pa"],
+        zip(r3.r, r3.pressure, hz.pressure(r3.r), strict=True),
+        {**meta, "load_N": r3.load, "alpha": r3.alpha},
+        "Sphere version of Fig. 3: p(r) of surface 1, rough and smooth (Hertz)",
+    )
+    files.figure("fig3_profile_sphere", plotting.plot_profile(r3, label="rough (surface 1)"))
+
+    header = ["surface", "h_rms_m", "hurst", "load_N", "alpha", "p0_Pa", "p0_ratio", "s_m"]
+    header += ["w_m", "w_over_s", "converged", "gamma_u", "p0_ratio_gaussian"]
+    rows = []
+    for i, s in enumerate(data.surfaces):
+        for row in sweep_rows(s.results):
+            gauss = float(p0_ratio_gaussian_sphere(row[1], s.gamma_u))
+            rows.append((str(i + 1), s.h_rms, s.hurst, *row, s.gamma_u, gauss))
+    lo, hi = SPHERE_ALPHA_RANGE
+    title = (
+        f"Sphere versions of Figs. 4-5: loads F [N] per surface with alpha log-spaced over "
+        f"{lo:g}..{hi:g} (F = (4/3) E* R^(1/2) (h_rms/alpha)^(3/2)); p0_ratio_gaussian = "
+        "1/(3 gamma_u alpha)"
+    )
+    names = ("fig4_ws_sphere", "fig5_p0ratio_sphere")
+    _sweep_files(files, names, data, (header, rows), meta, title)
+    return files.written
+
+
+class _Files:
+    """Writes into the directory ``out`` and keeps the names written, in order."""
+
+    def __init__(self, out: str | os.PathLike, format: _Format | None, dpi: float | None) -> None:
+        self.out, self.format, self.dpi = out, format, dpi
+        self.written: list[str] = []
+
+    def _path(self, name: str) -> str:
+        self.written.append(name)
+        return os.path.join(self.out, name)
+
+    def csv(self, name: str, header: list, rows: Iterable, meta: dict, title: str) -> None:
+        from fastline.io import write_csv
+
+        write_csv(self._path(f"{name}.csv"), header, rows, meta, title=title)
+
+    def figure(self, name: str, fig: Any) -> None:
+        from fastline.plotting import save_figure
+
+        path = self._path(f"{name}.{self.format or 'png'}")
+        save_figure(fig, path, format=self.format, dpi=self.dpi)
+
+
+def _sweep_files(
+    files: _Files,
+    names: tuple[str, str],
+    data: PaperData,
+    table: tuple[list, list],
+    meta: dict,
+    title: str,
+) -> None:
+    """The two sweep tables (the same rows in each CSV), then Figs. 4 (w/s) and 5 (p0 ratio)."""
+    from fastline import plotting
+
+    fig4, fig5 = names
+    header, rows = table
+    files.csv(fig4, header, rows, meta, title)
+    files.csv(fig5, header, rows, meta, title)
+    series = {s.label: s.results for s in data.surfaces}
+    files.figure(fig4, plotting.plot_w_over_s(series))
+    gamma_u = {s.label: s.gamma_u for s in data.surfaces}
+    files.figure(fig5, plotting.plot_p0_ratio(series, gamma_u=gamma_u))
+
+
+def _files_metadata(data: PaperData, **geometry: str) -> dict:
+    """The header of every CSV: the scene without a single spectrum, then the three surfaces."""
+    from fastline.io import scene_metadata
+    from fastline.variants import DEFAULT_VARIANT
+
+    variant = {} if data.variant == DEFAULT_VARIANT else {"variant": data.variant}
+    meta = scene_metadata(
+        None, E_STAR, RADIUS, model="persson", gamma=data.gamma, n=data.n, **variant
+    )
+    meta.pop("spectrum")
+    meta.update(**geometry, q0_1_per_m=Q0, qr_1_per_m=QR, q1_1_per_m=data.q1)
+    for s in data.surfaces:
+        meta[s.label.replace(" ", "_")] = f"h_rms {s.h_rms:g} m, H {s.hurst:g}"
+    return meta
+
+
+def _surface_label(s: PaperSurface) -> str:
+    return f"{s.label}: $h_\\mathrm{{rms}}$ = {s.h_rms * 1e6:g} µm, $H$ = {s.hurst:g}"

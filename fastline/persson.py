@@ -39,9 +39,11 @@ import math
 import threading
 from collections import namedtuple
 from dataclasses import dataclass
+from typing import TYPE_CHECKING
 
 import numba
 import numpy as np
+from numpy.typing import ArrayLike
 
 from fastline._jit import JIT
 from fastline._special import _F, EULER_GAMMA, G0, f_coefficients
@@ -49,7 +51,10 @@ from fastline._special_area import _beta_area, _F_area, _Y_area, area_tables
 from fastline._tabulated import EtaRule, tabulated_quadrature
 from fastline._validate import E_STAR_RANGE, finite_array, in_range, in_span, positive_array
 from fastline.spectra import PSD, TabulatedPSD
-from fastline.variants import DEFAULT_VARIANT, get_variant
+from fastline.variants import DEFAULT_VARIANT, Variant, VariantName, get_variant
+
+if TYPE_CHECKING:  # annotations only: leakage imports this module lazily
+    from fastline.leakage import CriticalGap
 
 __all__ = [
     "PerssonTheory",
@@ -403,7 +408,7 @@ def _float_bits(u):
 
 
 @numba.njit(inline="always", **JIT)
-def pressure_at(tables, u):
+def pressure_at(tables: PerssonTables, u: float) -> float:
     """Nominal pressure p(u) in Pa for one separation u in m, callable from ``@njit`` code.
 
     ``tables`` is ``theory.jit()``. Same tables and arithmetic as
@@ -428,7 +433,7 @@ def _log_pressure_near_contact(tables, u):
 
 
 @numba.njit(inline="always", **JIT)
-def separation_at(tables, p):
+def separation_at(tables: PerssonTables, p: float) -> float:
     """Mean separation u(p) in m for one nominal pressure p in Pa, callable from ``@njit`` code.
 
     ``tables`` is ``theory.jit()``. From table T1 (as :meth:`PerssonTheory.separation_table`);
@@ -540,7 +545,15 @@ class PerssonTheory:
     solver use the tables, whose error against ``separation`` is below ``rtol``.
     """
 
-    def __init__(self, psd: PSD, E_star, gamma=None, rtol=1e-6, *, variant=DEFAULT_VARIANT):
+    def __init__(
+        self,
+        psd: PSD,
+        E_star: float,
+        gamma: float | None = None,
+        rtol: float = 1e-6,
+        *,
+        variant: VariantName | Variant = DEFAULT_VARIANT,
+    ) -> None:
         if not isinstance(psd, PSD):
             raise ValueError(f"psd must be a fastline PSD, got {type(psd).__name__}")
         var = get_variant(variant)
@@ -663,7 +676,7 @@ class PerssonTheory:
         return (Cf, base, logm, 1.0 / u0, math.exp(L[0]), v0, V[0], self._t1)
 
     # -- public methods -------------------------------------------------------------------------
-    def separation(self, p) -> np.ndarray:
+    def separation(self, p: ArrayLike) -> np.ndarray:
         """Mean interfacial separation u(p) in m for nominal pressures p in Pa (> 0).
 
         Evaluates the Yang-Persson integral directly (quadrature over q with the universal
@@ -672,7 +685,7 @@ class PerssonTheory:
         p = positive_array("p", p)
         return self._u_direct(p.ravel()).reshape(p.shape)
 
-    def pressure(self, u) -> np.ndarray:
+    def pressure(self, u: ArrayLike) -> np.ndarray:
         """Nominal pressure p(u) in Pa for separations u in m (> 0): the inverse of u(p).
 
         From the tables (relative accuracy ``rtol``) up to ``w(q1) p/E* = 12`` (u < 1e-60 m for
@@ -686,7 +699,7 @@ class PerssonTheory:
         flat = np.ascontiguousarray(u.ravel())
         return _pressure_from_table(flat, self._t2).reshape(u.shape)
 
-    def separation_table(self, p):
+    def separation_table(self, p: ArrayLike) -> tuple[np.ndarray, np.ndarray]:
         """u(p) in m and du/dv (v = ln p) from the table T1 (what the solver uses)."""
         p = positive_array("p", p)
         v = np.ascontiguousarray(np.log(p.ravel()))
@@ -700,7 +713,7 @@ class PerssonTheory:
         from the construction (the solvers' diagnostics ask for it on every solve)."""
         return math.sqrt(2.0) / self._w1
 
-    def contact_area(self, p, q=None) -> np.ndarray:
+    def contact_area(self, p: ArrayLike, q: ArrayLike | None = None) -> np.ndarray:
         """Relative contact area ``P(q, p) = erf(w(q) p / E*)`` (dimensionless); for the
         ``"wang-mueser"`` variant ``erf(Y(w(q) p / E*))`` (:mod:`fastline._special_area`).
 
@@ -830,12 +843,12 @@ class PerssonTheory:
         extra = "" if self.variant == DEFAULT_VARIANT else f", variant={self.variant!r}"
         return f"PerssonTheory({self.psd!r}, E_star={self.E_star!r}, gamma={self.gamma!r}{extra})"
 
-    # -- the interface at magnification zeta: leakage (fastline.leakage, THEORY.md section 8) --
+    # -- the interface at magnification zeta: leakage (fastline.leakage, docs/leakage.md) --
     # Issue 12's names: P(zeta) -> apparent_area, u_bar(zeta, p) -> mean_separation,
     # u1(zeta) -> edge_separation, critical_gap. The work is done in fastline.leakage.
-    def apparent_area(self, zeta, p) -> np.ndarray:
+    def apparent_area(self, zeta: ArrayLike, p: ArrayLike) -> np.ndarray:
         """Apparent relative contact area ``P(zeta)`` at magnification zeta for a uniform
-        nominal pressure p in Pa; ``contact_area(p, zeta * q0)`` (THEORY.md 8.1).
+        nominal pressure p in Pa; ``contact_area(p, zeta * q0)`` (docs/leakage.md §1).
 
         See :func:`fastline.leakage.apparent_area`.
         """
@@ -843,9 +856,9 @@ class PerssonTheory:
 
         return leakage.apparent_area(self, zeta, p)
 
-    def mean_separation(self, zeta, p) -> np.ndarray:
+    def mean_separation(self, zeta: ArrayLike, p: ArrayLike) -> np.ndarray:
         """Mean separation ``u_bar(zeta, p)`` in m inside the apparent contact at magnification
-        zeta (THEORY.md 8.2); ``mean_separation(1, p) == separation(p)``.
+        zeta (docs/leakage.md §2); ``mean_separation(1, p) == separation(p)``.
 
         See :func:`fastline.leakage.mean_separation`.
         """
@@ -853,9 +866,9 @@ class PerssonTheory:
 
         return leakage.mean_separation(self, zeta, p)
 
-    def edge_separation(self, zeta, p) -> np.ndarray:
+    def edge_separation(self, zeta: ArrayLike, p: ArrayLike) -> np.ndarray:
         """Persson's ``u1(zeta) = u_bar + u_bar' P / P'`` in m: the separation in the area
-        leaving contact at magnification zeta (THEORY.md 8.2); ``>= mean_separation``.
+        leaving contact at magnification zeta (docs/leakage.md §2); ``>= mean_separation``.
 
         See :func:`fastline.leakage.edge_separation`.
         """
@@ -863,10 +876,11 @@ class PerssonTheory:
 
         return leakage.edge_separation(self, zeta, p)
 
-    def critical_gap(self, p, threshold=0.42):
-        """The critical constriction for uniform nominal pressures p in Pa (THEORY.md 8.3):
-        a :class:`fastline.leakage.CriticalGap` with ``gap`` (u_c in m), ``zeta`` (zeta_c) and
-        ``sealed`` (``P(q1, p) >= threshold``, where the gap is 0).
+    def critical_gap(self, p: ArrayLike, threshold: float = 0.42) -> CriticalGap:
+        """The critical constriction for uniform nominal pressures p in Pa (docs/leakage.md §3):
+        a :class:`fastline.leakage.CriticalGap` with ``u_c`` (the gap in m), ``zeta``
+        (zeta_c), ``sealed`` (``P(q1, p) >= threshold``, where ``u_c`` is 0) and
+        ``threshold``.
 
         See :func:`fastline.leakage.critical_gap`.
         """

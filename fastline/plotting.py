@@ -17,9 +17,26 @@ from __future__ import annotations
 
 import math
 import os
-from collections.abc import Mapping
+from collections.abc import Mapping, Sequence
+from typing import TYPE_CHECKING, Literal, TypeAlias
 
 import numpy as np
+from numpy.typing import ArrayLike
+
+if TYPE_CHECKING:  # annotations only: matplotlib and the solvers load on first use
+    from matplotlib.axes import Axes
+    from matplotlib.figure import Figure
+
+    from fastline.leakage import LeakResult
+    from fastline.line_contact import LineContactResult
+    from fastline.point_contact import PointContactResult
+    from fastline.scan import ScanSpectrum
+    from fastline.spectra import PSD
+    from fastline.validation import FlatValidation, LineValidation
+
+    ContactResult: TypeAlias = LineContactResult | PointContactResult
+    #: one load sweep, or several by label
+    Sweeps: TypeAlias = Sequence[ContactResult] | Mapping[str, Sequence[ContactResult]]
 
 __all__ = [
     "FORMATS",
@@ -121,7 +138,9 @@ def _sorted(results):
     return sorted(results, key=lambda r: r.alpha)
 
 
-def plot_psd(psds, *, q=None, ax=None):
+def plot_psd(
+    psds: PSD | Mapping[str, PSD], *, q: ArrayLike | None = None, ax: Axes | None = None
+) -> Figure:
     """Power spectra C(q) on log-log axes.
 
     Parameters
@@ -155,7 +174,13 @@ def plot_psd(psds, *, q=None, ax=None):
     return fig
 
 
-def plot_profile(result, *, hertz: bool = True, label: str | None = None, ax=None):
+def plot_profile(
+    result: ContactResult,
+    *,
+    hertz: bool = True,
+    label: str | None = None,
+    ax: Axes | None = None,
+) -> Figure:
     """Pressure profile p(x) of one result, with the smooth (Hertz) profile at the same load.
 
     A point contact's profile is drawn along a diameter, with the Hertz sphere.
@@ -230,7 +255,7 @@ def _ws_limits(values, hertz: float | None = None) -> tuple[float, float]:
     return lo - pad, hi + pad
 
 
-def plot_w_over_s(results, *, ax=None):
+def plot_w_over_s(results: Sweeps, *, ax: Axes | None = None) -> Figure:
     """w/s against alpha (log axis) with the Hertz and Gaussian values labelled.
 
     Parameters
@@ -283,7 +308,12 @@ def _gamma_u_for(gamma_u, label):
     return gamma_u
 
 
-def plot_p0_ratio(results, *, gamma_u=None, ax=None):
+def plot_p0_ratio(
+    results: Sweeps,
+    *,
+    gamma_u: float | Mapping[str, float] | None = None,
+    ax: Axes | None = None,
+) -> Figure:
     """p0/p0_Hertz against alpha (log axis), with the Gaussian asymptote (paper eq. 14).
 
     Parameters
@@ -340,7 +370,7 @@ def plot_p0_ratio(results, *, gamma_u=None, ax=None):
     return fig
 
 
-def plot_sweep(results, *, gamma_u=None):
+def plot_sweep(results: Sweeps, *, gamma_u: float | Mapping[str, float] | None = None) -> Figure:
     """Two panels of a load sweep: w/s and p0/p0_Hertz against alpha.
 
     Parameters
@@ -392,7 +422,7 @@ def _leak_band(leak) -> tuple[float, float, str]:
     return lo, hi, f"90% of the flow resistance ({(hi - lo) * 1e6:.3g} µm wide)"
 
 
-def plot_leak(leak, *, axes=None):
+def plot_leak(leak: LeakResult, *, axes: Sequence[Axes] | None = None) -> Figure:
     """Where a seal leaks: p(x) above, the critical gap u_c(x) below (log axis), sharing x.
 
     The region holding the central 90% of the flow resistance (or, when sealed, the sealed
@@ -454,7 +484,13 @@ def plot_leak(leak, *, axes=None):
     return fig
 
 
-def plot_leak_sweep(loads, leaks, *, label: str | None = None, ax=None):
+def plot_leak_sweep(
+    loads: ArrayLike,
+    leaks: Sequence[LeakResult],
+    *,
+    label: str | None = None,
+    ax: Axes | None = None,
+) -> Figure:
     """Leak rate Q against load on log-log axes: how much squeeze stops the leak.
 
     Sealed loads (Q = 0, not on a log axis) are marked by triangles at the bottom of the axes
@@ -544,7 +580,7 @@ def _pressure_axis(ax) -> None:
     ax.xaxis.set_minor_formatter(NullFormatter())
 
 
-def plot_validation(validation, *, ax=None):
+def plot_validation(validation: LineValidation, *, ax: Axes | None = None) -> Figure:
     """Theory against BEM for a cylinder (:func:`fastline.validation.validate_line_contact`):
     the BEM ensemble ``p_bar(x)`` with a band of two standard errors, each model's p(x) and the
     Hertz profile.
@@ -594,7 +630,9 @@ def plot_validation(validation, *, ax=None):
     return fig
 
 
-def plot_flat_validation(validation, *, axes=None):
+def plot_flat_validation(
+    validation: FlatValidation, *, axes: Sequence[Axes] | None = None
+) -> Figure:
     """Theory against BEM for a flat contact (:func:`fastline.validation.validate_flat_contact`):
     mean separation u(p) of each model against the BEM mean gap (left), the critical-junction
     gap u_c against the BEM's Reynolds effective gap (right); BEM points with two standard
@@ -715,7 +753,7 @@ def _c_panel(ax, scan) -> None:
     _corner_legend(ax)
 
 
-def plot_measured_psd(scan, *, axes=None):
+def plot_measured_psd(scan: ScanSpectrum, *, axes: Axes | Sequence[Axes] | None = None) -> Figure:
     """The spectrum of a measured surface on log-log axes: what was measured, used and fitted.
 
     Profiles: two panels, the 1D spectrum C1D(k) (every Fourier mode in grey, averaged points
@@ -751,7 +789,13 @@ def plot_measured_psd(scan, *, axes=None):
     return fig
 
 
-def save_figure(fig, path, *, format: str | None = None, dpi: float | None = None) -> str:
+def save_figure(
+    fig: Figure,
+    path: str | os.PathLike,
+    *,
+    format: Literal["png", "pdf", "svg"] | None = None,
+    dpi: float | None = None,
+) -> str:
     """Write a figure to ``path`` (PNG, PDF or SVG) and return the path.
 
     Parameters

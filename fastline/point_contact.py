@@ -28,7 +28,7 @@ from __future__ import annotations
 import math
 from collections.abc import Callable, Iterable
 from dataclasses import dataclass, field
-from typing import ClassVar
+from typing import Any, ClassVar
 
 import numpy as np
 
@@ -256,8 +256,14 @@ class PointContact(ContactModel):
         p(u) relation, as for :class:`~fastline.LineContact`.
     method : {"newton", "picard"}
         Newton-Krylov (default) or the plain damped fixed point (for comparison).
-    gamma : float
-        Yang-Persson parameter of the theory, in (0, 1] (default 0.45).
+    gamma : float, optional
+        Parameter gamma of the theory's correction S(P), in [0.05, 1] (default: the variant's
+        own, 0.45; 5/9 for ``"wang-mueser"``).
+    variant : str, optional
+        Variant of the theory's u(p) (:mod:`fastline.variants`, docs/theory.md):
+        ``"yang-persson-energy"`` (None, the default), ``"yang-persson-printed"`` or
+        ``"wang-mueser"``. Ignored for ``model="hertz"`` and for laws without a theory;
+        with ``theory=`` it must name the theory's own variant (or be None).
     n : int
         Cells from the axis to the domain edge (a central disc and n - 1 rings), in
         [16, 4096] (default 512; the operator is a dense n x n matrix).
@@ -272,7 +278,7 @@ class PointContact(ContactModel):
     u0, beta : float, optional
         Exponential-law parameters for ``model="exponential"`` (m, dimensionless).
     theory : PerssonTheory, optional
-        A prebuilt theory for ``psd`` and ``E_star`` (its gamma is used).
+        A prebuilt theory for ``psd`` and ``E_star`` (its gamma and variant are used).
     hardness : float, optional
         Indentation hardness of the softer solid in Pa, for the plasticity diagnostic.
     warn : bool
@@ -312,7 +318,8 @@ class PointContact(ContactModel):
         *,
         model: str | PressureLaw = "persson",
         method: str = "newton",
-        gamma: float = 0.45,
+        gamma: float | None = None,
+        variant: str | None = None,
         n: int = DEFAULT_N,
         domain_radius: float | None = None,
         tol: float = 1e-8,
@@ -322,10 +329,12 @@ class PointContact(ContactModel):
         theory: PerssonTheory | None = None,
         hardness: float | None = None,
         warn: bool = True,
-    ):
+    ) -> None:
         self._check_settings(E_star, radius, method, n)
         self.domain_radius = self._check_extent("domain_radius", domain_radius)
-        self._check_rest(psd, model, gamma, tol, max_iter, u0, beta, theory, hardness, warn)
+        self._check_rest(
+            psd, model, gamma, variant, tol, max_iter, u0, beta, theory, hardness, warn
+        )
 
     def __repr__(self):
         return (
@@ -422,7 +431,7 @@ class PointContact(ContactModel):
 
 
 def solve_point_contact(
-    psd: PSD | None, E_star: float, radius: float, load: float, **options
+    psd: PSD | None, E_star: float, radius: float, load: float, **options: Any
 ) -> PointContactResult:
     """Solve for the nominal pressure under a rigid sphere on a rough elastic half-space.
 
@@ -441,8 +450,8 @@ def solve_point_contact(
     load : float
         Normal load F in N.
     **options
-        Keyword options of :class:`PointContact` (model, method, gamma, n, domain_radius,
-        tol, max_iter, u0, beta, theory, hardness, warn).
+        Keyword options of :class:`PointContact` (model, method, gamma, variant, n,
+        domain_radius, tol, max_iter, u0, beta, theory, hardness, warn).
 
     Returns
     -------

@@ -518,7 +518,10 @@ def _level_tol(model: LineContact, target: float) -> float:
 
 
 def solve_to_accuracy(
-    model: LineContact, load: float, initial: LineContactResult | None = None, warn=None
+    model: LineContact,
+    load: float,
+    initial: LineContactResult | None = None,
+    warn: bool | None = None,
 ) -> LineContactResult:
     """Solve ``load`` (N/m) on grids refined until the error estimate meets
     ``model.accuracy``; the result of the last grid, with ``error_estimate`` set.

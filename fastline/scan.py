@@ -19,6 +19,7 @@ import math
 import os
 import warnings
 from dataclasses import dataclass
+from typing import Literal
 
 import numpy as np
 
@@ -269,21 +270,21 @@ def _table(measured: TabulatedPSD, fit, q1, extend: bool):
 
 
 def analyse_scan(
-    path,
+    path: str | os.PathLike,
     *,
-    dx=None,
-    dy=None,
+    dx: float | None = None,
+    dy: float | None = None,
     as_map: bool = False,
     unit: str = "m",
     x_unit: str | None = None,
-    window="hann",
-    detrend: str | None = None,
-    nan: str = "raise",
+    window: str | None = "hann",
+    detrend: Literal["linear", "plane", "mean", "parabola", "circle"] | None = None,
+    nan: Literal["raise", "interpolate"] = "raise",
     bins_per_decade: int = 20,
-    q_range="auto",
-    tip_radius=None,
-    noise=None,
-    q1=None,
+    q_range: tp.QRange = "auto",
+    tip_radius: float | None = None,
+    noise: float | None = None,
+    q1: float | None = None,
     extend: bool = False,
 ) -> ScanSpectrum:
     """The isotropic spectrum C(q) of a measured surface, its usable range, fit and table.

@@ -23,6 +23,7 @@ from __future__ import annotations
 import math
 
 import numpy as np
+from numpy.typing import ArrayLike
 
 from fastline._tabulated import interval_moments
 from fastline._validate import (
@@ -57,7 +58,7 @@ class PSD:
     q0: float
     q1: float
 
-    def __call__(self, q):  # pragma: no cover - abstract
+    def __call__(self, q: ArrayLike) -> np.ndarray:  # pragma: no cover - abstract
         raise NotImplementedError
 
     def _moment(self, k: int, q: np.ndarray) -> np.ndarray:  # pragma: no cover - abstract
@@ -71,7 +72,7 @@ class PSD:
     @property
     def _theories(self) -> dict:
         """Persson theories built for this spectrum by the one-call solvers, keyed by
-        (E*, gamma) (:func:`fastline.line_contact.shared_theory`); not pickled."""
+        (E*, gamma, variant) (:func:`fastline.line_contact.shared_theory`); not pickled."""
         cache = self.__dict__.get("_theory_cache")
         if cache is None:
             cache = self.__dict__.setdefault("_theory_cache", {})
@@ -83,7 +84,7 @@ class PSD:
         return state
 
     # -- derived quantities (shared) ------------------------------------------------------------
-    def cumulative(self, q) -> np.ndarray:
+    def cumulative(self, q: ArrayLike) -> np.ndarray:
         """``A(q) = pi int_0^q q'^3 C(q') dq'`` (dimensionless), docs/theory.md section 3."""
         q = np.asarray(q, dtype=np.float64)
         return math.pi * self._moment(3, q)
@@ -122,7 +123,7 @@ class SelfAffinePSD(PSD):
         [1e-3, 1e13].
     """
 
-    def __init__(self, h_rms, hurst, q0, qr, q1):
+    def __init__(self, h_rms: float, hurst: float, q0: float, qr: float, q1: float) -> None:
         self._h_rms = in_span("h_rms", h_rms, LENGTH_RANGE, "m")
         self.hurst = in_range("hurst", hurst, 0.0, 1.0)
         self.q0 = in_span("q0", q0, WAVENUMBER_RANGE, "1/m")
@@ -149,7 +150,7 @@ class SelfAffinePSD(PSD):
             f"qr={self.qr!r}, q1={self.q1!r})"
         )
 
-    def __call__(self, q):
+    def __call__(self, q: ArrayLike) -> np.ndarray:
         """C(q) in m^4 for q in 1/m (vectorised)."""
         q = np.asarray(q, dtype=np.float64)
         ratio = np.maximum(q, self.qr) / self.qr
@@ -164,7 +165,7 @@ class SelfAffinePSD(PSD):
         power = self.qr ** (k + 1) * _power_integral(t, k - 1 - 2.0 * self.hurst)
         return self.C0 * (flat + power)
 
-    def breakpoints(self):
+    def breakpoints(self) -> np.ndarray:
         return np.unique(np.array([self.q0, self.qr, self.q1]))
 
 
@@ -182,7 +183,7 @@ class TabulatedPSD(PSD):
         Power spectrum in m^4 at ``q``, >= 0 (same length).
     """
 
-    def __init__(self, q, C):
+    def __init__(self, q: ArrayLike, C: ArrayLike) -> None:
         q = finite_array("q", q, ndim=1)
         C = finite_array("C", C, ndim=1)
         if q.size < 2:
@@ -244,7 +245,7 @@ class TabulatedPSD(PSD):
         part = np.where(e == 0.0, log_t, np.expm1(safe_e * log_t) / safe_e)
         return np.where(self._live[i], self.C[i] * qi ** (k + 1) * part, 0.0)
 
-    def __call__(self, q):
+    def __call__(self, q: ArrayLike) -> np.ndarray:
         """C(q) in m^4 for q in 1/m (vectorised), log-log interpolated."""
         q = np.asarray(q, dtype=np.float64)
         i = self._index(q)
@@ -258,7 +259,7 @@ class TabulatedPSD(PSD):
         i = self._index(qc)
         return self._cum[k][i] + self._partial(k, i, qc)
 
-    def breakpoints(self):
+    def breakpoints(self) -> np.ndarray:
         return self.q[(self.q >= self.q0) & (self.q <= self.q1)].copy()
 
 
@@ -268,7 +269,7 @@ class SumPSD(PSD):
     ``C(q) = sum_i C_i(q)``; all moments add. Usually made with ``psd1 + psd2``.
     """
 
-    def __init__(self, *parts: PSD):
+    def __init__(self, *parts: PSD) -> None:
         flat = []
         for p in parts:
             if not isinstance(p, PSD):
@@ -283,17 +284,17 @@ class SumPSD(PSD):
     def __repr__(self):
         return " + ".join(repr(p) for p in self.parts)
 
-    def __call__(self, q):
+    def __call__(self, q: ArrayLike) -> np.ndarray:
         return sum(p(q) for p in self.parts)
 
     def _moment(self, k, q):
         return sum(p._moment(k, q) for p in self.parts)
 
-    def breakpoints(self):
+    def breakpoints(self) -> np.ndarray:
         return np.unique(np.concatenate([p.breakpoints() for p in self.parts]))
 
 
-def effective_modulus(E1, nu1, E2, nu2) -> float:
+def effective_modulus(E1: float, nu1: float, E2: float, nu2: float) -> float:
     """Effective plane-strain modulus E* in Pa of two elastic bodies (paper eq. 1).
 
     ``1/E* = (1 - nu1^2)/E1 + (1 - nu2^2)/E2``.

@@ -30,10 +30,12 @@ from __future__ import annotations
 import math
 import os
 import warnings
+from collections.abc import Iterator
 from dataclasses import dataclass, field
-from typing import NamedTuple
+from typing import Any, Literal, NamedTuple, TypeVar
 
 import numpy as np
+from numpy.typing import ArrayLike
 
 from fastline._abel import inverse_abel
 from fastline._validate import WAVENUMBER_RANGE, finite_scalar, integer, positive
@@ -49,6 +51,8 @@ __all__ = [
     "SelfAffineFit",
     "fit_self_affine",
     "CONVENTIONS",
+    "Convention",
+    "QRange",
     "convert_psd",
     "synthetic_surface",
     "Profile",
@@ -76,6 +80,11 @@ MAX_DROPOUT_FRACTION = 0.2
 #: plausibility of a measured surface (a unit slip by 1e3 or 1e6 falls outside)
 PLAUSIBLE_H_RMS = 1e-3  # m
 PLAUSIBLE_SLOPE = (1e-6, 5.0)
+
+#: a usable range: "auto" (the rules), None (everything), or (lo, hi) in 1/m with None for a rule
+QRange = Literal["auto"] | tuple[float | None, float | None] | None
+
+_T = TypeVar("_T")
 
 _INSTALL = 'pip install "fastline-contact[topography]" (the optional SurfaceTopography)'
 
@@ -406,10 +415,10 @@ class ProfileSpectrum:
     detrend: str
     form_radius: float | None = None
 
-    def __iter__(self):
+    def __iter__(self) -> Iterator[np.ndarray]:
         return iter((self.k, self.C1D))
 
-    def isotropic(self, **options) -> TabulatedPSD:
+    def isotropic(self, **options: Any) -> TabulatedPSD:
         """The isotropic 2D spectrum, ``isotropic_from_1d(k, C1D, **options)``."""
         return isotropic_from_1d(self.k, self.C1D, **options)
 
@@ -417,7 +426,7 @@ class ProfileSpectrum:
 _DETRENDS = ("mean", "linear", "parabola", "circle")
 
 
-def _choice(name: str, value, allowed) -> str:
+def _choice(name: str, value: _T, allowed: tuple[str, ...]) -> _T:
     if value not in allowed:
         raise ValueError(f"{name} must be one of {', '.join(map(repr, allowed))}, got {value!r}")
     return value
@@ -467,16 +476,16 @@ def _profile_points(k, C, q_rng, bins_per_decade):
 
 
 def psd_from_profile(
-    h,
-    dx,
+    h: ArrayLike,
+    dx: float,
     *,
-    window="hann",
-    detrend: str = "linear",
-    nan: str = "raise",
+    window: str | None = "hann",
+    detrend: Literal["linear", "mean", "parabola", "circle"] = "linear",
+    nan: Literal["raise", "interpolate"] = "raise",
     bins_per_decade: int | None = 20,
-    q_range="auto",
-    tip_radius=None,
-    noise=None,
+    q_range: QRange = "auto",
+    tip_radius: float | None = None,
+    noise: float | None = None,
 ) -> ProfileSpectrum:
     """The 1D spectrum of a height profile, or the average over parallel profiles.
 
@@ -576,7 +585,9 @@ def psd_from_profile(
 # ----------------------------------------------------------------------------------------------
 # 1D -> isotropic 2D, and power-law extensions
 # ----------------------------------------------------------------------------------------------
-def _table(name_q: str, q, name_c: str, C, *, positive_values: bool):
+def _table(
+    name_q: str, q: ArrayLike, name_c: str, C: ArrayLike, *, positive_values: bool
+) -> tuple[np.ndarray, np.ndarray]:
     q = np.asarray(q, dtype=np.float64)
     C = np.asarray(C, dtype=np.float64)
     if q.ndim != 1 or C.shape != q.shape:
@@ -608,7 +619,14 @@ def _loglog_slope(q: np.ndarray, C: np.ndarray, decades: float) -> float:
     return float(np.sum(wts * (x - xm) * (y - ym)) / np.sum(wts * (x - xm) ** 2))
 
 
-def isotropic_from_1d(k, C1D, *, tail="fit", tail_decades: float = 0.5, q1=None) -> TabulatedPSD:
+def isotropic_from_1d(
+    k: ArrayLike,
+    C1D: ArrayLike,
+    *,
+    tail: Literal["fit", "zero"] | float = "fit",
+    tail_decades: float = 0.5,
+    q1: float | None = None,
+) -> TabulatedPSD:
     """The isotropic 2D spectrum C(q) of the surface a 1D spectrum was measured on.
 
     The exact inverse Abel transform (docs/theory.md section 2)
@@ -674,7 +692,9 @@ def isotropic_from_1d(k, C1D, *, tail="fit", tail_decades: float = 0.5, q1=None)
     return psd if q1 is None else extend_psd(psd, q1)
 
 
-def extend_psd(psd: TabulatedPSD, q1, *, fit_decades: float = 0.5, hurst=None) -> TabulatedPSD:
+def extend_psd(
+    psd: TabulatedPSD, q1: float, *, fit_decades: float = 0.5, hurst: float | None = None
+) -> TabulatedPSD:
     """The table cut at q1, or continued to q1 by a power law (20 points per decade).
 
     The exponent is the least-squares slope of ln C against ln q over the top
@@ -767,18 +787,18 @@ def _map_range(q, C, maps, dx, dy, given, tip, noise):
 
 
 def psd_from_map(
-    h,
-    dx,
-    dy=None,
+    h: ArrayLike,
+    dx: float,
+    dy: float | None = None,
     *,
-    window="hann",
-    detrend: str = "plane",
-    nan: str = "raise",
+    window: str | None = "hann",
+    detrend: Literal["plane", "mean"] = "plane",
+    nan: Literal["raise", "interpolate"] = "raise",
     bins_per_decade: int = 20,
-    q_range="auto",
-    q1=None,
-    tip_radius=None,
-    noise=None,
+    q_range: QRange = "auto",
+    q1: float | None = None,
+    tip_radius: float | None = None,
+    noise: float | None = None,
 ) -> TabulatedPSD:
     """The isotropic spectrum C(q) of a height map, averaged over rings of ``|q|``.
 
@@ -957,7 +977,14 @@ def _covariance(x, wts, H, xr, sse, free) -> np.ndarray:
     return cov
 
 
-def fit_self_affine(psd, *, q_range=None, rolloff: bool = True, q0=None, q1=None) -> SelfAffineFit:
+def fit_self_affine(
+    psd: TabulatedPSD | tuple[ArrayLike, ArrayLike],
+    *,
+    q_range: tuple[float | None, float | None] | None = None,
+    rolloff: bool = True,
+    q0: float | None = None,
+    q1: float | None = None,
+) -> SelfAffineFit:
     """Fit the self-affine spectrum with roll-off to a measured one.
 
     Model: ``ln C = ln C0 - 2 (1 + H) max(ln(q/qr), 0)`` (flat below qr, power law above),
@@ -1041,9 +1068,25 @@ CONVENTIONS = {
     # one-sided PSD per unit spatial frequency f = k / (2 pi) (cycles/m): h_rms^2 = int G_f df
     "one-sided-1d-frequency": (1, 4.0 * math.pi),
 }
+#: the names of :data:`CONVENTIONS` (``from_`` and ``to`` of :func:`convert_psd`)
+Convention = Literal[
+    "persson",
+    "surfacetopography",
+    "contact.engineering",
+    "persson-1d",
+    "surfacetopography-1d",
+    "contact.engineering-1d",
+    "one-sided-1d",
+    "one-sided-1d-frequency",
+]
 
 
-def convert_psd(C, q, from_: str = "surfacetopography", to: str = "persson") -> np.ndarray:
+def convert_psd(
+    C: ArrayLike,
+    q: ArrayLike,
+    from_: Convention = "surfacetopography",
+    to: Convention = "persson",
+) -> np.ndarray:
     """A spectrum in another code's normalisation (same dimension, same q).
 
     Conventions (``CONVENTIONS``; q always the wavenumber ``2 pi / wavelength`` in 1/m):
@@ -1103,7 +1146,14 @@ def convert_psd(C, q, from_: str = "surfacetopography", to: str = "persson") -> 
 # ----------------------------------------------------------------------------------------------
 # synthetic surfaces
 # ----------------------------------------------------------------------------------------------
-def synthetic_surface(psd: PSD, n: int, dx, *, ny: int | None = None, seed=None) -> np.ndarray:
+def synthetic_surface(
+    psd: PSD,
+    n: int,
+    dx: float,
+    *,
+    ny: int | None = None,
+    seed: int | np.random.Generator | None = None,
+) -> np.ndarray:
     """A periodic Gaussian random surface with the isotropic spectrum psd, shape (ny, n).
 
     Unit white noise, Fourier transformed, shaped by ``sqrt((2 pi)^2 A C(|q|) / ((dx dy)^2 N))``
@@ -1282,7 +1332,13 @@ def _load(path, *, dx, unit, x_unit, kind):
     return 1, h, (spacing,)
 
 
-def read_profile(path, *, dx=None, unit: str = "m", x_unit: str | None = None) -> Profile:
+def read_profile(
+    path: str | os.PathLike,
+    *,
+    dx: float | None = None,
+    unit: str = "m",
+    x_unit: str | None = None,
+) -> Profile:
     """Read a line scan (heights converted to m).
 
     Text (``.txt``, ``.csv``, ``.dat``, ``.tsv``, ``.prn``: header lines skipped; comma,
@@ -1313,7 +1369,9 @@ def read_profile(path, *, dx=None, unit: str = "m", x_unit: str | None = None) -
     return Profile(h, spacing[0])
 
 
-def read_map(path, *, dx=None, dy=None, unit: str = "m") -> Map:
+def read_map(
+    path: str | os.PathLike, *, dx: float | None = None, dy: float | None = None, unit: str = "m"
+) -> Map:
     """Read a height map (heights converted to m), rows along x.
 
     Text (one row of heights per line) or ``.npy`` (2D array) with ``dx`` (and ``dy``, default
@@ -1333,7 +1391,13 @@ def read_map(path, *, dx=None, dy=None, unit: str = "m") -> Map:
     return Map(h, sx, sy)
 
 
-def read_topography(path, *, dx=None, unit: str = "m", x_unit: str | None = None):
+def read_topography(
+    path: str | os.PathLike,
+    *,
+    dx: float | None = None,
+    unit: str = "m",
+    x_unit: str | None = None,
+) -> Profile | Map:
     """A :class:`Profile` or a :class:`Map`, whichever the file holds (text or ``.npy`` with
     one or two columns is a profile, more columns a map; see :func:`read_profile`)."""
     dx = None if dx is None else positive("dx", dx, "m")

@@ -33,10 +33,14 @@ gamma); the third also changes the contact area, through the universal functions
 from __future__ import annotations
 
 from dataclasses import dataclass
+from typing import Literal
 
-__all__ = ["Variant", "VARIANTS", "DEFAULT_VARIANT", "get_variant"]
+__all__ = ["Variant", "VariantName", "VARIANTS", "DEFAULT_VARIANT", "get_variant"]
 
-DEFAULT_VARIANT = "yang-persson-energy"
+#: the names ``variant=`` accepts (keys of :data:`VARIANTS`)
+VariantName = Literal["yang-persson-energy", "yang-persson-printed", "wang-mueser"]
+
+DEFAULT_VARIANT: VariantName = "yang-persson-energy"
 
 
 @dataclass(frozen=True)
@@ -104,7 +108,7 @@ VARIANTS: dict[str, Variant] = {
 }
 
 
-def get_variant(name) -> Variant:
+def get_variant(name: VariantName | Variant) -> Variant:
     """The :class:`Variant` called ``name``; ValueError naming the allowed names otherwise."""
     if isinstance(name, Variant):
         return name

@@ -278,10 +278,13 @@ def test_table_forms_agree():
 
 
 def test_missing_optional_cells_take_defaults():
-    rows = [scene(10e-6, 0.8, 1e4, gamma=None, hardness=float("nan"), model=None)]
+    rows = [scene(10e-6, 0.8, 1e4, gamma=None, hardness=float("nan"), model=None, variant=None)]
+    rows.append(scene(10e-6, 0.8, 1e4, gamma=float("nan"), variant="wang-mueser"))
     res = run(rows)
     assert res["gamma"][0] == 0.45 and np.isnan(res["hardness"][0]) and res["model"][0] == "persson"
     assert res["geometry"][0] == "cylinder" and res["max_iter"][0] == 0 and res.ok.all()
+    assert res["variant"][0] == "yang-persson-energy"
+    assert res["gamma"][1] == 5.0 / 9.0  # the variant's own gamma
 
 
 def test_a_new_geometry_plugs_in(monkeypatch):
@@ -299,6 +302,50 @@ def test_a_new_geometry_plugs_in(monkeypatch):
     assert built == ["other"] and list(res["geometry"]) == ["cylinder"] * 2 + ["other"] * 2
     assert np.array_equal(res["p0"][:2], res["p0"][2:])
     assert (res.stats.theory_builds, res.stats.model_builds) == (1, 2)
+
+
+# ---- the theory's variant ----------------------------------------------------------------------
+VARIANTS = tuple(fl.variants.VARIANTS)
+#: least change of p0 by the printed bracket at alpha = 1 (issue 15: several per cent)
+MIN_VARIANT_EFFECT = 0.03
+
+
+def variant_scenes() -> list[dict]:
+    """3 variants x 3 loads (alpha 0.1, 1, 10) interleaved, and a row without a variant."""
+    loads = fl.paper.load_for_alpha(np.array([0.1, 1.0, 10.0]), 10e-6)
+    rows = [scene(10e-6, 0.8, f, variant=v, label=v) for f in loads[::-1] for v in VARIANTS]
+    return rows + [scene(10e-6, 0.8, loads[1], label="default")]
+
+
+@pytest.fixture(scope="module")
+def variant_serial():
+    return run(variant_scenes(), chunksize=4)
+
+
+def test_variant_column_is_line_contact_variant(variant_serial):
+    """Each row equals LineContact(..., variant=...).sweep over its variant's loads (in the
+    plan's order: by load, stably), bit for bit; the row without a variant is the default
+    variant's; one theory per variant; the printed bracket moves p0 at alpha = 1."""
+    res, psd = variant_serial, fl.SelfAffinePSD(10e-6, 0.8, 1e3, 1e4, 1e9)
+    assert res.stats.tasks == 3 and res.stats.theory_builds == 3 and res.ok.all()
+    for v in VARIANTS:
+        rows = np.flatnonzero(res["variant"] == v)
+        rows = rows[np.argsort(res["load"][rows], kind="stable")]
+        lc = fl.LineContact(psd, E_STAR, RADIUS, n=N, variant=v)
+        for i, r in zip(rows, lc.sweep(res["load"][rows]), strict=True):
+            assert (res["p0"][i], res["s"][i], res["fwhm"][i]) == (r.p0, r.s, r.fwhm), v
+            assert res["convolutions"][i] == r.convolutions
+        assert np.all(res["gamma"][rows] == lc.theory.gamma)
+    at_1 = np.isclose(res["alpha"], 1.0)
+    p0 = dict(zip(res["label"][at_1], res["p0"][at_1], strict=True))
+    assert p0["yang-persson-printed"] > (1.0 + MIN_VARIANT_EFFECT) * p0["yang-persson-energy"]
+    assert p0["default"] == pytest.approx(p0["yang-persson-energy"], rel=RTOL_CONTINUATION)
+
+
+def test_variant_column_on_a_process_pool(variant_serial, pool):
+    res = run(variant_scenes(), pool, chunksize=4)
+    assert_same_table(res, variant_serial)
+    assert res.stats.workers == 2
 
 
 # ---- bad tables: refused before any task is submitted -----------------------------------------
@@ -332,6 +379,12 @@ BAD_TABLES = [
     ([{**GOOD, "model": 3}], TypeError, "'model' must hold a string"),
     ([{**GOOD, "model": "Persson"}], ValueError, "'model' must be one of .*row 0 is 'Persson'"),
     ([{**GOOD, "method": "bfgs"}], ValueError, "'method' must be one of"),
+    (
+        [GOOD, {**GOOD, "variant": "persson"}],
+        ValueError,
+        r"'variant' must be one of \('yang-persson-energy', .*row 1 is 'persson'",
+    ),
+    ([{**GOOD, "variant": 3}], TypeError, "'variant' must hold a string"),
     ([{**GOOD, "geometry": "sphere"}], ValueError, r"'geometry' must be one of \('cylinder',\)"),
     ([{"psd": 1.0, **{k: GOOD[k] for k in ("E_star", "radius", "load")}}], TypeError, "PSD, the"),
     ([], ValueError, "at least one scene"),
@@ -471,6 +524,55 @@ def test_cli_sweep_on_workers_and_scheduler(tmp_path, dask_client):
     np.testing.assert_allclose(a["p0_ratio"], b["p0_ratio"], rtol=RTOL_CONTINUATION)
 
 
+def test_cli_sweep_variant_on_workers(tmp_path):
+    """--variant reaches the tasks: --workers 2 and --workers 1 write the same file, byte for
+    byte; it agrees with the in-process sweep of that variant to the solver tolerance and
+    moves p0 against the default variant's."""
+    argv = ["sweep", "--h-rms", "1e-6", "--n", N, "--loads-num", 8, "--chunksize", 3]
+    files = {}
+    for name, extra in [
+        ("pool", ["--workers", 2]),
+        ("one", ["--workers", 1]),
+        ("plain", []),
+        ("default", ["--workers", 1]),
+    ]:
+        files[name] = tmp_path / f"{name}.csv"
+        variant = [] if name == "default" else ["--variant", "yang-persson-printed"]
+        status, _, err = cli([*argv, *variant, *extra, "--csv", files[name]])
+        assert status == 0, err
+    assert files["pool"].read_bytes() == files["one"].read_bytes()
+    meta, a = read_csv(files["pool"])
+    _, b = read_csv(files["plain"])
+    _, c = read_csv(files["default"])
+    assert meta["variant"] == "yang-persson-printed" and meta["gamma"] == "0.45"
+    np.testing.assert_allclose(a["p0_ratio"], b["p0_ratio"], rtol=RTOL_CONTINUATION)
+    assert np.max(a["p0_ratio"] / c["p0_ratio"]) > 1.0 + MIN_VARIANT_EFFECT
+
+
+def test_cli_batch_variant_column(tmp_path):
+    """A variant column in a batch file: the rows equal fl.sweep of the same scenes; an
+    unknown variant refuses the file (exit 2, naming the column)."""
+    header = "label,h_rms,hurst,q0,qr,q1,E_star,radius,load,n,variant,gamma"
+    cells = ["yang-persson-printed,", "wang-mueser,", ",", "wang-mueser,0.5"]
+    lines = [header] + [
+        f"s{k},1e-6,0.8,1e3,1e4,1e9,1.33e9,0.01,1e5,{N},{c}" for k, c in enumerate(cells)
+    ]
+    (tmp_path / "scenes.csv").write_text("\n".join(lines) + "\n")
+    status, _, err = cli(["batch", tmp_path / "scenes.csv", "--out", tmp_path / "out.csv"])
+    assert status == 0, err
+    _, cols = read_csv(tmp_path / "out.csv")
+    names = ["yang-persson-printed", "wang-mueser", "yang-persson-energy", "wang-mueser"]
+    assert list(cols["variant"]) == names
+    assert list(cols["gamma"]) == [0.45, 5.0 / 9.0, 0.45, 0.5]
+    ref = run(batch.read_scenes(tmp_path / "scenes.csv"))
+    assert list(ref["variant"]) == names
+    assert np.array_equal(cols["p0_Pa"], ref["p0"]) and len(set(ref["p0"])) == 4
+    (tmp_path / "bad.csv").write_text(header + "\nx,1e-6,0.8,1e3,1e4,1e9,1.33e9,0.01,1e5,96,wm,\n")
+    status, _, err = cli(["batch", tmp_path / "bad.csv", "--out", tmp_path / "bad_out.csv"])
+    assert status == 2 and "column 'variant' must be one of" in err
+    assert not (tmp_path / "bad_out.csv").exists()
+
+
 def test_cli_batch(tmp_path):
     lines = ["label,h_rms,hurst,q0,qr,q1,E_star,radius,load_N_per_m,n"]
     for k, f in enumerate(np.geomspace(1e3, 1e6, 11)):
@@ -498,6 +600,7 @@ def test_cli_batch(tmp_path):
         (["--workers", 2, "--scheduler", "tcp://127.0.0.1:1"], "either --workers or --scheduler"),
         (["--workers", 0], "--workers: must be >= 1"),
         (["--chunksize", "x"], "--chunksize: not an integer"),
+        (["--workers", 2, "--variant", "printed"], "--variant: invalid choice: 'printed'"),
     ],
 )
 def test_cli_parallel_options_refused(argv, message, tmp_path):

@@ -111,6 +111,21 @@ def test_paper_vector_figures(fmt, tmp_path, capsys):
         assert not (tmp_path / f"{name}.png").exists()
 
 
+def test_paper_write_files_from_python(tmp_path):
+    """fastline.paper.write_files (what `fastline paper` calls): the files it names, in the
+    format asked, with the data's variant and numbers in the CSVs."""
+    data = paper.paper_data(loads=2, n=64, variant="yang-persson-printed")
+    assert data.variant == "yang-persson-printed"
+    written = paper.write_files(data, tmp_path, format="svg", dpi=40)
+    expected = {f"{name}.{ext}" for name in FIGS for ext in ("csv", "svg")}
+    assert len(written) == len(expected) and set(written) == expected
+    assert {p.name for p in tmp_path.iterdir()} == expected
+    meta, cols = read_csv(tmp_path / "fig4_ws.csv")
+    assert meta["variant"] == "yang-persson-printed" and meta["n"] == "64"
+    alphas = [r.alpha for s in data.surfaces for r in s.results]
+    np.testing.assert_allclose(cols["alpha"], alphas, rtol=SAME)
+
+
 # ----------------------------------------------------------------------------------------------
 # profile
 # ----------------------------------------------------------------------------------------------

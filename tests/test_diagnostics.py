@@ -26,7 +26,7 @@ def theory(psd):
 
 def load_for(alpha, h_rms=H_RMS):
     """f_N [N/m] giving alpha = h_rms / delta with delta = 4 f_N / (pi E*)."""
-    return math.pi / 4.0 * h_rms * E_STAR / alpha
+    return fl.paper.load_for_alpha(alpha, h_rms, E_STAR)
 
 
 def solve(psd, theory, alpha, radius=1.0, **kw):

@@ -32,11 +32,7 @@ SWEEP_SAVING_MIN = {"surface1": 0.40, "surface2": 0.40, "surface3": 0.40}
 
 E_STAR, RADIUS = 1.33e9, 0.01
 PAPER_LOADS = np.geomspace(1e3, 1.5e6, 50)
-SURFACES = (
-    fl.SelfAffinePSD(10e-6, 0.8, 1e3, 1e4, 1e9),
-    fl.SelfAffinePSD(10e-6, 1.0, 1e3, 1e4, 1e9),
-    fl.SelfAffinePSD(1e-6, 0.8, 1e3, 1e4, 1e9),
-)
+SURFACES = fl.paper.surfaces()
 
 
 @pytest.fixture(scope="module")
@@ -56,7 +52,7 @@ def test_solve_equals_function_bit_for_bit(psd):
 
 
 @pytest.mark.parametrize(
-    "psd, name", zip(SURFACES, SWEEP_SAVING_MIN, strict=True), ids=list(SWEEP_SAVING_MIN)
+    "psd, name", list(zip(SURFACES, SWEEP_SAVING_MIN, strict=True)), ids=list(SWEEP_SAVING_MIN)
 )
 def test_sweep_equals_independent_and_costs_less(psd, name):
     lc = fl.LineContact(psd, E_STAR, RADIUS)

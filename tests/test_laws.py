@@ -2,8 +2,6 @@
 
 from __future__ import annotations
 
-import math
-
 import numpy as np
 import pytest
 
@@ -21,7 +19,7 @@ RTOL_TABLE_LAW = 3e-4  # relative in u below p = 0.1 E* (near full contact u fal
 RTOL_TABLE_SOLVE = 1e-4  # p0 ratio and w/s solved with that TabulatedLaw vs the Persson law
 
 E_STAR, RADIUS = 1.33e9, 0.01
-PSD = fl.SelfAffinePSD(10e-6, 0.8, 1e3, 1e4, 1e9)
+PSD = fl.paper.surfaces()[0]
 
 
 @pytest.fixture(scope="module")
@@ -30,7 +28,7 @@ def theory():
 
 
 def load_for(alpha):
-    return math.pi / 4.0 * PSD.h_rms * E_STAR / alpha
+    return fl.paper.load_for_alpha(alpha, PSD.h_rms, E_STAR)
 
 
 def persson_curve(theory, per_decade=20):

@@ -31,6 +31,8 @@ RTOL_ENERGY = 1e-7  # u(p) against the energy route (nested quad of ODE solves)
 RTOL_SHIFT = 1e-4  # small-p shift between the two brackets, in units of u0
 RTOL_FIT_LAW = 1e-4  # u(p) against the variant's exponential law at p = 1e-9 E*
 RTOL_ROUNDTRIP = 1e-6  # pressure(separation(p)) against p
+RTOL_HERTZ_LIKE = 1e-2  # p0 of two variants at alpha = 1e-2 (the shift of u absorbed)
+MIN_VARIANT_EFFECT = 0.03  # least change of p0 by a variant at alpha = 1 (issue 15: several %)
 E_STAR = 1.33e9
 E_PAPERLIKE = 1e7  # Pa, the narrow-band validation surface (docs/validation.md)
 N_PRESSURES = 5
@@ -217,6 +219,47 @@ def test_line_contact_with_a_variant_theory():
     np.testing.assert_allclose(r.real_area, th.contact_area(r.pressure), rtol=1e-12)
 
 
+@pytest.mark.parametrize("geometry", ["line", "point"])
+def test_contact_models_take_a_variant(geometry):
+    """``variant=`` on the models is ``theory=PerssonTheory(..., variant=...)``, bit for bit;
+    None is the default variant; gamma defaults to the variant's own; one shared theory per
+    (spectrum, E*, gamma, variant)."""
+    psd = fl.SelfAffinePSD(10e-6, 0.8, 1e3, 1e4, 1e9)  # a fresh object: an empty theory cache
+    Model, n, load = (fl.LineContact, 96, 1e4) if geometry == "line" else (fl.PointContact, 64, 50)
+    default = Model(psd, E_STAR, 0.01, n=n, variant=None)
+    assert default.theory.variant == "yang-persson-energy" and default.theory.gamma == 0.45
+    for name in VARIANTS:
+        model = Model(psd, E_STAR, 0.01, n=n, variant=name)
+        assert model.theory.variant == name
+        assert model.theory.gamma == VARIANTS[name].default_gamma
+        assert Model(psd, E_STAR, 0.01, n=n, variant=name).theory is model.theory  # shared
+        ref = Model(psd, E_STAR, 0.01, n=n, theory=PerssonTheory(psd, E_STAR, variant=name))
+        a, b = model.solve(load), ref.solve(load)
+        assert np.array_equal(a.pressure, b.pressure) and a.p0 == b.p0
+    assert len({id(Model(psd, E_STAR, 0.01, variant=v).theory) for v in VARIANTS}) == 3
+    hertz = Model(None, E_STAR, 0.01, n=n, model="hertz", variant="wang-mueser")
+    assert hertz.theory is None  # the variant of a theory: nothing to apply
+
+
+def test_variants_move_the_line_contact_where_they_should():
+    """At alpha = 1e-2 (Hertz-like) the variants agree: their u(p) differ by a near-constant
+    shift, which the rigid approach absorbs; at alpha = 1 the printed bracket raises p0 and the
+    Wang-Mueser correction lowers it by several per cent (docs/theory.md, Variants)."""
+    psd = fl.SelfAffinePSD(10e-6, 0.8, 1e3, 1e4, 1e9)
+
+    def p0(variant, alpha):
+        load = fl.paper.load_for_alpha(alpha, psd.h_rms)
+        return fl.solve_line_contact(psd, E_STAR, 0.01, load, n=96, variant=variant).p0
+
+    for alpha in (1e-2, 1.0):
+        ref = p0(None, alpha)
+        printed, wm = p0("yang-persson-printed", alpha) / ref, p0("wang-mueser", alpha) / ref
+        if alpha < 0.1:
+            assert abs(printed - 1.0) < RTOL_HERTZ_LIKE and abs(wm - 1.0) < RTOL_HERTZ_LIKE
+        else:
+            assert printed > 1.0 + MIN_VARIANT_EFFECT and wm < 1.0 - MIN_VARIANT_EFFECT
+
+
 def test_leakage_printed_bracket_vs_quad():
     th = _theory("paper-like", "yang-persson-printed")
     psd, zeta, p = th.psd, 4.0, 2e4
@@ -242,6 +285,22 @@ def test_rejects_unknown_variant(variant):
         PerssonTheory(_psd("band8"), E_PAPERLIKE, variant=variant)
     with pytest.raises(ValueError, match=r"^variant"):
         universal_F(1.0, variant=variant)
+
+
+@pytest.mark.parametrize("solve", [fl.solve_line_contact, fl.solve_point_contact])
+@pytest.mark.parametrize("variant", ["persson", "", 3, "Wang-Mueser"])
+def test_contact_models_reject_unknown_variant(solve, variant):
+    psd = _psd("surface1")
+    with pytest.raises(ValueError, match=r"^variant must be one of \('yang-persson-energy'"):
+        solve(psd, E_STAR, 0.01, 10.0, variant=variant, n=64)
+
+
+def test_contact_models_reject_a_variant_unlike_their_theory():
+    th = _theory("surface1", "wang-mueser")
+    for Model in (fl.LineContact, fl.PointContact):
+        with pytest.raises(ValueError, match=r"^variant='yang-persson-printed' differs"):
+            Model(th.psd, E_STAR, 0.01, theory=th, variant="yang-persson-printed")
+        assert Model(th.psd, E_STAR, 0.01, theory=th, variant="wang-mueser").theory is th
 
 
 @pytest.mark.parametrize("gamma", [0.0, 0.01, 1.5, math.nan])
