@@ -35,6 +35,8 @@ from __future__ import annotations
 
 import math
 import time
+from collections.abc import Iterator
+from concurrent.futures import Executor
 from contextlib import contextmanager
 from dataclasses import dataclass, field, replace
 
@@ -757,7 +759,9 @@ def _flat_ensemble(scene, runs):
 
 
 @contextmanager
-def ensemble_executor(executor=None, workers: int | None = None, tasks: int = 2):
+def ensemble_executor(
+    executor: object = None, workers: int | None = None, tasks: int = 2
+) -> Iterator[Executor | None]:
     """Where the realisations run, chosen as :func:`fastline.sweep` chooses (a context
     manager: what it starts, it shuts down on exit).
 
