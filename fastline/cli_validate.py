@@ -12,6 +12,7 @@ import math
 import os
 import sys
 import time
+from typing import TYPE_CHECKING, Any
 
 from fastline.cli import (
     CLIError,
@@ -27,10 +28,14 @@ from fastline.cli import (
     _variant_option,
 )
 
+if TYPE_CHECKING:
+    import argparse
+
 __all__ = ["validate_parser", "cmd_validate", "VALIDATE_DEFAULTS"]
 
-#: defaults of the scene: the narrow-band paper-like surface of docs/validation.md
-VALIDATE_DEFAULTS = {
+#: defaults of the scene: the narrow-band paper-like surface of docs/validation.md (floats in
+#: SI units; None: derived from q0)
+VALIDATE_DEFAULTS: dict[str, Any] = {
     "h_rms": 0.5e-6,
     "hurst": 0.8,
     "q0": 2.0 * math.pi / 40e-6,
@@ -68,7 +73,7 @@ examples:
   fastline validate --leak --pressure 2e3 1e4 5e4 --all-variants --plot flat.png"""
 
 
-def validate_parser(sub, fmt) -> None:
+def validate_parser(sub: argparse._SubParsersAction, fmt: type[argparse.HelpFormatter]) -> None:
     """The ``validate`` sub-command."""
     p = sub.add_parser(
         "validate",
@@ -221,7 +226,7 @@ def _where(args) -> str:
 # ----------------------------------------------------------------------------------------------
 # commands
 # ----------------------------------------------------------------------------------------------
-def cmd_validate(args) -> int:
+def cmd_validate(args: argparse.Namespace) -> int:
     """``fastline validate``: exit status 0, or 1 when a BEM or theory solve did not converge."""
     from fastline._validate import in_span
     from fastline.persson import GAMMA_RANGE

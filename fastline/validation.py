@@ -23,8 +23,10 @@ import math
 import time
 from collections.abc import Sequence
 from dataclasses import dataclass, field
+from typing import TYPE_CHECKING, cast
 
 import numpy as np
+from numpy.typing import ArrayLike
 
 from fastline import bem
 from fastline._validate import positive, positive_array
@@ -34,6 +36,10 @@ from fastline.laws import PerssonLaw
 from fastline.persson import PerssonTheory
 from fastline.spectra import PSD
 from fastline.variants import DEFAULT_VARIANT, VARIANTS
+
+if TYPE_CHECKING:
+    from fastline.bem.ensemble import ExecutorLike
+    from fastline.variants import VariantName
 
 __all__ = [
     "MODELS",
@@ -63,13 +69,16 @@ def _check_models(models) -> tuple[str, ...]:
     return models
 
 
-def law_of(model: str, psd: PSD, E_star: float, gamma: float | None = None):
+def law_of(
+    model: str, psd: PSD, E_star: float, gamma: float | None = None
+) -> PerssonLaw | GreenwoodWilliamsonLaw:
     """The pressure law called ``model`` (an entry of :data:`MODELS`) for a spectrum and E*;
     gamma (None: the variant's own) applies to the Persson variants."""
     _check_models(model)
     if model == GW:
         return GreenwoodWilliamsonLaw.from_psd(psd, E_star)
-    return PerssonLaw(PerssonTheory(psd, E_star, gamma=gamma, variant=model))
+    variant = cast("VariantName", model)  # checked above: one of VARIANTS
+    return PerssonLaw(PerssonTheory(psd, E_star, gamma=gamma, variant=variant))
 
 
 def _difference(theory, bem_value, error) -> Difference:
@@ -168,7 +177,7 @@ def validate_line_contact(
     gamma: float | None = None,
     realizations: int = 8,
     seed: int = 0,
-    executor=None,
+    executor: ExecutorLike = None,
     workers: int | None = None,
     points_per_wavelength: float = 4.0,
     periods: float = 2.0,
@@ -228,7 +237,10 @@ def validate_line_contact(
         law = law_of(m, psd, E_star, gamma)
         results[m] = LineContact(psd, E_star, radius, model=law, n=n, warn=False).solve(load)
     t1 = time.perf_counter()
-    ensemble = bem.run_ensemble(scene, realizations, seed, executor=executor, workers=workers)
+    ensemble = cast(
+        bem.ProfileEnsemble,
+        bem.run_ensemble(scene, realizations, seed, executor=executor, workers=workers),
+    )
     t2 = time.perf_counter()
     comparisons = {m: compare_line_contact(r, ensemble) for m, r in results.items()}
     return LineValidation(ensemble, results, comparisons, t2 - t1, t1 - t0)
@@ -298,13 +310,13 @@ class FlatValidation:
 def validate_flat_contact(
     psd: PSD,
     E_star: float,
-    pressures,
+    pressures: ArrayLike,
     *,
     models: Sequence[str] = (DEFAULT_VARIANT,),
     gamma: float | None = None,
     realizations: int = 8,
     seed: int = 0,
-    executor=None,
+    executor: ExecutorLike = None,
     workers: int | None = None,
     points_per_wavelength: float = 4.0,
     periods: float = 2.0,
@@ -338,7 +350,10 @@ def validate_flat_contact(
     laws = {m: law_of(m, psd, E_star, gamma) for m in models}
     persson = [m for m in models if m != GW and not VARIANTS[m].area_correction]
     leak_model = persson[0] if persson else DEFAULT_VARIANT
-    leak_theory = laws[leak_model].theory if leak_model in laws else PerssonTheory(psd, E_star)
+    leak_law = laws.get(leak_model)
+    leak_theory = (
+        leak_law.theory if isinstance(leak_law, PerssonLaw) else PerssonTheory(psd, E_star)
+    )
     scenes = [
         bem.flat_contact_scene(
             psd, E_star, float(pi), points_per_wavelength=points_per_wavelength, periods=periods
@@ -348,7 +363,7 @@ def validate_flat_contact(
     t0 = time.perf_counter()
     with bem.ensemble_executor(executor, workers, realizations) as ex:
         ensembles = [
-            bem.run_ensemble(scene, realizations, seed + i, executor=ex)
+            cast(bem.FlatEnsemble, bem.run_ensemble(scene, realizations, seed + i, executor=ex))
             for i, scene in enumerate(scenes)
         ]
     seconds = time.perf_counter() - t0

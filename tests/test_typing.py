@@ -17,51 +17,6 @@ import typing
 
 import fastline
 
-#: Callables not annotated yet, all defined in files other work owned while the API was typed
-#: (batch.py, cli_validate.py, _contact.py, line_contact.py, point_contact.py, validation.py,
-#: bem/*). Keyed by where the function is defined (module.qualname). Annotate one, then delete
-#: its line here: test_allow_list_is_current fails on entries that no longer need to be listed.
-ALLOWED_UNTYPED = frozenset(
-    {
-        # fastline/bem/*
-        "fastline.bem.compare.compare_line_contact",
-        "fastline.bem.contact.cylinder_gap",
-        "fastline.bem.contact.image_curvature",
-        "fastline.bem.contact.solve_contact",
-        "fastline.bem.contact.sphere_gap",
-        "fastline.bem.ensemble.flat_contact_scene",
-        "fastline.bem.ensemble.line_contact_scene",
-        "fastline.bem.ensemble.point_contact_scene",
-        "fastline.bem.ensemble.run_ensemble",
-        "fastline.bem.ensemble.run_realization",
-        "fastline.bem.flow.reynolds_flow",
-        "fastline.bem.halfspace.ElasticHalfSpace.__init__",
-        "fastline.bem.halfspace.ElasticHalfSpace.apply",
-        "fastline.bem.halfspace.love_coefficient",
-        "fastline.bem.surface.isotropic_spectrum",
-        "fastline.bem.surface.random_surface",
-        "fastline.bem.surface.spectral_grid",
-        # fastline/cli_validate.py
-        "fastline.cli_validate.cmd_validate",
-        "fastline.cli_validate.validate_parser",
-        # fastline/validation.py
-        "fastline.validation.law_of",
-        "fastline.validation.validate_flat_contact",
-        "fastline.validation.validate_line_contact",
-    }
-)
-
-#: the files the allow-list may point into
-_ALLOWED_MODULES = (
-    "fastline.batch",
-    "fastline.bem.",
-    "fastline.cli_validate",
-    "fastline._contact",
-    "fastline.line_contact",
-    "fastline.point_contact",
-    "fastline.validation",
-)
-
 _DUNDERS_CHECKED = ("__init__", "__call__")
 
 
@@ -178,22 +133,10 @@ def test_missing_annotations_detects_gaps():
 
 
 def test_public_api_is_annotated():
-    offenders = {k: v for k, v in _offenders().items() if k not in ALLOWED_UNTYPED}
+    offenders = _offenders()
     lines = [f"  {k}: {', '.join(v)}" for k, v in sorted(offenders.items())]
     assert not offenders, (
         f"{len(offenders)} public callables lack annotations (parameter names, 'return'):\n"
         + "\n".join(lines)
     )
 
-
-def test_allow_list_is_current():
-    """Each allow-listed callable exists, lives in one of the files listed, and still lacks an
-    annotation (so the list only shrinks)."""
-    offenders = _offenders()
-    keys = public_callables()
-    unknown = sorted(k for k in ALLOWED_UNTYPED if k not in keys)
-    elsewhere = sorted(k for k in ALLOWED_UNTYPED if not k.startswith(_ALLOWED_MODULES))
-    stale = sorted(k for k in ALLOWED_UNTYPED if k in keys and k not in offenders)
-    assert not unknown, f"allow-listed but not a public callable: {unknown}"
-    assert not elsewhere, f"allow-listed outside the files it is for: {elsewhere}"
-    assert not stale, f"annotated now, delete from ALLOWED_UNTYPED: {stale}"

@@ -14,6 +14,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass, field
+from typing import Any
 
 import numpy as np
 
@@ -118,7 +119,7 @@ def _bin_average(x, p, centres, width):
     return np.interp(points, x, p, left=0.0, right=0.0).mean(axis=1)
 
 
-def compare_line_contact(theory, ensemble: ProfileEnsemble) -> LineComparison:
+def compare_line_contact(theory: Any, ensemble: ProfileEnsemble) -> LineComparison:
     """Compare a theory line-contact solution with a cylinder BEM ensemble.
 
     Parameters

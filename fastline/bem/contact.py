@@ -29,6 +29,7 @@ from dataclasses import dataclass, field
 
 import numba
 import numpy as np
+from numpy.typing import ArrayLike
 
 from fastline._jit import JIT
 from fastline._validate import finite_array, finite_scalar, integer, positive
@@ -41,7 +42,7 @@ __all__ = ["ContactResult", "solve_contact", "cylinder_gap", "sphere_gap", "imag
 DEFAULT_TOL = 1e-9
 
 
-def cylinder_gap(grid: Grid, radius, image_curvature=0.0) -> np.ndarray:
+def cylinder_gap(grid: Grid, radius: float, image_curvature: float = 0.0) -> np.ndarray:
     """Undeformed gap ``(1 - kappa) x^2 / (2R)`` [m] of a rigid cylinder with axis along y.
 
     Parameters
@@ -62,7 +63,7 @@ def cylinder_gap(grid: Grid, radius, image_curvature=0.0) -> np.ndarray:
     return np.repeat(((1.0 - kappa) * x * x / (2.0 * radius))[:, None], grid.ny, axis=1)
 
 
-def image_curvature(E_star, load, radius, lx) -> float:
+def image_curvature(E_star: float, load: float, radius: float, lx: float) -> float:
     """Curvature of the periodic images' displacement near a line contact, in units of 1/R.
 
     A load per length ``f`` [N/m] repeated with period ``Lx`` along x displaces the surface
@@ -105,7 +106,7 @@ def image_curvature(E_star, load, radius, lx) -> float:
     return 2.0 * math.pi * load * radius / (3.0 * E_star * lx * lx)
 
 
-def sphere_gap(grid: Grid, radius) -> np.ndarray:
+def sphere_gap(grid: Grid, radius: float) -> np.ndarray:
     """Undeformed gap ``(x^2 + y^2) / (2R)`` [m] of a rigid sphere centred on the origin.
 
     Parameters
@@ -273,7 +274,15 @@ def _ccg(op, g0, target_sum, tol, max_iter, p):
 
 
 def solve_contact(
-    g0, grid: Grid, E_star, load, *, periodic=True, tol=DEFAULT_TOL, max_iter=5000, p_init=None
+    g0: ArrayLike,
+    grid: Grid,
+    E_star: float,
+    load: float,
+    *,
+    periodic: bool = True,
+    tol: float = DEFAULT_TOL,
+    max_iter: int = 5000,
+    p_init: ArrayLike | None = None,
 ) -> ContactResult:
     """Frictionless normal contact of a rigid indenter and an elastic half-space, load control.
 

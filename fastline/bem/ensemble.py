@@ -39,6 +39,7 @@ from collections.abc import Iterator
 from concurrent.futures import Executor
 from contextlib import contextmanager
 from dataclasses import dataclass, field, replace
+from typing import TYPE_CHECKING
 
 import numpy as np
 import scipy.fft
@@ -53,8 +54,14 @@ from fastline.bem.contact import (
     sphere_gap,
 )
 from fastline.bem.flow import reynolds_flow
-from fastline.bem.surface import Grid, random_surface, spectral_grid
+from fastline.bem.surface import Amplitudes, Grid, random_surface, spectral_grid
 from fastline.spectra import PSD
+
+if TYPE_CHECKING:  # annotations only: dask is optional
+    from distributed import Client
+
+    #: where realisations run (:func:`ensemble_executor`)
+    ExecutorLike = str | Executor | Client | None
 
 __all__ = [
     "Scene",
@@ -123,7 +130,7 @@ class Scene:
     radius: float
     grid: Grid
     periodic: bool = True
-    amplitudes: str = "fixed"
+    amplitudes: Amplitudes = "fixed"
     tol: float = DEFAULT_TOL
     max_iter: int = 5000
     viscosity: float = 1e-3
@@ -187,19 +194,19 @@ def _fast(n):
 
 
 def line_contact_scene(
-    psd,
-    E_star,
-    radius,
-    load,
+    psd: PSD | None,
+    E_star: float,
+    radius: float,
+    load: float,
     *,
-    grid=None,
-    points_per_wavelength=4.0,
-    periods=2.0,
-    bin_width=None,
-    image_correction=True,
-    amplitudes="fixed",
-    tol=DEFAULT_TOL,
-    max_iter=5000,
+    grid: Grid | None = None,
+    points_per_wavelength: float = 4.0,
+    periods: float = 2.0,
+    bin_width: float | None = None,
+    image_correction: bool = True,
+    amplitudes: Amplitudes = "fixed",
+    tol: float = DEFAULT_TOL,
+    max_iter: int = 5000,
 ) -> Scene:
     """A rigid cylinder (axis y) on a rough half-space, periodic along its axis.
 
@@ -259,17 +266,17 @@ def line_contact_scene(
 
 
 def point_contact_scene(
-    psd,
-    E_star,
-    radius,
-    load,
+    psd: PSD | None,
+    E_star: float,
+    radius: float,
+    load: float,
     *,
-    grid=None,
-    points_per_wavelength=4.0,
-    bin_width=None,
-    amplitudes="fixed",
-    tol=DEFAULT_TOL,
-    max_iter=5000,
+    grid: Grid | None = None,
+    points_per_wavelength: float = 4.0,
+    bin_width: float | None = None,
+    amplitudes: Amplitudes = "fixed",
+    tol: float = DEFAULT_TOL,
+    max_iter: int = 5000,
 ) -> Scene:
     """A rigid sphere on a rough half-space: an isolated patch (no periodic images).
 
@@ -316,17 +323,17 @@ def point_contact_scene(
 
 
 def flat_contact_scene(
-    psd,
-    E_star,
-    pressure,
+    psd: PSD,
+    E_star: float,
+    pressure: float,
     *,
-    grid=None,
-    points_per_wavelength=4.0,
-    periods=2.0,
-    viscosity=1e-3,
-    amplitudes="fixed",
-    tol=DEFAULT_TOL,
-    max_iter=5000,
+    grid: Grid | None = None,
+    points_per_wavelength: float = 4.0,
+    periods: float = 2.0,
+    viscosity: float = 1e-3,
+    amplitudes: Amplitudes = "fixed",
+    tol: float = DEFAULT_TOL,
+    max_iter: int = 5000,
 ) -> Scene:
     """A nominally flat rigid body on a rough half-space under a uniform nominal pressure,
     periodic in x and y; each realisation also solves the Reynolds flow across x.
@@ -465,7 +472,7 @@ def _undeformed_gap(scene, heights):
     return shape - heights
 
 
-def run_realization(seed, scene: Scene) -> Realization:
+def run_realization(seed: int | np.random.SeedSequence | None, scene: Scene) -> Realization:
     """Draw one surface from ``seed``, solve the contact (and the flow for a flat scene).
 
     Parameters
@@ -760,7 +767,7 @@ def _flat_ensemble(scene, runs):
 
 @contextmanager
 def ensemble_executor(
-    executor: object = None, workers: int | None = None, tasks: int = 2
+    executor: ExecutorLike = None, workers: int | None = None, tasks: int = 2
 ) -> Iterator[Executor | None]:
     """Where the realisations run, chosen as :func:`fastline.sweep` chooses (a context
     manager: what it starts, it shuts down on exit).
@@ -809,7 +816,14 @@ def _map(executor, scene, seeds) -> list:
             f.cancel()
 
 
-def run_ensemble(scene: Scene, realizations=8, seed=0, *, executor=None, workers=None):
+def run_ensemble(
+    scene: Scene,
+    realizations: int = 8,
+    seed: int | np.random.SeedSequence = 0,
+    *,
+    executor: ExecutorLike = None,
+    workers: int | None = None,
+) -> ProfileEnsemble | FlatEnsemble:
     """Run ``realizations`` independent realisations of ``scene`` and average them.
 
     Parameters

@@ -33,6 +33,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 import scipy.sparse as sp
+from numpy.typing import ArrayLike
 from scipy.sparse.csgraph import connected_components
 from scipy.sparse.linalg import spsolve
 
@@ -141,7 +142,14 @@ def _assemble(tx, ty, t_in, t_out, keep, pressure_drop):
     return sp.csr_matrix((vals, (rows, cols)), shape=(m, m)), rhs, first, last
 
 
-def reynolds_flow(gap, dx, dy=None, *, viscosity=1e-3, pressure_drop=1.0) -> FlowResult:
+def reynolds_flow(
+    gap: ArrayLike,
+    dx: float,
+    dy: float | None = None,
+    *,
+    viscosity: float = 1e-3,
+    pressure_drop: float = 1.0,
+) -> FlowResult:
     """Flow across x through the gap map ``gap`` (module docstring).
 
     Parameters

@@ -61,6 +61,7 @@ import threading
 import numba
 import numpy as np
 import pyfftw
+from numpy.typing import ArrayLike
 
 from fastline._jit import JIT
 from fastline._validate import integer, positive
@@ -83,7 +84,9 @@ def _corner(a, b):
     return np.sign(a) * np.sign(b) * g
 
 
-def love_coefficient(X, Y, dx, dy, E_star):
+def love_coefficient(
+    X: ArrayLike, Y: ArrayLike, dx: float, dy: float, E_star: float
+) -> float | np.ndarray:
     """Displacement at ``(X, Y)`` from unit pressure on the cell ``|x| <= dx/2, |y| <= dy/2``.
 
     Love's closed form (Johnson 1985, eq. 3.25; module docstring) for a half-space of effective
@@ -250,7 +253,9 @@ class ElasticHalfSpace:
     ``apply`` is thread-safe (per-thread FFT buffers) and does not check ``p`` for NaN.
     """
 
-    def __init__(self, nx, ny, dx, dy, E_star, periodic=True):
+    def __init__(
+        self, nx: int, ny: int, dx: float, dy: float, E_star: float, periodic: bool = True
+    ) -> None:
         self.nx = integer("nx", nx, 2)
         self.ny = integer("ny", ny, 2)
         self.dx = positive("dx", dx, "m")
@@ -266,7 +271,7 @@ class ElasticHalfSpace:
         self.self_coefficient = love_coefficient(0.0, 0.0, self.dx, self.dy, self.E_star)
         self.convolutions = 0
 
-    def __repr__(self):
+    def __repr__(self) -> str:
         return (
             f"ElasticHalfSpace(nx={self.nx}, ny={self.ny}, dx={self.dx!r}, dy={self.dy!r}, "
             f"E_star={self.E_star!r}, periodic={self.periodic})"
@@ -276,7 +281,7 @@ class ElasticHalfSpace:
     def shape(self) -> tuple[int, int]:
         return (self.nx, self.ny)
 
-    def apply(self, p, out=None) -> np.ndarray:
+    def apply(self, p: ArrayLike, out: np.ndarray | None = None) -> np.ndarray:
         """Displacement ``u = K p`` [m] of the cell pressures ``p`` [Pa], shape ``(nx, ny)``.
 
         ``out`` (float64, same shape) receives the result if given.

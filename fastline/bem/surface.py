@@ -54,9 +54,11 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass, field
+from typing import Literal, get_args
 
 import numpy as np
 import scipy.fft
+from numpy.typing import ArrayLike
 
 from fastline._validate import finite_array, integer, positive
 from fastline.spectra import PSD
@@ -70,7 +72,11 @@ __all__ = [
     "isotropic_spectrum",
 ]
 
-_AMPLITUDES = ("fixed", "gaussian")
+#: the values of ``amplitudes`` (:func:`random_surface`)
+Amplitudes = Literal["fixed", "gaussian"]
+_AMPLITUDES = get_args(Amplitudes)
+#: what :func:`numpy.random.default_rng` accepts as a seed here
+Seed = int | np.random.SeedSequence | np.random.Generator | None
 
 
 @dataclass(frozen=True)
@@ -130,7 +136,14 @@ def _fast_size(length, dx_max):
     return int(scipy.fft.next_fast_len(max(2, math.ceil(length / dx_max - 1e-9)), real=True))
 
 
-def spectral_grid(psd: PSD, *, points_per_wavelength=4.0, periods=2.0, lx=None, ly=None) -> Grid:
+def spectral_grid(
+    psd: PSD,
+    *,
+    points_per_wavelength: float = 4.0,
+    periods: float = 2.0,
+    lx: float | None = None,
+    ly: float | None = None,
+) -> Grid:
     """A square-cell grid sized from the spectrum (issue 15: resolve ``q1``, hold ``q0``).
 
     ``dx <= 2 pi / (q1 * points_per_wavelength)``; the lengths default to ``periods`` times the
@@ -243,7 +256,7 @@ class RoughSurface:
 
     heights: np.ndarray = field(repr=False)
     grid: Grid
-    amplitudes: str
+    amplitudes: Amplitudes
     expected_h_rms: float
     expected_rms_slope: float
     continuum_h_rms: float
@@ -284,7 +297,9 @@ def lattice_moments(psd: PSD, grid: Grid) -> tuple[float, float]:
     return _moments(*_mode_spectrum(psd, grid), grid)
 
 
-def random_surface(psd: PSD, grid: Grid, seed=None, *, amplitudes="fixed") -> RoughSurface:
+def random_surface(
+    psd: PSD, grid: Grid, seed: Seed = None, *, amplitudes: Amplitudes = "fixed"
+) -> RoughSurface:
     """A periodic random surface with the isotropic spectrum ``psd`` (module docstring).
 
     Parameters
@@ -342,7 +357,9 @@ def random_surface(psd: PSD, grid: Grid, seed=None, *, amplitudes="fixed") -> Ro
     )
 
 
-def isotropic_spectrum(heights, dx, dy=None, *, bins=None):
+def isotropic_spectrum(
+    heights: ArrayLike, dx: float, dy: float | None = None, *, bins: ArrayLike | None = None
+) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """Ring-averaged isotropic power spectrum of a periodic height map (Persson's convention).
 
     ``C(q) = (dx dy)^2 / ((2 pi)^2 A) |FFT2(h)|^2`` averaged over the modes of each ring of
