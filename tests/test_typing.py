@@ -139,4 +139,3 @@ def test_public_api_is_annotated():
         f"{len(offenders)} public callables lack annotations (parameter names, 'return'):\n"
         + "\n".join(lines)
     )
-
