@@ -32,6 +32,7 @@ import numpy as np
 
 from fastline import _core
 from fastline._core import ConvergenceWarning, normalise
+from fastline._solve_kernels import cold_start_into
 from fastline._validate import E_STAR_RANGE, RADIUS_RANGE, finite_scalar, in_span, integer, positive
 from fastline.diagnostics import assess, warn_once
 from fastline.laws import ExponentialLaw, PerssonLaw, PressureLaw, check_law
@@ -367,7 +368,8 @@ class ContactModel:
         return self.psd.h_rms / delta
 
     def _cold_start(self, grid) -> np.ndarray:
-        """ln p to start from without a neighbour: Hertz and Gaussian profiles blended."""
+        """ln p to start from without a neighbour: Hertz and Gaussian profiles blended (up to
+        a constant: :meth:`_run` normalises every start to the load)."""
         x, hz = grid.x, grid.hertz
         if self._law is None:  # hard contact: uniform pressure on the central third
             return np.where(np.abs(x) <= grid.half_width / 3.0, 0.0, -np.inf)
@@ -379,10 +381,10 @@ class ContactModel:
         # weights alpha/(alpha + 0.3) and 0.3/(alpha + 0.3), in logarithms (no 1 - 1 at huge alpha)
         ln_wh = math.log(0.3) - math.log(alpha + 0.3)
         ln_wg = math.log(alpha) - math.log(alpha + 0.3)
-        with np.errstate(divide="ignore"):
-            lh = ln_wh + math.log(hz.p0) + 0.5 * np.log(np.maximum(1 - (x / hz.a) ** 2, floor))
-        lg = ln_wg + math.log(gs.p0) - x * x / (2.0 * gs.s**2)
-        return normalise(np.logaddexp(lh, lg), hz.load, grid.disc.weights)
+        v = np.empty_like(x)
+        ln_h, ln_g = ln_wh + math.log(hz.p0), ln_wg + math.log(gs.p0)
+        cold_start_into(x, hz.a, ln_h, floor, ln_g, 2.0 * gs.s**2, v)  # compiled, nogil
+        return v  # normalised to the load by _run, as every start is
 
     def _solved(self, grid, result) -> _Solved:
         """What a sweep keeps of a solution for the next predictions. ln p comes from the

@@ -156,15 +156,21 @@ def dot(a: np.ndarray, b: np.ndarray) -> float:
 def normalise(v: np.ndarray, load: float, weights: np.ndarray) -> np.ndarray:
     """Shift v so that ``sum(w exp(v)) = load`` exactly (log-sum-exp, no overflow; terms below
     e^-460 of the largest are left out rather than computed as slow subnormal numbers)."""
-    vmax = v.max()
-    share = np.exp(np.maximum(v - vmax, -LN_FLOOR))
-    return v + (math.log(load) - (vmax + math.log(dot(weights, share))))
+    from fastline._solve_kernels import normalise_into  # compiled, nogil (imports this module)
+
+    out = np.array(v, dtype=np.float64)
+    normalise_into(out, float(load), np.ascontiguousarray(weights, dtype=np.float64))
+    return out
 
 
 def pressure_of(v: np.ndarray) -> np.ndarray:
     """exp(v), flushed to 0 below 1e-200 of the peak and below 1e-290 Pa (``LN_FLOOR``)."""
-    floor = max(float(np.max(v)) - LN_FLOOR, _LN_TINY)
-    return np.where(v > floor, np.exp(np.maximum(v, floor)), 0.0)
+    from fastline._solve_kernels import pressure_into  # compiled, nogil (imports this module)
+
+    v = np.ascontiguousarray(v, dtype=np.float64)
+    p = np.empty_like(v)
+    pressure_into(v, p)
+    return p
 
 
 def _forcing(res: float, res_prev: float, eta_prev: float, tol: float) -> float:

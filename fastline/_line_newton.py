@@ -39,6 +39,7 @@ from fastline._core import (
 )
 from fastline._fftw import aligned_buffers
 from fastline._jit import JIT
+from fastline._solve_kernels import normalise_into as _normalise
 from fastline._toeplitz_pcg import _convolve, solve_newton_system
 from fastline.laws import _hermite
 from fastline.persson import _lnu_table
@@ -72,21 +73,6 @@ def _law(kind, v, prm, A, B, C, E, u, dU):
             else:
                 k = min(np.searchsorted(A, x, side="right") - 1, m - 2)
                 u[i], dU[i] = _hermite(x, A, B, C, k)
-
-
-@numba.njit(**JIT)
-def _normalise(v, load, w):
-    """Shift v in place so that ``sum(w exp(v)) = load`` (log-sum-exp, terms below e^-460 of
-    the largest left out: see :func:`fastline._core.normalise`)."""
-    vmax = -math.inf
-    for i in range(v.shape[0]):
-        vmax = max(vmax, v[i])
-    acc = 0.0
-    for i in range(v.shape[0]):
-        acc += w[i] * math.exp(max(v[i] - vmax, -LN_FLOOR))
-    shift = math.log(load) - (vmax + math.log(acc))
-    for i in range(v.shape[0]):
-        v[i] += shift
 
 
 @numba.njit(**JIT)

@@ -62,6 +62,8 @@ __all__ = [
 ]
 
 _TWO_OVER_PI = 2.0 / math.pi
+#: ``khat_0 = -(2/pi) (-ln 2 - 1)``, the first of :func:`influence_coefficients`
+_KHAT0 = -_TWO_OVER_PI * (-math.log(2.0) - 1.0)
 
 
 def influence_coefficients(n: int) -> np.ndarray:
@@ -127,6 +129,11 @@ def log_reference_shift(load: float, dx: float, E_star: float, length: float) ->
     dx = positive("dx", dx, "m")
     E_star = positive("E_star", E_star, "Pa")
     length = positive("length", length, "m")
+    return _log_reference_shift(load, dx, E_star, length)
+
+
+def _log_reference_shift(load: float, dx: float, E_star: float, length: float) -> float:
+    """:func:`log_reference_shift` of values already checked (a solver's own), no checks."""
     return -_TWO_OVER_PI / E_star * math.log(dx / length) * load
 
 
@@ -307,12 +314,21 @@ class LogKernelOperator:
     )
 
     def __init__(self, n: int, dx: float, E_star: float) -> None:
-        self.n = integer("n", n, 2)
-        self.dx = positive("dx", dx, "m")
-        self.E_star = positive("E_star", E_star, "Pa")
-        self._scale = self.dx / self.E_star
-        self._spec = _kernel_spectrum(self.n)
-        self.diagonal = self._scale * float(influence_coefficients(1)[0])
+        self._set(integer("n", n, 2), positive("dx", dx, "m"), positive("E_star", E_star, "Pa"))
+
+    @classmethod
+    def _unchecked(cls, n: int, dx: float, E_star: float) -> LogKernelOperator:
+        """An operator of values already checked (a solver's own grid): no validation, which
+        was a tenth of the Python time of a warm line-contact solve."""
+        op = cls.__new__(cls)
+        op._set(n, dx, E_star)
+        return op
+
+    def _set(self, n: int, dx: float, E_star: float) -> None:
+        self.n, self.dx, self.E_star = n, dx, E_star
+        self._scale = dx / E_star
+        self._spec = _kernel_spectrum(n)
+        self.diagonal = self._scale * _KHAT0
         self.convolutions = 0
         self.circulant_solves = 0
 

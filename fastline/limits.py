@@ -236,7 +236,12 @@ def hertz_line_contact(E_star: float, radius: float, load: float) -> HertzLineCo
     E_star = positive("E_star", E_star, "Pa")
     radius = positive("radius", radius, "m")
     load = positive("load", load, "N/m")
-    delta = penetration(E_star, load)
+    return _hertz_line(E_star, radius, load)
+
+
+def _hertz_line(E_star: float, radius: float, load: float) -> HertzLineContact:
+    """:func:`hertz_line_contact` of values already checked (a solver's own), no checks."""
+    delta = 4.0 * load / (math.pi * E_star)  # penetration(E_star, load)
     return HertzLineContact(
         E_star=E_star,
         radius=radius,

@@ -40,9 +40,10 @@ from fastline._contact import (  # noqa: F401 (METHODS ... shared_theory: import
     shared_theory,
 )
 from fastline._core import ConvergenceWarning, Discretisation, dot
-from fastline.elastic import LogKernelOperator, log_reference_shift
+from fastline._solve_kernels import line_cells, line_measures
+from fastline.elastic import LogKernelOperator, _log_reference_shift
 from fastline.laws import PressureLaw
-from fastline.limits import HertzLineContact, gaussian_line_contact, hertz_line_contact
+from fastline.limits import HertzLineContact, _hertz_line, gaussian_line_contact
 from fastline.persson import PerssonTheory
 from fastline.spectra import PSD
 
@@ -170,6 +171,14 @@ def _std(x: np.ndarray, p: np.ndarray, dx: float) -> float:
     return math.sqrt(var)
 
 
+def _measures(x: np.ndarray, p: np.ndarray, dx: float) -> tuple[float, float, float, float]:
+    """``(p0, s, fwhm, sum p)``: :func:`peak`, :func:`_std`, :func:`fwhm` and ``p.sum()`` in one
+    compiled pass that releases the GIL (equal to them to round-off)."""
+    p = np.ascontiguousarray(p, dtype=np.float64)
+    p0, s, w, total = line_measures(x, p, dx)
+    return float(p0), float(s), float(w), float(total)
+
+
 # ----------------------------------------------------------------------------------------------
 # the grid of one load
 # ----------------------------------------------------------------------------------------------
@@ -185,11 +194,13 @@ class _LineGrid:
 
 
 def _build_grid(n: int, half_width: float, radius: float, E_star: float, hz) -> _LineGrid:
+    """Cells ``x = (i - (n-1)/2) dx``, gap ``x^2/2R`` and weights ``dx`` (one compiled pass);
+    the model checked n, R and E* once, so the operator skips its checks."""
     dx = 2.0 * half_width / n
-    x = (np.arange(n) - 0.5 * (n - 1)) * dx
-    op = LogKernelOperator(n, dx, E_star)  # fresh counters per solve (threads share nothing)
-    disc = Discretisation(x * x / (2.0 * radius), np.full(n, dx), op, hz.load)
-    return _LineGrid(x, dx, half_width, hz, disc)
+    x, gap, w = np.empty(n), np.empty(n), np.empty(n)
+    line_cells(dx, 2.0 * radius, x, gap, w)
+    op = LogKernelOperator._unchecked(n, dx, E_star)  # fresh counters per solve (per thread)
+    return _LineGrid(x, dx, half_width, hz, Discretisation(gap, w, op, hz.load))
 
 
 def _rescaled_start(grid: _LineGrid, initial: LineContactResult) -> np.ndarray:
@@ -369,7 +380,7 @@ class LineContact(ContactModel):
 
     # -- solve stages -------------------------------------------------------------------------
     def _grid(self, load: float) -> _LineGrid:
-        hz = hertz_line_contact(self.E_star, self.radius, load)
+        hz = _hertz_line(self.E_star, self.radius, load)  # checked by the caller
         half = self._extent("half_width", self.half_width, hz, load)
         return _build_grid(self.n, half, self.radius, self.E_star, hz)
 
@@ -389,9 +400,7 @@ class LineContact(ContactModel):
             if separation is None:
                 separation = self._law.separation_and_slope(out.v)[0]
             real = self._law.real_area(p)
-        p0 = peak(p)
-        s = _std(x, p, dx)
-        w = fwhm(x, p, p0)
+        p0, s, w, total = _measures(x, p, dx)
         op = grid.disc.op
         return LineContactResult(
             x=x,
@@ -405,7 +414,7 @@ class LineContact(ContactModel):
             p0_ratio=p0 / hz.p0,
             alpha=self._alpha(hz.delta),
             delta=hz.delta,
-            u1=out.u1 + log_reference_shift(hz.load, dx, self.E_star, self.radius),
+            u1=out.u1 + _log_reference_shift(hz.load, dx, self.E_star, self.radius),
             converged=bool(out.converged),
             iterations=int(out.iterations),
             convolutions=int(op.convolutions),
@@ -417,7 +426,7 @@ class LineContact(ContactModel):
             radius=self.radius,
             E_star=self.E_star,
             dx=dx,
-            force_error=abs(p.sum() * dx - hz.load) / hz.load,
+            force_error=abs(total * dx - hz.load) / hz.load,
             edge_pressure=float(max(p[0], p[-1]) / p0),
             diagnostics={
                 "n": self.n,

@@ -1,0 +1,137 @@
+"""Compiled array stages of a solve that run around the Newton kernel, without the GIL.
+
+A warm line-contact solve at n = 1024 spends ~0.6 ms in the compiled Newton iteration
+(:mod:`fastline._line_newton`, which releases the GIL) and, before this module, ~0.2 ms in
+Python and NumPy around it: the cold start, the load normalisation, the flushed pressure and the
+profile measures, each a handful of NumPy passes over the grid that hold the GIL. Threads sharing
+one model then serialise on that part (Amdahl: ~22 % held caps two threads at ~1.6x). Here each
+of those stages is one loop in a ``nogil`` kernel; the Python wrappers that call them
+(:func:`fastline._core.normalise`, :func:`fastline._core.pressure_of`, the cold start of
+:class:`fastline._contact.ContactModel`, :func:`fastline.line_contact._measures`) keep their
+signatures. Results equal the NumPy expressions they replace to round-off (sums in a different
+order, FMA contraction).
+"""
+
+from __future__ import annotations
+
+import math
+
+import numba
+
+from fastline._core import _LN_TINY, LN_FLOOR
+from fastline._jit import JIT
+
+_LN2 = math.log(2.0)
+
+
+@numba.njit(**JIT)
+def normalise_into(v, load, w):
+    """Shift v in place so that ``sum(w exp(v)) = load`` (log-sum-exp, terms below e^-460 of
+    the largest left out: see :func:`fastline._core.normalise`)."""
+    vmax = -math.inf
+    for i in range(v.shape[0]):
+        vmax = max(vmax, v[i])
+    acc = 0.0
+    for i in range(v.shape[0]):
+        acc += w[i] * math.exp(max(v[i] - vmax, -LN_FLOOR))
+    shift = math.log(load) - (vmax + math.log(acc))
+    for i in range(v.shape[0]):
+        v[i] += shift
+
+
+@numba.njit(**JIT)
+def pressure_into(v, p):
+    """``p = exp(v)``, 0 below ``max(v) - LN_FLOOR`` and below 1e-290 Pa (all 0 if v has a
+    NaN, as the NumPy form gives)."""
+    vmax = -math.inf
+    for i in range(v.shape[0]):
+        if v[i] != v[i]:
+            vmax = math.nan
+            break
+        vmax = max(vmax, v[i])
+    floor = max(vmax - LN_FLOOR, _LN_TINY) if vmax == vmax else math.nan
+    for i in range(v.shape[0]):
+        p[i] = math.exp(v[i]) if v[i] > floor else 0.0
+
+
+@numba.njit(**JIT)
+def _logaddexp(a, b):
+    """``ln(e^a + e^b)`` as ``numpy.logaddexp`` computes it (equal infinities, NaN)."""
+    if a == b:
+        return a + _LN2
+    d = a - b
+    if d > 0.0:
+        return a + math.log1p(math.exp(-d))
+    if d <= 0.0:
+        return b + math.log1p(math.exp(d))
+    return d  # NaN
+
+
+@numba.njit(**JIT)
+def cold_start_into(x, a, ln_h, floor, ln_g, two_s2, out):
+    """ln of the blend of a Hertz and a Gaussian profile on the cells ``x`` (m):
+    ``out = logaddexp(ln_h + ln(max(1 - (x/a)^2, floor)) / 2, ln_g - x^2 / (2 s^2))``, with
+    ``ln_h``, ``ln_g`` the logarithms of the weighted peaks and ``two_s2 = 2 s^2`` (m^2)."""
+    for i in range(x.shape[0]):
+        t = x[i] / a
+        q = max(1.0 - t * t, floor)
+        lh = ln_h + 0.5 * math.log(q) if q > 0.0 else -math.inf
+        lg = ln_g - x[i] * x[i] / two_s2
+        out[i] = _logaddexp(lh, lg)
+
+
+@numba.njit(**JIT)
+def line_cells(dx, two_r, x, gap, w):
+    """Cell centres ``x = (i - (n-1)/2) dx``, the gap ``x^2 / 2R`` and the weights ``dx``."""
+    c = 0.5 * (x.shape[0] - 1)
+    for i in range(x.shape[0]):
+        xi = (i - c) * dx
+        x[i] = xi
+        gap[i] = xi * xi / two_r
+        w[i] = dx
+
+
+@numba.njit(**JIT)
+def line_measures(x, p, dx):
+    """``(p0, s, fwhm, sum p)`` of piecewise-constant p on the cells x (see
+    :func:`fastline._contact.peak`, :func:`fastline._contact.fwhm` and
+    :func:`fastline.line_contact._std`, which this equals to round-off)."""
+    n = p.shape[0]
+    k = 0
+    m0 = 0.0
+    m1 = 0.0
+    for i in range(n):
+        if p[i] > p[k]:
+            k = i
+        m0 += p[i]
+        m1 += x[i] * p[i]
+    p0 = p[k]
+    if 0 < k < n - 1:
+        a, b, c = p[k - 1], p[k], p[k + 1]
+        den = a - 2.0 * b + c
+        if den < 0.0:
+            p0 = b - 0.25 * (a - c) * (0.5 * (a - c) / den)
+    xc = m1 / m0
+    m2 = 0.0
+    for i in range(n):
+        m2 += (x[i] - xc) * (x[i] - xc) * p[i]
+    s = math.sqrt(m2 / m0 + dx * dx / 12.0)
+    return p0, s, _fwhm(x, p, p0), m0
+
+
+@numba.njit(**JIT)
+def _fwhm(x, p, p0):
+    """Width between the outermost half-maximum crossings (:func:`fastline._contact.fwhm`)."""
+    n = p.shape[0]
+    half = 0.5 * p0
+    i = 0
+    while i < n and not p[i] >= half:
+        i += 1
+    j = n - 1
+    while j >= 0 and not p[j] >= half:
+        j -= 1
+    if i == 0 or j == n - 1 or i >= n:
+        return math.nan
+    xl = x[i - 1] + (half - p[i - 1]) * (x[i] - x[i - 1]) / (p[i] - p[i - 1])
+    xr = x[j] + (half - p[j]) * (x[j + 1] - x[j]) / (p[j + 1] - p[j])
+    return xr - xl
