@@ -328,7 +328,7 @@ def _newton_compiled(disc: Discretisation, law, v, tol, max_iter) -> Outcome | N
         return None
     u1, res, status, steps, cg, tol_eff, hist, u = out
     message = _message(status == 0, res, tol, tol_eff, f"{steps} Newton steps", status == 2)
-    history = [(float(h[0]), int(h[1]), float(h[2])) for h in hist]
+    history = [(r, int(c), t) for r, c, t in hist.tolist()]
     info = {"cg_iterations": int(cg), "newton_history": history, "tol_effective": tol_eff}
     return Outcome(v, u1, res, status == 0, steps, message, info, pressure_of(v), u)
 

@@ -752,7 +752,8 @@ class PerssonTheory:
         """``P(q1, p)`` for a contiguous float64 array of p >= 0 (no checks: the solvers'
         own pressures)."""
         out = np.empty_like(p)
-        x = np.ascontiguousarray(self._w1 * p / self.E_star)  # as contact_area rounds
+        x = self._w1 * p  # then / E*, as contact_area rounds (one temporary: GIL held)
+        x /= self.E_star
         if self._area is None:
             _erf_vec(x, out)
         else:
