@@ -219,7 +219,9 @@ def markdown(m: dict) -> list[str]:
     L.append(
         f"48 solves at n = 1024 on one shared LineContact: serial {serial * 1e3:.0f} ms, "
         f"2 threads {two * 1e3:.0f} ms, speed-up {speedup:.2f}x (wall time; the Newton "
-        "iteration runs without the GIL, the result and diagnostics of each solve hold it).\n"
+        "iteration, the cold start, the load normalisation and the profile measures run "
+        "without the GIL (fastline._solve_kernels); building the result and the diagnostics "
+        "of each solve hold it).\n"
     )
     return L
 

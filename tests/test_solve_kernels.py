@@ -1,0 +1,73 @@
+"""The compiled stages around the Newton kernel against the NumPy expressions they replaced."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+
+from fastline._contact import fwhm, peak
+from fastline._core import LN_FLOOR
+from fastline._solve_kernels import (
+    cold_start_into,
+    line_cells,
+    line_measures,
+    normalise_into,
+    pressure_into,
+)
+from fastline.line_contact import _std
+
+RTOL_ROUNDOFF = 1e-12  # loops against NumPy: summation order and FMA only
+
+X = np.linspace(-3e-4, 3e-4, 257)
+
+
+def test_cold_start_is_the_logaddexp_blend():
+    """Hertz part vanishing outside |x| < a (floor 0, the line) and floored (the sphere)."""
+    a, ln_h, ln_g, s = 2e-4, math.log(3e7), math.log(1e7), 8e-5
+    for floor in (0.0, 1e-100):
+        out = np.empty_like(X)
+        cold_start_into(X, a, ln_h, floor, ln_g, 2.0 * s * s, out)
+        with np.errstate(divide="ignore"):
+            lh = ln_h + 0.5 * np.log(np.maximum(1 - (X / a) ** 2, floor))
+        ref = np.logaddexp(lh, ln_g - X * X / (2.0 * s * s))
+        np.testing.assert_allclose(out, ref, rtol=RTOL_ROUNDOFF, atol=0.0)
+
+
+def test_normalise_restores_the_load_and_flushes_like_numpy():
+    v = -0.5 * (X / 5e-5) ** 2 * 300.0  # 1e-300 of the peak at the edges: below LN_FLOOR
+    w = np.full(X.size, X[1] - X[0])
+    out = v.copy()
+    normalise_into(out, 2.5e3, w)
+    share = np.exp(np.maximum(v - v.max(), -LN_FLOOR))
+    ref = v + (math.log(2.5e3) - (v.max() + math.log(np.sum(w * share))))
+    np.testing.assert_allclose(out, ref, rtol=RTOL_ROUNDOFF)
+    assert np.sum(w * np.exp(out)) == pytest.approx(2.5e3, rel=RTOL_ROUNDOFF)
+
+
+def test_pressure_flushes_below_the_floor_and_on_nan():
+    v = np.array([10.0, 10.0 - LN_FLOOR + 1.0, 10.0 - LN_FLOOR - 1.0, -np.inf, -700.0])
+    p = np.empty_like(v)
+    pressure_into(v, p)
+    np.testing.assert_array_equal(p, [math.exp(10.0), math.exp(v[1]), 0.0, 0.0, 0.0])
+    pressure_into(np.array([1.0, np.nan]), p[:2])
+    np.testing.assert_array_equal(p[:2], 0.0)  # as the NumPy form (v > NaN is False)
+
+
+def test_cells_and_measures_equal_the_numpy_forms():
+    n, dx, radius = 64, 1e-5, 0.01
+    x, gap, w = np.empty(n), np.empty(n), np.empty(n)
+    line_cells(dx, 2.0 * radius, x, gap, w)
+    ref = (np.arange(n) - 0.5 * (n - 1)) * dx
+    np.testing.assert_array_equal(x, ref)
+    np.testing.assert_allclose(gap, ref * ref / (2.0 * radius), rtol=RTOL_ROUNDOFF)  # 1/(2R) x^2
+    np.testing.assert_array_equal(w, dx)
+    p = np.maximum(1.0 - (x / 2.2e-4) ** 2, 0.0) ** 0.5 * 1e6 + np.exp(-((x / 1e-4) ** 2)) * 3e5
+    p0, s, width, total = line_measures(x, p, dx)
+    assert p0 == pytest.approx(peak(p), rel=RTOL_ROUNDOFF)
+    assert p0 > p.max()  # the parabola through the top three cells
+    assert s == pytest.approx(_std(x, p, dx), rel=RTOL_ROUNDOFF)
+    assert width == pytest.approx(fwhm(x, p, p0), rel=RTOL_ROUNDOFF)
+    assert total == pytest.approx(p.sum(), rel=RTOL_ROUNDOFF)
+    assert math.isnan(line_measures(x, np.ones(n), dx)[2])  # no half-maximum crossing
