@@ -167,7 +167,7 @@ class PerssonLaw(PressureLaw):
 
     def real_area(self, p: ArrayLike) -> np.ndarray:
         p = np.asarray(p, dtype=np.float64)
-        if p.ndim == 1 and np.all(p >= 0.0):  # the solvers' own pressures: the fast path
+        if p.ndim == 1 and (p.size == 0 or p.min() >= 0.0):  # a solver's own: the fast path
             return self.theory._real_area(p)
         return self.theory.contact_area(p)
 
