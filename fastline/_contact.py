@@ -32,7 +32,7 @@ import numpy as np
 
 from fastline import _core
 from fastline._core import ConvergenceWarning, normalise
-from fastline._solve_kernels import cold_start_into
+from fastline._solve_kernels import cold_start_into, hermite_accumulate
 from fastline._validate import E_STAR_RANGE, RADIUS_RANGE, finite_scalar, in_span, integer, positive
 from fastline.diagnostics import assess, warn_once
 from fastline.laws import ExponentialLaw, PerssonLaw, PressureLaw, check_law
@@ -136,33 +136,37 @@ def log_pressure(result) -> np.ndarray:
     return np.log(np.maximum(result.pressure, 1e-300))
 
 
-def hermite_interp(xq: np.ndarray, x: np.ndarray, y: np.ndarray) -> np.ndarray:
-    """y(xq) by the cubic Hermite interpolant of (x, y) with second-order finite-difference
-    slopes (``np.gradient``, exact for quadratics); constant beyond the ends, like
-    ``np.interp``. A sweep predicts the core of each contact with it: linear interpolation of
-    ln p onto the moved cells left residuals that cost extra Newton steps (the paper's
-    surface-3 sweep: 1159 convolutions with linear, 1089 with cubic interpolation)."""
-    m = np.gradient(y, x, edge_order=2)
-    i = np.clip(np.searchsorted(x, xq) - 1, 0, x.size - 2)
-    h = x[i + 1] - x[i]
-    t = np.clip((xq - x[i]) / h, 0.0, 1.0)
-    t2, s = t * t, 1.0 - t
-    return (
-        (1.0 + 2.0 * t) * s * s * y[i]
-        + t * s * s * h * m[i]
-        + t2 * (3.0 - 2.0 * t) * y[i + 1]
-        - t2 * s * h * m[i + 1]
-    )
+def hermite_slopes(x: np.ndarray, y: np.ndarray) -> np.ndarray:
+    """Slopes dy/dx for :func:`hermite_interp`: second-order finite differences, one-sided
+    at the ends (``np.gradient``, exact for quadratics)."""
+    return np.gradient(y, x, edge_order=2)
+
+
+def hermite_interp(
+    xq: np.ndarray, x: np.ndarray, y: np.ndarray, slopes: np.ndarray | None = None
+) -> np.ndarray:
+    """y(xq) by the cubic Hermite interpolant of (x, y) with :func:`hermite_slopes` (or the
+    ``slopes`` given); constant beyond the ends, like ``np.interp``. A sweep predicts the core
+    of each contact with it (compiled, :func:`fastline._solve_kernels.hermite_accumulate`):
+    linear interpolation of ln p onto the moved cells left residuals that cost extra Newton
+    steps (the paper's surface-3 sweep: 1159 convolutions with linear, 1089 with cubic
+    interpolation)."""
+    x, y = np.ascontiguousarray(x, float), np.ascontiguousarray(y, float)
+    m = hermite_slopes(x, y) if slopes is None else np.ascontiguousarray(slopes, float)
+    out = np.zeros(np.shape(xq))
+    hermite_accumulate(np.ascontiguousarray(xq, float), x, y, m, 1.0, out)
+    return out
 
 
 class _Solved(NamedTuple):
     """A solution as a sweep's predictor uses it: ln load, ln of the contact width s (m), the
-    cells in units of s, and ln p on the cells (p in Pa)."""
+    cells in units of s, ln p on the cells (p in Pa) and its slopes in those units."""
 
     ln_load: float
     ln_width: float
     xi: np.ndarray
     v: np.ndarray
+    slope: np.ndarray
 
 
 # ----------------------------------------------------------------------------------------------
@@ -397,7 +401,8 @@ class ContactModel:
                 exact = np.asarray(self._law.log_pressure(result.separation[flushed]), float)
             v[flushed] = np.where(np.isfinite(exact), exact, v[flushed])
         width = result.s if result.s > 0.0 else grid.half_width
-        return _Solved(math.log(grid.hertz.load), math.log(width), grid.x / width, v)
+        xi = grid.x / width
+        return _Solved(math.log(grid.hertz.load), math.log(width), xi, v, hermite_slopes(xi, v))
 
     def _predict(self, grid, history: list[_Solved]) -> np.ndarray | None:
         """ln p at this load extrapolated from earlier solutions of this model (same n) by
@@ -418,7 +423,10 @@ class ContactModel:
         terms = list(zip(weights, pts, strict=True))
         width = math.exp(sum(w * a.ln_width for w, a in terms))
         in_domain = sum(w * a.v for w, a in terms)
-        in_contact = sum(w * hermite_interp(grid.x / width, a.xi, a.v) for w, a in terms)
+        in_contact = np.zeros(grid.x.size)
+        xq = grid.x / width
+        for w, a in terms:
+            hermite_accumulate(xq, a.xi, a.v, a.slope, w, in_contact)
         depth = np.max(in_domain) - in_domain
         tail = np.clip((depth - CORE_DEPTH[0]) / (CORE_DEPTH[1] - CORE_DEPTH[0]), 0.0, 1.0)
         return tail * in_domain + (1.0 - tail) * in_contact

@@ -135,3 +135,34 @@ def _fwhm(x, p, p0):
     xl = x[i - 1] + (half - p[i - 1]) * (x[i] - x[i - 1]) / (p[i] - p[i - 1])
     xr = x[j] + (half - p[j]) * (x[j + 1] - x[j]) / (p[j + 1] - p[j])
     return xr - xl
+
+
+@numba.njit(**JIT)
+def hermite_accumulate(xq, x, y, m, weight, out):
+    """``out += weight * H(xq)``, H the cubic Hermite interpolant through (x, y) with slopes m
+    (x increasing), constant beyond the ends: the sweep predictor's core term (see
+    :func:`fastline._contact.hermite_interp`). The query points are visited in increasing
+    order when they are sorted, so the interval search moves forward."""
+    n = x.shape[0]
+    j = 0
+    for k in range(xq.shape[0]):
+        q = xq[k]
+        if q <= x[0]:
+            out[k] += weight * y[0]
+            continue
+        if q >= x[n - 1]:
+            out[k] += weight * y[n - 1]
+            continue
+        if q < x[j]:
+            j = 0
+        while x[j + 1] < q:
+            j += 1
+        h = x[j + 1] - x[j]
+        t = (q - x[j]) / h
+        s = 1.0 - t
+        out[k] += weight * (
+            (1.0 + 2.0 * t) * s * s * y[j]
+            + t * s * s * h * m[j]
+            + t * t * (3.0 - 2.0 * t) * y[j + 1]
+            - t * t * s * h * m[j + 1]
+        )
