@@ -6,6 +6,11 @@ asked for (the variants of :mod:`fastline.variants`, the Greenwood-Williamson la
 :mod:`fastline.asperity`); :func:`fastline.bem.compare_line_contact` gives each law's p0, s, w
 and w/s and its profile against the BEM in units of the BEM's error bar.
 
+:func:`validate_point_contact` does the same for a sphere: the BEM's ring-averaged nominal
+pressure p_bar(r) against the theory's p(r) (:class:`fastline.PointContact`,
+:func:`fastline.bem.compare_point_contact`), with the same statistics (p0, s with
+``s^2 = int r^2 p dA / 2F``, the FWHM along a diameter and w/s).
+
 :func:`validate_flat_contact` does the same for a nominally flat interface under uniform
 pressures (the building block of a seal): the BEM contact fraction, mean gap and Reynolds
 effective gap (:mod:`fastline.bem.flow`) against the theory's real contact area ``P(q1, p)``,
@@ -29,9 +34,9 @@ import numpy as np
 from numpy.typing import ArrayLike
 
 from fastline import bem
-from fastline._validate import positive, positive_array
+from fastline._validate import integer, positive, positive_array
 from fastline.asperity import GreenwoodWilliamsonLaw
-from fastline.bem.compare import Difference, compare_line_contact
+from fastline.bem.compare import Difference, compare_line_contact, compare_point_contact
 from fastline.laws import PerssonLaw
 from fastline.persson import PerssonTheory
 from fastline.spectra import PSD
@@ -43,9 +48,12 @@ if TYPE_CHECKING:
 
 __all__ = [
     "MODELS",
+    "ProfileValidation",
     "LineValidation",
+    "PointValidation",
     "FlatValidation",
     "validate_line_contact",
+    "validate_point_contact",
     "validate_flat_contact",
     "law_of",
 ]
@@ -89,20 +97,23 @@ def _difference(theory, bem_value, error) -> Difference:
 
 
 # ----------------------------------------------------------------------------------------------
-# line contact
+# cylinder and sphere
 # ----------------------------------------------------------------------------------------------
 @dataclass(frozen=True)
-class LineValidation:
-    """Theory against BEM for one cylinder scene (:func:`validate_line_contact`).
+class ProfileValidation:
+    """Theory against BEM for one cylinder or sphere scene (:class:`LineValidation`,
+    :class:`PointValidation`).
 
     Attributes
     ----------
     ensemble : fastline.bem.ProfileEnsemble
         The BEM ensemble (p_bar with error bars, p0, s, w, w/s).
     results : dict
-        Model name -> :class:`fastline.LineContactResult` of the theory.
+        Model name -> the theory's :class:`fastline.LineContactResult` (cylinder) or
+        :class:`fastline.PointContactResult` (sphere).
     comparisons : dict
-        Model name -> :class:`fastline.bem.LineComparison`.
+        Model name -> :class:`fastline.bem.LineComparison` or
+        :class:`fastline.bem.PointComparison`.
     seconds_bem, seconds_theory : float
         Wall times [s].
     """
@@ -115,7 +126,13 @@ class LineValidation:
 
     @property
     def alpha(self) -> float:
+        """``h_rms / delta`` of the scene."""
         return self.ensemble.alpha
+
+    @property
+    def geometry(self) -> str:
+        """``"cylinder"`` or ``"sphere"``."""
+        return self.ensemble.geometry
 
     def table(self) -> str:
         """Plain text: BEM values with standard errors, then each model's values and their
@@ -143,6 +160,18 @@ class LineValidation:
                 ]
             )
         return _columns([head, *rows])
+
+
+@dataclass(frozen=True)
+class LineValidation(ProfileValidation):
+    """Theory against BEM for a cylinder (:func:`validate_line_contact`): p_bar(x) averaged
+    along the axis; attributes as :class:`ProfileValidation`."""
+
+
+@dataclass(frozen=True)
+class PointValidation(ProfileValidation):
+    """Theory against BEM for a sphere (:func:`validate_point_contact`): p_bar(r) averaged
+    over rings about the axis; attributes as :class:`ProfileValidation`."""
 
 
 def _columns(rows: list[list[str]], gap: int = 2) -> str:
@@ -215,9 +244,7 @@ def validate_line_contact(
     -------
     LineValidation
     """
-    if not isinstance(psd, PSD):
-        raise TypeError(f"psd must be a fastline PSD, got {type(psd).__name__}")
-    models = _check_models(models)
+    models = _check_inputs(psd, models, realizations, seed)
     if scene is None:
         scene = bem.line_contact_scene(
             psd,
@@ -227,23 +254,108 @@ def validate_line_contact(
             points_per_wavelength=points_per_wavelength,
             periods=periods,
         )
-    elif scene.geometry != "cylinder":
+    elif not isinstance(scene, bem.Scene) or scene.geometry != "cylinder":
         raise ValueError("scene must be a cylinder scene (fastline.bem.line_contact_scene)")
     from fastline.line_contact import LineContact
 
+    results, seconds_theory = _theory_results(
+        LineContact, psd, E_star, radius, load, models, gamma, n
+    )
+    ensemble, seconds_bem = _bem_ensemble(scene, realizations, seed, executor, workers)
+    comparisons = {m: compare_line_contact(r, ensemble) for m, r in results.items()}
+    return LineValidation(ensemble, results, comparisons, seconds_bem, seconds_theory)
+
+
+def validate_point_contact(
+    psd: PSD,
+    E_star: float,
+    radius: float,
+    load: float,
+    *,
+    models: Sequence[str] = (DEFAULT_VARIANT,),
+    gamma: float | None = None,
+    realizations: int = 8,
+    seed: int = 0,
+    executor: ExecutorLike = None,
+    workers: int | None = None,
+    points_per_wavelength: float = 4.0,
+    n: int = 512,
+    scene: bem.Scene | None = None,
+) -> PointValidation:
+    """BEM ensemble of a rough sphere against the theory's p(r) for each model.
+
+    The BEM's nominal pressure ``p_bar(r)`` is the pressure averaged over rings about the
+    sphere's axis (width ``Scene.bin_width``, default a quarter of ``2 pi / q0``) and over
+    realisations; p0, s (``s^2 = int r^2 p dA / 2F``), the FWHM along a diameter and w/s as
+    for the theory (docs/sphere.md; :func:`fastline.bem.run_ensemble`).
+
+    Parameters
+    ----------
+    psd : PSD
+        Roughness spectrum (m^4 vs 1/m).
+    E_star, radius, load : float
+        Effective modulus [Pa], sphere radius [m], normal force on the sphere [N].
+    models, gamma, realizations, seed, executor, workers
+        As :func:`validate_line_contact`.
+    points_per_wavelength : float
+        BEM cells per shortest wavelength ``2 pi / q1`` (>= 2;
+        :func:`fastline.bem.point_contact_scene`: an isolated square patch four contact widths
+        on a side).
+    n : int
+        Theory cells from the axis (:class:`fastline.PointContact`, default 512).
+    scene : fastline.bem.Scene, optional
+        A prebuilt sphere scene (then ``points_per_wavelength`` is ignored).
+
+    Returns
+    -------
+    PointValidation
+    """
+    models = _check_inputs(psd, models, realizations, seed)
+    if scene is None:
+        scene = bem.point_contact_scene(
+            psd, E_star, radius, load, points_per_wavelength=points_per_wavelength
+        )
+    elif not isinstance(scene, bem.Scene) or scene.geometry != "sphere":
+        raise ValueError("scene must be a sphere scene (fastline.bem.point_contact_scene)")
+    from fastline.point_contact import PointContact
+
+    results, seconds_theory = _theory_results(
+        PointContact, psd, E_star, radius, load, models, gamma, n
+    )
+    ensemble, seconds_bem = _bem_ensemble(scene, realizations, seed, executor, workers)
+    comparisons = {m: compare_point_contact(r, ensemble) for m, r in results.items()}
+    return PointValidation(ensemble, results, comparisons, seconds_bem, seconds_theory)
+
+
+def _check_inputs(psd, models, realizations, seed) -> tuple[str, ...]:
+    """The checks shared by the cylinder and the sphere, before any work; the models."""
+    if not isinstance(psd, PSD):
+        raise TypeError(f"psd must be a fastline PSD, got {type(psd).__name__}")
+    integer("realizations", realizations, 1)
+    if not isinstance(seed, np.random.SeedSequence):
+        integer("seed", seed, 0)
+    return _check_models(models)
+
+
+def _theory_results(contact, psd, E_star, radius, load, models, gamma, n):
+    """({model: result}, seconds): the scene solved by ``contact`` (LineContact or
+    PointContact) with each model's law."""
     t0 = time.perf_counter()
     results = {}
     for m in models:
         law = law_of(m, psd, E_star, gamma)
-        results[m] = LineContact(psd, E_star, radius, model=law, n=n, warn=False).solve(load)
-    t1 = time.perf_counter()
+        results[m] = contact(psd, E_star, radius, model=law, n=n, warn=False).solve(load)
+    return results, time.perf_counter() - t0
+
+
+def _bem_ensemble(scene, realizations, seed, executor, workers):
+    """(ProfileEnsemble, seconds) of ``realizations`` surfaces."""
+    t0 = time.perf_counter()
     ensemble = cast(
         bem.ProfileEnsemble,
         bem.run_ensemble(scene, realizations, seed, executor=executor, workers=workers),
     )
-    t2 = time.perf_counter()
-    comparisons = {m: compare_line_contact(r, ensemble) for m, r in results.items()}
-    return LineValidation(ensemble, results, comparisons, t2 - t1, t1 - t0)
+    return ensemble, time.perf_counter() - t0
 
 
 # ----------------------------------------------------------------------------------------------

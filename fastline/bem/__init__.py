@@ -12,7 +12,14 @@ Modules: :mod:`~fastline.bem.surface` (grids, random surfaces, spectrum estimate
 :mod:`~fastline.bem.compare` (theory against the ensemble in units of its error bar).
 """
 
-from fastline.bem.compare import Difference, LineComparison, compare_line_contact
+from fastline.bem.compare import (
+    Difference,
+    LineComparison,
+    PointComparison,
+    ProfileComparison,
+    compare_line_contact,
+    compare_point_contact,
+)
 from fastline.bem.contact import (
     ContactResult,
     cylinder_gap,
@@ -72,6 +79,9 @@ __all__ = [
     "ensemble_executor",
     "with_grid",
     "Difference",
+    "ProfileComparison",
     "LineComparison",
+    "PointComparison",
     "compare_line_contact",
+    "compare_point_contact",
 ]
