@@ -1,9 +1,10 @@
 """``fastline validate``: the theory against a boundary-element simulation of the user's surface.
 
-A line-contact scene (or, with ``--leak``, a nominally flat contact under uniform pressures) is
-solved by the theory with each law asked for and by an ensemble of BEM realisations on random
-surfaces of the same spectrum (:mod:`fastline.validation`, :mod:`fastline.bem`); the differences
-are printed in units of the BEM's standard error. Argument parsing and printing only.
+A line-contact scene (with ``--geometry sphere`` a sphere on a flat; with ``--leak`` a nominally
+flat contact under uniform pressures) is solved by the theory with each law asked for and by an
+ensemble of BEM realisations on random surfaces of the same spectrum (:mod:`fastline.validation`,
+:mod:`fastline.bem`); the differences are printed in units of the BEM's standard error. Argument
+parsing and printing only.
 """
 
 from __future__ import annotations
@@ -27,6 +28,7 @@ from fastline.cli import (
     _spectrum_line,
     _variant_option,
 )
+from fastline.cli_sphere import GEOMETRIES
 
 if TYPE_CHECKING:
     import argparse
@@ -45,6 +47,11 @@ VALIDATE_DEFAULTS: dict[str, Any] = {
     "radius": 32.8e-3,
     "alpha": 1.0,
 }
+#: defaults that depend on the geometry (the theory's grid; the cell length along the axis)
+GEOMETRY_DEFAULTS: dict[str, dict[str, Any]] = {
+    "cylinder": {"n": 1024, "periods": 2.0},
+    "sphere": {"n": 512, "periods": None},
+}
 #: largest BEM grid accepted (cells): about 1.5 GB of working arrays
 MAX_CELLS = 2**24
 
@@ -55,6 +62,12 @@ the cylinder's axis, solved by constrained conjugate gradients (Polonsky & Keer)
 realisations. Prints the BEM's p0/p0_Hertz, s and w/s with standard errors, each law's values
 and their difference in BEM standard errors (z; |z| <= 2 is agreement at about 95 %), and with
 --plot the BEM's mean profile with its error band against the theory's p(x).
+
+With --geometry sphere: a rigid sphere instead (an isolated square patch four contact widths on a
+side), the BEM's pressure averaged over rings about the axis, p_bar(r), against the theory's p(r);
+the load is the total load on the sphere in N, s^2 = int r^2 p dA / (2F), w the FWHM along a
+diameter, alpha = h_rms / delta with delta = a^2/R. The patch grows like 1/alpha: a sphere at
+alpha = 0.1 needs about ten times the cells of one at alpha = 1.
 
 With --leak: a nominally flat contact under the uniform pressures --pressure, the BEM contact
 fraction, mean gap and the effective gap of a Reynolds flow through the gap field against the
@@ -70,6 +83,7 @@ examples:
   fastline validate --realizations 8 --plot validate.png
   fastline validate --realizations 40 --scheduler tcp://host:8786 --csv profile.csv
   fastline validate --alpha 0.1 --all-variants --gw --csv profile.csv
+  fastline validate --geometry sphere --q1 1.26e6 --alpha 0.3 --workers 2 --plot sphere.png
   fastline validate --leak --pressure 2e3 1e4 5e4 --all-variants --plot flat.png"""
 
 
@@ -95,14 +109,34 @@ def validate_parser(sub: argparse._SubParsersAction, fmt: type[argparse.HelpForm
     g.add_argument("--psd", metavar="FILE", help="measured isotropic spectrum (q [1/m], C [m^4])")
     m = p.add_argument_group("material and scene")
     m.add_argument("--E-star", type=_positive, metavar="PA", help="E* [Pa] (default 10e6)")
-    m.add_argument("--radius", type=_positive, metavar="M", help="cylinder radius [m] (32.8e-3)")
+    m.add_argument(
+        "--geometry",
+        choices=GEOMETRIES,
+        default="cylinder",
+        help="rigid cylinder on a flat (line contact, default) or sphere on a flat (point "
+        "contact); the load is per unit length [N/m] for a cylinder, the total load [N] for a "
+        "sphere",
+    )
+    m.add_argument(
+        "--radius",
+        type=_positive,
+        metavar="M",
+        help="cylinder radius [m], or the sphere's with --geometry sphere (default 32.8e-3)",
+    )
     load = m.add_mutually_exclusive_group()
-    load.add_argument("--load", type=_positive, metavar="N/M", help="load per unit length [N/m]")
+    load.add_argument(
+        "--load",
+        type=_positive,
+        metavar="LOAD",
+        help="load per unit cylinder length f_N [N/m]; with --geometry sphere the total load "
+        "F on the sphere [N]",
+    )
     load.add_argument(
         "--alpha",
         type=_positive,
         metavar="A",
-        help="load from alpha = h_rms/delta, delta = 4 f_N/(pi E*) (default 1)",
+        help="load from alpha = h_rms/delta (default 1): delta = 4 f_N/(pi E*) for a "
+        "cylinder, delta = a^2/R with a = (3 F R/(4 E*))^(1/3) for a sphere",
     )
     m.add_argument(
         "--leak",
@@ -131,7 +165,13 @@ def validate_parser(sub: argparse._SubParsersAction, fmt: type[argparse.HelpForm
     t.add_argument(
         "--gw", action="store_true", help="also the Greenwood-Williamson law of the spectrum"
     )
-    t.add_argument("--n", type=_count, default=1024, metavar="N", help="theory grid (1024)")
+    t.add_argument(
+        "--n",
+        type=_count,
+        metavar="N",
+        help="theory grid: cells across the cylinder's domain (1024), or from the sphere's "
+        "axis (512)",
+    )
     b = p.add_argument_group("boundary elements")
     b.add_argument(
         "--realizations", type=_count, default=8, metavar="K", help="random surfaces (8)"
@@ -161,9 +201,9 @@ def validate_parser(sub: argparse._SubParsersAction, fmt: type[argparse.HelpForm
     b.add_argument(
         "--periods",
         type=_positive,
-        default=2.0,
         metavar="K",
-        help="cell length along the axis (flat: both ways) in 2 pi/q0 (default 2)",
+        help="cell length along the axis (flat: both ways) in 2 pi/q0 (default 2; not for "
+        "the sphere, whose patch is sized from the contact)",
     )
     p.add_argument("--csv", metavar="FILE", help="write the profiles (or flat results) to FILE")
     p.add_argument("--plot", metavar="FILE", help="write a figure to FILE")
@@ -237,6 +277,17 @@ def cmd_validate(args: argparse.Namespace) -> int:
         raise CLIError("give either --workers or --scheduler, not both")
     if args.validate_gamma is not None:
         in_span("gamma", args.validate_gamma, GAMMA_RANGE, "(dimensionless)")
+    if args.geometry == "sphere":
+        if args.leak:
+            raise CLIError("--leak is a flat contact: it cannot be combined with --geometry sphere")
+        if args.periods is not None:
+            raise CLIError(
+                "--periods is for the cylinder and the flat contact (the sphere's patch is "
+                "sized from the contact)"
+            )
+    for key, value in GEOMETRY_DEFAULTS[args.geometry].items():
+        if getattr(args, key) is None:
+            setattr(args, key, value)
     if args.leak:
         if args.pressure is None:
             raise CLIError("--leak needs --pressure (one or more nominal pressures in Pa)")
@@ -245,7 +296,7 @@ def cmd_validate(args: argparse.Namespace) -> int:
         return _flat(args)
     if args.pressure is not None:
         raise CLIError("--pressure needs --leak")
-    return _line(args)
+    return _profile(args)
 
 
 def _header(psd, E, source, grid, args, what: str) -> list[str]:
@@ -271,27 +322,50 @@ def _run(args, validate, *params, **options):
         release()
 
 
-def _line(args) -> int:
+#: per geometry: the BEM scene's words, the load's unit and the profile's coordinate
+_PROFILE_WORDS = {
+    "cylinder": ("rigid cylinder", "N/m", "x"),
+    "sphere": ("rigid sphere (isolated patch)", "N (total load on the sphere)", "r"),
+}
+
+
+def _load(args, psd, E: float, R: float) -> float:
+    """--load, or the load of --alpha (default 1) for the geometry (THEORY sections 5, 9)."""
+    if args.load is not None:
+        return args.load
+    alpha = VALIDATE_DEFAULTS["alpha"] if args.alpha is None else args.alpha
+    if args.geometry == "cylinder":
+        return math.pi * E * psd.h_rms / (4.0 * alpha)  # delta = 4 f/(pi E*)
+    a = math.sqrt(R * psd.h_rms / alpha)  # delta = a^2/R
+    return 4.0 * E * a**3 / (3.0 * R)
+
+
+def _profile_scene(args, psd, E: float, R: float, load: float):
     from fastline import bem
-    from fastline.validation import validate_line_contact
+
+    ppw = args.points_per_wavelength
+    if args.geometry == "sphere":
+        return bem.point_contact_scene(psd, E, R, load, points_per_wavelength=ppw)
+    return bem.line_contact_scene(psd, E, R, load, points_per_wavelength=ppw, periods=args.periods)
+
+
+def _profile(args) -> int:
+    """A cylinder or a sphere: BEM ensemble against each model's profile."""
+    from fastline.validation import validate_line_contact, validate_point_contact
 
     psd, E, source = _scene(args)
     R = VALIDATE_DEFAULTS["radius"] if args.radius is None else args.radius
-    if args.load is None:
-        alpha = VALIDATE_DEFAULTS["alpha"] if args.alpha is None else args.alpha
-        load = math.pi * E * psd.h_rms / (4.0 * alpha)
-    else:
-        load = args.load
+    load = _load(args, psd, E, R)
     _check_outputs(args)
-    scene = bem.line_contact_scene(
-        psd, E, R, load, points_per_wavelength=args.points_per_wavelength, periods=args.periods
-    )
+    scene = _profile_scene(args, psd, E, R, load)
     _check_grid(scene.grid)
-    print("\n".join(_header(psd, E, source, scene.grid, args, "rigid cylinder")))
-    print(f"scene            E* {E:.4g} Pa, R {R:.4g} m, load {load:.6g} N/m")
+    what, unit, _ = _PROFILE_WORDS[args.geometry]
+    print("\n".join(_header(psd, E, source, scene.grid, args, what)))
+    print(f"scene            E* {E:.4g} Pa, R {R:.4g} m, load {load:.6g} {unit}")
+    validate = validate_point_contact if args.geometry == "sphere" else validate_line_contact
     v = _run(
         args,
-        validate_line_contact,
+        validate,
         psd,
         E,
         R,
@@ -312,7 +386,7 @@ def _line(args) -> int:
     print(v.table())
     print("z = (theory - BEM) / BEM standard error; |z| <= 2: agreement at about 95 %")
     if args.csv:
-        _line_csv(args.csv, v, psd, E, R, source, args)
+        _profile_csv(args.csv, v, psd, E, R, source, args)
     if args.plot:
         from fastline.plotting import plot_validation
 
@@ -385,6 +459,8 @@ def _meta(psd, E, args, source, **extra) -> dict:
         "periods": args.periods,
         "written": time.strftime("%Y-%m-%d %H:%M:%S"),
     }
+    if args.periods is None:  # the sphere's patch
+        del meta["periods"]
     meta.update(extra)
     return meta
 
@@ -394,13 +470,15 @@ def _key(model: str) -> str:
     return model.replace("-", "_")
 
 
-def _line_csv(path, v, psd, E, R, source, args) -> None:
+def _profile_csv(path, v, psd, E, R, source, args) -> None:
     from fastline.io import write_csv
 
     e = v.ensemble
+    sphere = v.geometry == "sphere"
     extra = {
+        "geometry": v.geometry,
         "radius_m": R,
-        "load_N_per_m": e.scene.load,
+        "load_N" if sphere else "load_N_per_m": e.scene.load,
         "alpha": e.alpha,
         "bem_p0_ratio": f"{e.p0_ratio!r} +- {e.p0_ratio_error!r}",
         "bem_s_m": f"{e.s!r} +- {e.s_error!r}",
@@ -411,7 +489,8 @@ def _line_csv(path, v, psd, E, R, source, args) -> None:
         extra[f"{key}_p0_ratio"] = v.results[name].p0_ratio
         extra[f"{key}_s_m"] = c.s.theory
         extra[f"{key}_w_over_s"] = c.w_over_s.theory
-    cols = ["x_m", "p_bem_Pa", "p_bem_se_Pa"] + [f"p_{_key(m)}_Pa" for m in v.comparisons]
+    x = _PROFILE_WORDS[v.geometry][2]
+    cols = [f"{x}_m", "p_bem_Pa", "p_bem_se_Pa"] + [f"p_{_key(m)}_Pa" for m in v.comparisons]
     rows = zip(
         e.coordinate,
         e.pressure,
@@ -419,13 +498,13 @@ def _line_csv(path, v, psd, E, R, source, args) -> None:
         *(c.theory_pressure for c in v.comparisons.values()),
         strict=True,
     )
-    write_csv(
-        path,
-        cols,
-        rows,
-        _meta(psd, E, args, source, **extra),
-        title="fastline validate: BEM p_bar(x) (bins) and the theory's p(x) averaged over them",
+    title = (
+        "fastline validate --geometry sphere: BEM p_bar(r) (rings about the axis; r their mean "
+        "radius) and the theory's p(r) averaged over them"
+        if sphere
+        else "fastline validate: BEM p_bar(x) (bins) and the theory's p(x) averaged over them"
     )
+    write_csv(path, cols, rows, _meta(psd, E, args, source, **extra), title=title)
 
 
 def _flat_csv(path, fv, psd, E, source, args) -> None:

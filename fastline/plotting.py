@@ -32,7 +32,7 @@ if TYPE_CHECKING:  # annotations only: matplotlib and the solvers load on first 
     from fastline.point_contact import PointContactResult
     from fastline.scan import ScanSpectrum
     from fastline.spectra import PSD
-    from fastline.validation import FlatValidation, LineValidation
+    from fastline.validation import FlatValidation, ProfileValidation
 
     ContactResult: TypeAlias = LineContactResult | PointContactResult
     #: one load sweep, or several by label
@@ -580,17 +580,19 @@ def _pressure_axis(ax) -> None:
     ax.xaxis.set_minor_formatter(NullFormatter())
 
 
-def plot_validation(validation: LineValidation, *, ax: Axes | None = None) -> Figure:
-    """Theory against BEM for a cylinder (:func:`fastline.validation.validate_line_contact`):
-    the BEM ensemble ``p_bar(x)`` with a band of two standard errors, each model's p(x) and the
+def plot_validation(validation: ProfileValidation, *, ax: Axes | None = None) -> Figure:
+    """Theory against BEM for a cylinder or a sphere
+    (:func:`fastline.validation.validate_line_contact`,
+    :func:`~fastline.validation.validate_point_contact`): the BEM ensemble ``p_bar(x)`` (sphere:
+    ``p_bar(r)`` over rings) with a band of two standard errors, each model's profile and the
     Hertz profile.
 
     Parameters
     ----------
-    validation : fastline.validation.LineValidation
+    validation : fastline.validation.LineValidation or PointValidation
     ax : matplotlib Axes, optional
     """
-    from fastline.limits import hertz_line_contact
+    from fastline.limits import hertz_line_contact, hertz_point_contact
 
     fig, ax, _ = _figure(ax)
     e = validation.ensemble
@@ -613,17 +615,20 @@ def plot_validation(validation: LineValidation, *, ax: Axes | None = None) -> Fi
         lw=1.2,
         label=rf"BEM $\bar p$ ({e.realizations} surfaces)",
     )
+    sphere = validation.geometry == "sphere"
     styles = ["-", "--", "-.", ":"]
     for k, (name, r) in enumerate(validation.results.items()):
-        ax.plot(r.x * 1e3, r.pressure / scale, styles[k % 4], color=f"C{k}", lw=1.2, label=name)
+        coord = r.r if sphere else r.x
+        ax.plot(coord * 1e3, r.pressure / scale, styles[k % 4], color=f"C{k}", lw=1.2, label=name)
     scene = e.scene
-    hz = hertz_line_contact(scene.E_star, scene.radius, scene.load)
+    hertz = hertz_point_contact if sphere else hertz_line_contact
+    hz = hertz(scene.E_star, scene.radius, scene.load)
     half = 1.3 * max(hz.a, 2.5 * e.s)
-    xs = np.linspace(-half, half, 801)
+    xs = np.linspace(0.0 if sphere else -half, half, 801)
     ax.plot(xs * 1e3, hz.pressure(xs) / scale, ":", color="0.4", lw=1, label="Hertz (smooth)")
-    ax.set_xlim(-half * 1e3, half * 1e3)
+    ax.set_xlim(xs[0] * 1e3, half * 1e3)
     ax.set_ylim(0.0, None)
-    ax.set_xlabel(r"$x$ (mm)")
+    ax.set_xlabel(r"$r$ (mm)" if sphere else r"$x$ (mm)")
     ax.set_ylabel(rf"nominal pressure $p$ ({unit})")
     ax.text(0.02, 0.97, rf"$\alpha$ = {e.alpha:.3g}", transform=ax.transAxes, va="top", fontsize=8)
     _legend(ax)
