@@ -262,3 +262,164 @@ def test_leak_rejects_the_area_variant(capsys):
     assert status == 2 and "corrects the contact area" in err and out == ""
     status, out, err = run([*argv, "--variant", "yang-persson-printed"], capsys)
     assert status == 0, err
+
+
+# ------------------------------------------------------------------------------------------------
+# sphere (validate_point_contact, fastline validate --geometry sphere)
+# ------------------------------------------------------------------------------------------------
+#: a small sphere scene: R 5.12 mm on q1/q0 = 4 at 2 cells per 2 pi/q1 (5 um cells); at alpha
+#: 0.1 the Hertz radius is 160 um = 4 longest wavelengths and the patch 270 x 270 cells
+R_SPHERE = 5.12e-3
+SPHERE_GRID = 2.0
+#: smooth-sphere limit: the BEM and the theory each give Hertz to this (issue 15: 1 %)
+RTOL_HERTZ = 0.01
+#: p0 of the default variant at alpha = 0.1 in BEM standard errors: 4 realisations each of
+#: seeds 0-5 gave z = +2.05, +0.52, +0.28, -0.38, -0.34, -2.19 (p0 -8 ... +8 %)
+Z_AGREE_SPHERE_P0 = 3.0
+#: s at alpha = 0.1: seeds 0-5 (4 realisations each) gave theory / BEM - 1 = -0.14 ... +0.86 %
+#: (z up to +3.8: the BEM's s error bar is 0.1-0.2 %), so s is held to a relative band as for the
+#: cylinder (RTOL_S_SMALL_ALPHA)
+RTOL_S_SPHERE = 0.02
+TINY_SPHERE = ["--geometry", "sphere", "--radius", R_SPHERE, "--q1", 4 * Q0]
+TINY_SPHERE += ["--points-per-wavelength", SPHERE_GRID, "--realizations", 2, "--workers", 1]
+
+
+def _sphere_load(psd, alpha):
+    """F with h_rms / delta = alpha, delta = a^2 / R, a = (3 F R / 4 E*)^(1/3)."""
+    a = math.sqrt(R_SPHERE * psd.h_rms / alpha)
+    return 4.0 * E_STAR * a**3 / (3.0 * R_SPHERE)
+
+
+def _sphere(psd, alpha, **options):
+    f = _sphere_load(psd, alpha)
+    return validation.validate_point_contact(
+        psd, E_STAR, R_SPHERE, f, points_per_wavelength=SPHERE_GRID, **options
+    )
+
+
+def test_smooth_sphere_gives_hertz():
+    """h_rms 5 nm (alpha 1e-3): BEM and theory both give the Hertz p0, s = a/sqrt(5) and w/s =
+    sqrt(15) to 1 %, and so does their comparison."""
+    psd = fl.SelfAffinePSD(5e-9, 0.8, Q0, Q0, 4 * Q0)
+    v = _sphere(psd, 1e-3, realizations=2)
+    e, r = v.ensemble, v.results["yang-persson-energy"]
+    assert isinstance(v, validation.PointValidation) and v.geometry == "sphere"
+    assert e.alpha == pytest.approx(1e-3, rel=1e-9) and r.alpha == pytest.approx(1e-3, rel=1e-9)
+    for p0_ratio, s, ws in ((e.p0_ratio, e.s, e.w_over_s), (r.p0_ratio, r.s, r.w_over_s)):
+        assert p0_ratio == pytest.approx(1.0, rel=RTOL_HERTZ)
+        assert s == pytest.approx(e.a_hertz / math.sqrt(5.0), rel=RTOL_HERTZ)
+        assert ws == pytest.approx(math.sqrt(15.0), rel=RTOL_HERTZ)
+    c = v.comparisons["yang-persson-energy"]
+    for name in ("p0", "s", "fwhm", "w_over_s"):
+        assert abs(getattr(c, name).relative) < RTOL_HERTZ
+    # the theory's ring averages follow the Hertz profile of the BEM inside the contact
+    inside = c.r < 0.8 * e.a_hertz
+    np.testing.assert_allclose(c.theory_pressure[inside], c.bem_pressure[inside], rtol=0.03)
+
+
+def test_sphere_agreement_at_small_alpha():
+    """alpha = 0.1: the default variant's p0 within Z_AGREE_SPHERE_P0 BEM standard errors, its
+    s within RTOL_S_SPHERE; the ring-averaged BEM profile carries the load."""
+    psd = _psd(4)
+    v = _sphere(psd, 0.1, realizations=4, models=("yang-persson-energy", "greenwood-williamson"))
+    e, c = v.ensemble, v.comparisons["yang-persson-energy"]
+    assert e.converged and all(r.converged for r in v.results.values())
+    assert abs(c.p0.z) <= Z_AGREE_SPHERE_P0 and abs(c.s.relative) <= RTOL_S_SPHERE
+    assert c.p0.theory == v.results["yang-persson-energy"].p0 and c.p0.bem == e.p0
+    assert c.s.z == pytest.approx((c.s.theory - e.s) / e.s_error, rel=1e-12)
+    # rings of 2 cells: sum of p_bar over ring areas ~ F (the rings are whole cells)
+    width = 2 * e.scene.grid.dx
+    edges = width * np.arange(e.coordinate.size + 1)
+    ring_area = math.pi * np.diff(edges**2)
+    assert np.sum(e.pressure * ring_area) == pytest.approx(e.scene.load, rel=0.02)
+    assert "greenwood-williamson" in v.table() and "+-" in v.table()
+
+
+def test_compare_point_contact_ring_average_and_rejects():
+    """A constant theory averages to the constant over every ring; mismatched inputs are named."""
+    psd = _psd(4)
+    f = _sphere_load(psd, 1.0)
+    scene = bem.point_contact_scene(psd, E_STAR, R_SPHERE, f, points_per_wavelength=SPHERE_GRID)
+    ens = bem.run_ensemble(scene, 2, seed=3)
+    r = np.linspace(0.0, 0.5 * scene.grid.lx * math.sqrt(2.0), 400)  # covers the patch corners
+    fake = SimpleNamespace(r=r, pressure=np.full(r.size, 500.0), p0=ens.p0, s=ens.s,
+                           fwhm=ens.fwhm, load=f)  # fmt: skip
+    c = bem.compare_point_contact(fake, ens)
+    np.testing.assert_allclose(c.theory_pressure, 500.0, rtol=1e-12)
+    assert c.p0.z == 0.0 and c.s.relative == 0.0 and np.array_equal(c.r, ens.coordinate)
+    line = bem.run_ensemble(bem.line_contact_scene(None, E_STAR, RADIUS, 100.0), 1)
+    with pytest.raises(TypeError, match="sphere ProfileEnsemble"):
+        bem.compare_point_contact(fake, line)
+    with pytest.raises(TypeError, match=r"missing \['r'\]"):
+        bem.compare_point_contact(SimpleNamespace(pressure=r, p0=1.0, s=1.0, fwhm=1.0, load=f), ens)
+    with pytest.raises(ValueError, match="differs from the ensemble"):
+        bem.compare_point_contact(SimpleNamespace(**{**vars(fake), "load": 2 * f}), ens)
+    with pytest.raises(ValueError, match="increasing"):
+        bem.compare_point_contact(SimpleNamespace(**{**vars(fake), "r": r[::-1]}), ens)
+
+
+@pytest.mark.parametrize(
+    "kwargs, error, message",
+    [
+        ({"psd": "psd"}, TypeError, "psd"),
+        ({"load": -1.0}, ValueError, "load"),
+        ({"radius": 0.0}, ValueError, "radius"),
+        ({"models": ("persson",)}, ValueError, "models must be among"),
+        ({"realizations": 0}, ValueError, "realizations"),
+        ({"seed": -1}, ValueError, "seed"),
+        ({"points_per_wavelength": 1.5}, ValueError, "points_per_wavelength"),
+        ({"scene": "cylinder"}, ValueError, "sphere scene"),
+    ],
+)
+def test_point_validation_rejects(kwargs, error, message):
+    args = {"psd": _psd(4), "E_star": E_STAR, "radius": R_SPHERE, "load": 0.01}
+    args |= kwargs
+    psd, E, R, f = (args.pop(k) for k in ("psd", "E_star", "radius", "load"))
+    with pytest.raises(error, match=message):
+        validation.validate_point_contact(psd, E, R, f, **args)
+
+
+def test_point_validation_rejects_a_line_scene():
+    line = bem.line_contact_scene(_psd(4), E_STAR, RADIUS, 1.0, periods=1)
+    with pytest.raises(ValueError, match="sphere scene"):
+        validation.validate_point_contact(_psd(4), E_STAR, R_SPHERE, 0.01, scene=line)
+
+
+def test_cli_sphere(tmp_path, capsys):
+    """The command's table, CSV and figure hold the API's numbers for the same scene."""
+    csv, png = tmp_path / "s.csv", tmp_path / "s.png"
+    argv = ["validate", *TINY_SPHERE, "--alpha", 1, "--gw", "--csv", csv, "--plot", png]
+    status, out, err = run(argv, capsys)
+    assert status == 0, err
+    assert "rigid sphere" in out and "N (total load on the sphere)" in out
+    psd = _psd(4)
+    models = ("yang-persson-energy", "greenwood-williamson")
+    v = _sphere(psd, 1.0, realizations=2, models=models)
+    g = v.ensemble.scene.grid
+    assert f"{g.nx} x {g.ny} cells" in out and v.table() in out
+    meta, cols = read_csv(csv)
+    assert meta["geometry"] == "sphere" and "periods" not in meta
+    assert float(meta["load_N"]) == v.ensemble.scene.load
+    np.testing.assert_allclose(cols["r_m"], v.ensemble.coordinate, rtol=SAME)
+    np.testing.assert_allclose(cols["p_bem_Pa"], v.ensemble.pressure, rtol=SAME)
+    for m in models:
+        key = m.replace("-", "_")
+        np.testing.assert_allclose(cols[f"p_{key}_Pa"], v.comparisons[m].theory_pressure, rtol=SAME)
+        assert float(meta[f"{key}_p0_ratio"]) == v.results[m].p0_ratio
+        assert float(meta[f"{key}_s_m"]) == v.results[m].s
+    assert png.read_bytes()[:8] == MAGIC_PNG
+
+
+@pytest.mark.parametrize(
+    "argv, message",
+    [
+        (["--leak", "--pressure", 1e4], "--leak is a flat contact"),
+        (["--periods", 2], "--periods is for the cylinder"),
+        (["--geometry", "cone"], "invalid choice"),
+        (["--load", -1], "--load"),
+        (["--load", 1, "--alpha", 1], "not allowed with argument"),
+    ],
+)
+def test_cli_sphere_rejects(argv, message, capsys):
+    status, out, err = run(["validate", *TINY_SPHERE, *argv], capsys)
+    assert status == 2 and message in err and out == ""
