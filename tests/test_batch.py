@@ -385,7 +385,12 @@ BAD_TABLES = [
         r"'variant' must be one of \('yang-persson-energy', .*row 1 is 'persson'",
     ),
     ([{**GOOD, "variant": 3}], TypeError, "'variant' must hold a string"),
-    ([{**GOOD, "geometry": "sphere"}], ValueError, r"'geometry' must be one of \('cylinder',\)"),
+    (
+        [GOOD, {**GOOD, "geometry": "line"}],
+        ValueError,
+        r"'geometry' must be one of \('cylinder', 'sphere'\); row 1 is 'line'",
+    ),
+    ([{**GOOD, "geometry": 2}], TypeError, "'geometry' must hold a string; row 0 holds 2"),
     ([{"psd": 1.0, **{k: GOOD[k] for k in ("E_star", "radius", "load")}}], TypeError, "PSD, the"),
     ([], ValueError, "at least one scene"),
     ([GOOD, 3], TypeError, "row 1 must be a dict"),
