@@ -31,6 +31,7 @@ from typing import NamedTuple
 import numpy as np
 
 from fastline import _core
+from fastline import _solve_kernels as _kernels
 from fastline._core import ConvergenceWarning, normalise
 from fastline._solve_kernels import cold_start_into, hermite_accumulate
 from fastline._validate import E_STAR_RANGE, RADIUS_RANGE, finite_scalar, in_span, integer, positive
@@ -109,26 +110,14 @@ def _check_variant(variant) -> str | None:
 # ----------------------------------------------------------------------------------------------
 def peak(p: np.ndarray) -> float:
     """Peak value by a parabola through the three points around the discrete maximum."""
-    i = int(np.argmax(p))
-    if 0 < i < p.size - 1:
-        a, b, c = p[i - 1], p[i], p[i + 1]
-        den = a - 2.0 * b + c
-        if den < 0.0:
-            t = 0.5 * (a - c) / den
-            return float(b - 0.25 * (a - c) * t)
-    return float(p[i])
+    return float(_kernels.peak(np.ascontiguousarray(p, dtype=float)))
 
 
 def fwhm(x: np.ndarray, p: np.ndarray, p0: float) -> float:
-    """Width between the outermost half-maximum crossings (linear interpolation)."""
-    half = 0.5 * p0
-    above = np.nonzero(p >= half)[0]
-    i, j = above[0], above[-1]
-    if i == 0 or j == p.size - 1:
-        return float("nan")
-    xl = x[i - 1] + (half - p[i - 1]) * (x[i] - x[i - 1]) / (p[i] - p[i - 1])
-    xr = x[j] + (half - p[j]) * (x[j + 1] - x[j]) / (p[j + 1] - p[j])
-    return float(xr - xl)
+    """Width between the outermost half-maximum crossings (linear interpolation); NaN when p
+    does not fall below p0/2 at both ends of the grid."""
+    x, p = np.ascontiguousarray(x, dtype=float), np.ascontiguousarray(p, dtype=float)
+    return float(_kernels.fwhm(x, p, float(p0)))
 
 
 def log_pressure(result) -> np.ndarray:

@@ -97,31 +97,42 @@ def line_measures(x, p, dx):
     :func:`fastline._contact.peak`, :func:`fastline._contact.fwhm` and
     :func:`fastline.line_contact._std`, which this equals to round-off)."""
     n = p.shape[0]
-    k = 0
     m0 = 0.0
     m1 = 0.0
     for i in range(n):
-        if p[i] > p[k]:
-            k = i
         m0 += p[i]
         m1 += x[i] * p[i]
+    p0 = peak(p)
+    xc = m1 / m0
+    m2 = 0.0
+    for i in range(n):
+        m2 += (x[i] - xc) * (x[i] - xc) * p[i]
+    s = math.sqrt(m2 / m0 + dx * dx / 12.0)
+    return p0, s, fwhm(x, p, p0), m0
+
+
+@numba.njit(**JIT)
+def peak(p):
+    """Peak value of p by a parabola through the three points around the discrete maximum
+    (the first maximum; the maximum itself at an end of the grid)."""
+    n = p.shape[0]
+    k = 0
+    for i in range(n):
+        if p[i] > p[k]:
+            k = i
     p0 = p[k]
     if 0 < k < n - 1:
         a, b, c = p[k - 1], p[k], p[k + 1]
         den = a - 2.0 * b + c
         if den < 0.0:
             p0 = b - 0.25 * (a - c) * (0.5 * (a - c) / den)
-    xc = m1 / m0
-    m2 = 0.0
-    for i in range(n):
-        m2 += (x[i] - xc) * (x[i] - xc) * p[i]
-    s = math.sqrt(m2 / m0 + dx * dx / 12.0)
-    return p0, s, _fwhm(x, p, p0), m0
+    return p0
 
 
 @numba.njit(**JIT)
-def _fwhm(x, p, p0):
-    """Width between the outermost half-maximum crossings (:func:`fastline._contact.fwhm`)."""
+def fwhm(x, p, p0):
+    """Width between the outermost crossings of p0/2 by p on the cells x (linear
+    interpolation between cells); NaN when the profile does not fall below p0/2 at both ends."""
     n = p.shape[0]
     half = 0.5 * p0
     i = 0

@@ -1,7 +1,9 @@
 """Sweeps of many scenes on a process pool or a dask.distributed cluster: :func:`sweep`.
 
-A *scene* is one solve: a roughness spectrum, an effective modulus, a geometry (today a
-cylinder of radius R, ``geometry="cylinder"``), a load and the solver settings. :func:`sweep`
+A *scene* is one solve: a roughness spectrum, an effective modulus, a geometry (a cylinder of
+radius R, ``geometry="cylinder"``, solved by :class:`~fastline.LineContact`, or a sphere,
+``geometry="sphere"``, solved by :class:`~fastline.PointContact`), a load and the solver
+settings. :func:`sweep`
 takes a table of scenes (a list of dicts, a dict of columns, a NumPy structured array or a
 pandas DataFrame; the columns are listed in :data:`SCENE_COLUMNS`), runs it on any
 :class:`concurrent.futures.Executor` and returns a :class:`SweepTable`: one row per scene, in
@@ -12,7 +14,7 @@ How the work is cut (the *plan*):
 1. scenes are grouped by *model*: everything but the load (spectrum, E*, geometry and its
    size, model, method, n, gamma, variant, tol, max_iter, hardness);
 2. the scenes of a group are ordered by load and cut into *pieces* of at most ``chunksize``
-   scenes; a piece is solved by one ``LineContact.sweep`` (continuation along its loads);
+   scenes; a piece is solved by one ``sweep`` of its model (continuation along its loads);
 3. pieces are packed, in table order, into *tasks* of at most ``chunksize`` scenes: a task is
    what an executor receives (one pickle, one scheduling step).
 
@@ -22,14 +24,16 @@ pool, a dask cluster and ``executor="serial"`` give the same numbers bit for bit
 
 Workers keep spectra, Persson theories and models in a per-process cache keyed by their
 parameters (least recently used entries dropped beyond :data:`CACHE_SIZES`): scenes sharing a
-spectrum and material share one theory per worker process, whichever task brings them.
+spectrum and material share one theory per worker process, whichever task brings them, and
+whichever geometry they have.
 
 Failures stay in their rows: bad values (a Hurst exponent of 1.5, a load out of range, a
 spectrum file that cannot be read) and exceptions inside a worker become the row's ``error``
 text; the sweep always completes. The table's shape and types (column names, value types,
 geometry/model/method names) are checked before any work and raise.
 
-SI units throughout: m, 1/m, Pa, N/m (loads per unit cylinder length).
+SI units throughout: m, 1/m, Pa; loads in N/m (per unit length) for a cylinder, in N (the
+total load) for a sphere.
 """
 
 from __future__ import annotations
@@ -72,6 +76,7 @@ __all__ = [
     "SCENE_COLUMNS",
     "RESULT_COLUMNS",
     "GEOMETRIES",
+    "LOAD_UNITS",
     "CACHE_SIZES",
 ]
 
@@ -101,6 +106,7 @@ class _Column:
 
 
 _SPECTRUM = object()  # default marker of the self-affine spectrum columns
+_BY_GEOMETRY = object()  # default marker of a column whose default depends on the geometry
 _SPECTRUM_PARAMS = ("h_rms", "hurst", "q0", "qr", "q1")
 
 #: input columns; ``default`` None means required
@@ -115,10 +121,10 @@ _INPUTS = (
     _Column("psd", "psd", default=_SPECTRUM),
     _Column("E_star", "float", "Pa"),
     _Column("radius", "float", "m"),
-    _Column("load", "float", "N/m"),
+    _Column("load", "float", "N/m"),  # N for a sphere (_load_csv_name)
     _Column("model", "text", default="persson"),
     _Column("method", "text", default="newton"),
-    _Column("n", "int", default=1024),
+    _Column("n", "int", default=_BY_GEOMETRY),  # the geometry's own (_GEOMETRY_N)
     _Column("gamma", "float", "-", math.nan),  # NaN: the variant's own (_normalise)
     _Column("variant", "text", default=DEFAULT_VARIANT),
     _Column("tol", "float", "-", 1e-8),
@@ -163,7 +169,7 @@ _SCHEDULER_SCHEMES = ("tcp://", "tls://", "ucx://", "ws://", "wss://", "inproc:/
 
 
 # ----------------------------------------------------------------------------------------------
-# geometries: how a model of a scene is built (the sphere will add "sphere")
+# geometries: how a model of a scene is built
 # ----------------------------------------------------------------------------------------------
 def _cylinder(spec, psd, theory):
     from fastline.line_contact import LineContact
@@ -185,10 +191,34 @@ def _cylinder(spec, psd, theory):
     )
 
 
+def _sphere(spec, psd, theory):
+    from fastline.point_contact import PointContact
+
+    return PointContact(
+        psd,
+        spec.E_star,
+        spec.radius,
+        model=spec.model,
+        method=spec.method,
+        gamma=spec.gamma,
+        variant=spec.variant,
+        n=spec.n,
+        tol=spec.tol,
+        max_iter=spec.max_iter,
+        theory=theory,
+        hardness=spec.hardness,
+        warn=False,
+    )
+
+
 #: ``geometry`` column value -> builder ``(spec, psd, theory) -> model`` of a model with
 #: ``solve(load)`` and ``sweep(loads)`` returning results with p0, p0_ratio, s, fwhm, w_over_s,
 #: alpha, converged, iterations, convolutions, residual and ``diagnostics``
-GEOMETRIES = {"cylinder": _cylinder}
+GEOMETRIES = {"cylinder": _cylinder, "sphere": _sphere}
+#: default ``n`` of each geometry: the model's own default (LineContact 1024, PointContact 512)
+_GEOMETRY_N = {"cylinder": 1024, "sphere": 512}
+#: unit of the ``load`` column for each geometry
+LOAD_UNITS = {"cylinder": "N/m", "sphere": "N"}
 _CATEGORIES = {"geometry": GEOMETRIES, "model": _MODELS, "method": _METHODS, "variant": VARIANTS}
 
 
@@ -348,6 +378,10 @@ def _normalise(scenes) -> dict[str, list]:
             out[col.name] = [col.default] * size
     for name in _CATEGORIES:
         _check_category(name, out[name])
+    out["n"] = [
+        _GEOMETRY_N.get(g, 1024) if n is _BY_GEOMETRY else n
+        for n, g in zip(out["n"], out["geometry"], strict=True)
+    ]
     out["gamma"] = [
         VARIANTS[v].default_gamma if math.isnan(g) else g
         for g, v in zip(out["gamma"], out["variant"], strict=True)
@@ -762,17 +796,22 @@ def _empty_table(cols: Mapping) -> np.ndarray:
 
 @dataclass
 class _Flagged:
-    """A solved scene as :func:`fastline.diagnostics.summarise_warnings` reads it."""
+    """A solved scene as :func:`fastline.diagnostics.summarise_warnings` reads it (the load's
+    symbol and unit those of its geometry's results)."""
 
     load: float
     diagnostics: dict
+    LOAD_SYMBOL: str = "f_N"
+    LOAD_UNIT: str = "N/m"
 
 
 _UNFLAGGED = _Flagged(0.0, {})  # a solved scene without warnings
+_LOAD_SYMBOLS = {"cylinder": "f_N", "sphere": "F"}
 
 
-def _fill(table: np.ndarray, outcomes: list[_TaskOutcome]) -> list[_Flagged]:
-    """Write the workers' rows into the table; returns the solved scenes' warnings."""
+def _fill(table: np.ndarray, outcomes: list[_TaskOutcome]) -> dict[str, list[_Flagged]]:
+    """Write the workers' rows into the table; returns the solved scenes (with their
+    warnings) of each geometry."""
     solved, numbers, failed, errors, flagged = [], [], [], [], []
     for outcome in outcomes:
         for i, values, messages, error in outcome.rows:
@@ -785,7 +824,7 @@ def _fill(table: np.ndarray, outcomes: list[_TaskOutcome]) -> list[_Flagged]:
             if messages:
                 table["warnings"][i] = ";".join(messages)
                 diag = {"warning_causes": list(messages), "warning_messages": messages}
-                flagged.append(_Flagged(float(table["load"][i]), diag))
+                flagged.append((i, diag))
     if failed:
         table["error"][np.asarray(failed)] = np.fromiter(errors, dtype=object, count=len(errors))
     if solved:
@@ -793,7 +832,25 @@ def _fill(table: np.ndarray, outcomes: list[_TaskOutcome]) -> list[_Flagged]:
         block = np.asarray(numbers, dtype=np.float64)
         for k, name in enumerate(_NUMERIC_RESULTS):
             table[name][idx] = block[:, k].astype(table.dtype[name])
-    return flagged + [_UNFLAGGED] * (len(solved) - len(flagged))
+    return _by_geometry(table, solved, flagged)
+
+
+def _by_geometry(table: np.ndarray, solved: list[int], flagged: list) -> dict[str, list]:
+    """Geometry -> its solved scenes as :class:`_Flagged` (one shared entry stands for each
+    scene without warnings: only the count matters)."""
+    geometry, load = table["geometry"], table["load"]
+    out: dict[str, list[_Flagged]] = {}
+    for i, diag in flagged:
+        g = geometry[i]
+        symbol, unit = _LOAD_SYMBOLS.get(g, "load"), LOAD_UNITS.get(g, "N/m")
+        out.setdefault(g, []).append(_Flagged(float(load[i]), diag, symbol, unit))
+    counts: dict[str, int] = {}
+    for g in geometry[np.asarray(solved, dtype=np.int64)]:
+        counts[g] = counts.get(g, 0) + 1
+    for g, k in counts.items():
+        scenes = out.setdefault(g, [])
+        scenes.extend([_UNFLAGGED] * (k - len(scenes)))
+    return out
 
 
 @dataclass
@@ -855,6 +912,15 @@ class SweepTable:
         ``residual``, ``warnings`` (the validity causes found, ``;``-separated) and ``error``
         (empty when the scene was solved). A failed scene has NaN numbers, ``converged``
         False and zero counts. Text columns hold Python strings (object dtype).
+
+        Each result is the attribute of that name of the scene's
+        :class:`~fastline.LineContactResult` (cylinder) or
+        :class:`~fastline.PointContactResult` (sphere). For a sphere: ``p0_ratio`` is
+        against the Hertz *sphere*, ``s`` and ``fwhm`` are measured along a diameter
+        (``s^2 = int r^2 p dA / (2F)``), ``alpha = h_rms / delta`` with ``delta = a^2/R``
+        (a cylinder's ``delta = 4 f_N / (pi E*)``), ``convolutions`` counts ring-operator
+        applications (products with K plus preconditioner solves; a cylinder's, FFT
+        convolutions) and ``residual`` is relative to u0 as for a cylinder.
     warnings : list of (str, str)
         ``(cause, message)`` once per cause over the whole sweep: ``"failed"``,
         ``"not_converged"`` and the causes of :data:`fastline.diagnostics.CAUSES`.
@@ -901,7 +967,9 @@ class SweepTable:
 
     def to_csv(self, path: str | os.PathLike, meta: Mapping | None = None) -> None:
         """Write the table as a CSV file (:func:`fastline.io.write_csv`): ``# key: value``
-        header lines, then columns named with their units (``load_N_per_m``, ``p0_Pa``...).
+        header lines, then columns named with their units (``load_N_per_m``, ``p0_Pa``...;
+        the load is ``load_N`` when every scene is a sphere, ``load`` when the table mixes
+        geometries, and the header's ``load_unit`` line says which unit each geometry's has).
 
         Text cells are written on one line with commas replaced by ``;``; ``psd`` cells as the
         file path or the spectrum's repr. :func:`fastline.io.read_csv` reads the file back,
@@ -915,13 +983,27 @@ class SweepTable:
         header.update(failed=int(self.failed.sum()), not_converged=self._unconverged())
         header.update(chunksize=self.stats.chunksize, **(meta or {}))
         names = self.columns
+        header["load_unit"] = "; ".join(
+            f"{LOAD_UNITS.get(g, 'N/m')} ({g})" for g in dict.fromkeys(self.table["geometry"])
+        )
         text = [_BY_NAME[n].kind in ("text", "psd") for n in names]
         rows = (
             [_text_cell(v) if t else v for v, t in zip(rec, text, strict=True)]
             for rec in self.table.tolist()
         )
         title = "fastline sweep: one row per scene (inputs, then results); SI units"
-        write_csv(path, [_BY_NAME[n].csv_name for n in names], rows, header, title=title)
+        csv_names = [self._csv_name(n) for n in names]
+        write_csv(path, csv_names, rows, header, title=title)
+
+    def _csv_name(self, name: str) -> str:
+        """A column's name in CSV files; the load's unit follows the geometries of the table
+        (``load_N_per_m`` for cylinders, ``load_N`` for spheres, ``load`` when mixed)."""
+        if name != "load":
+            return _BY_NAME[name].csv_name
+        units = {LOAD_UNITS.get(g, "N/m") for g in self.table["geometry"]}
+        if len(units) > 1:
+            return "load"
+        return _Column("load", "float", units.pop()).csv_name
 
     def _unconverged(self) -> int:
         return int(((self.table["error"] == "") & ~self.table["converged"]).sum())
@@ -938,7 +1020,9 @@ class SweepTable:
 # ----------------------------------------------------------------------------------------------
 # warnings, once per cause
 # ----------------------------------------------------------------------------------------------
-def _summary(table: np.ndarray, flagged: list[_Flagged]) -> list[tuple[str, str]]:
+def _summary(table: np.ndarray, flagged: dict[str, list[_Flagged]]) -> list[tuple[str, str]]:
+    """Failed and unconverged scenes, then the validity causes once each per geometry (the
+    loads of a cylinder and of a sphere are in different units)."""
     from fastline.diagnostics import summarise_warnings
 
     out = []
@@ -961,7 +1045,9 @@ def _summary(table: np.ndarray, flagged: list[_Flagged]) -> list[tuple[str, str]
                 f"{_few(bad.tolist())}); see the converged and residual columns",
             )
         )
-    return out + summarise_warnings(flagged)
+    for solved in flagged.values():
+        out += summarise_warnings(solved)
+    return out
 
 
 def _emit(summary: list[tuple[str, str]]) -> None:
@@ -997,20 +1083,23 @@ def sweep(
     Parameters
     ----------
     scenes : list of dict, dict of columns, NumPy structured array or pandas DataFrame
-        One scene per row. Required columns: ``E_star`` [Pa], ``radius`` [m], ``load`` [N/m],
-        and the spectrum: either ``h_rms`` [m], ``hurst``, ``q0``, ``qr``, ``q1`` [1/m] (a
-        :class:`~fastline.SelfAffinePSD`) or ``psd`` (a PSD object, the path of a spectrum
-        file read by :func:`fastline.io.read_spectrum` on the worker, or None for
-        ``model="hertz"``). Optional, with defaults: ``label`` (""), ``geometry``
-        ("cylinder"), ``model`` ("persson", "exponential", "hertz"), ``method`` ("newton",
-        "picard"), ``n`` (1024), ``variant`` of the theory's u(p) ("yang-persson-energy",
-        the default, "yang-persson-printed" or "wang-mueser"; :mod:`fastline.variants`),
+        One scene per row. Required columns: ``E_star`` [Pa], ``radius`` [m], ``load`` (N/m
+        for a cylinder, N for a sphere) and the spectrum: either ``h_rms`` [m], ``hurst``,
+        ``q0``, ``qr``, ``q1`` [1/m] (a :class:`~fastline.SelfAffinePSD`) or ``psd`` (a PSD
+        object, the path of a spectrum file read by :func:`fastline.io.read_spectrum` on the
+        worker, or None for ``model="hertz"``). Optional, with defaults: ``label`` (""),
+        ``geometry`` ("cylinder", the default, or "sphere": :data:`GEOMETRIES`), ``model``
+        ("persson", "exponential", "hertz"), ``method`` ("newton", "picard"), ``n`` (the
+        geometry's own: 1024 grid points for a cylinder, 512 cells for a sphere; the table
+        shows the value used), ``variant`` of the theory's u(p) ("yang-persson-energy", the
+        default, "yang-persson-printed" or "wang-mueser"; :mod:`fastline.variants`),
         ``gamma`` (the variant's own: 0.45, 5/9 for "wang-mueser"; the table shows the value
         used), ``tol`` (1e-8), ``max_iter`` (0: the method's default), ``hardness`` [Pa]
         (NaN: none). A missing cell (None, NaN) in an optional column takes the default.
         Each scene is solved as ``LineContact(psd, E_star, radius, model=...,
-        variant=..., ...).solve(load)`` would, its values checked there (a bad value fails
-        that scene only).
+        variant=..., ...).solve(load)`` would (``PointContact`` for a sphere), its values
+        checked there (a bad value fails that scene only). Scenes of either geometry that
+        share a spectrum, E*, gamma and variant share one Persson theory per worker.
     executor : None, "serial", str, concurrent.futures.Executor or dask Client
         None (default): a local pool of ``workers`` processes (spawned; made and shut down
         here; a single task or ``workers=1`` runs in this process). ``"serial"``: in this
@@ -1115,6 +1204,7 @@ def read_scenes(path: str | os.PathLike) -> dict[str, list]:
     path = os.fspath(path)
     header, body = _csv_rows(path)
     aliases = {c.csv_name: c.name for c in _INPUTS} | {c.name: c.name for c in _INPUTS}
+    aliases["load_N"] = "load"  # the load on a sphere (SweepTable.to_csv names it so)
     unknown = [k for k in header if k not in aliases]
     if unknown:
         raise ValueError(f"{path}: unknown columns {unknown}; allowed: {', '.join(SCENE_COLUMNS)}")

@@ -262,7 +262,8 @@ def build_parser() -> argparse.ArgumentParser:
         description="Solve every scene (row) of a CSV file and write one row of results per "
         "scene. Columns (header row; units in the name optional, e.g. E_star or E_star_Pa): "
         "the spectrum as h_rms, hurst, q0, qr, q1 or as psd (a spectrum file, relative to the "
-        "CSV file); E_star [Pa], radius [m], load [N/m]; optional label, geometry (cylinder), "
+        "CSV file); E_star [Pa], radius [m], load [N/m; N with geometry sphere]; optional label, "
+        "geometry (cylinder, the default, or sphere), "
         "model, method, n, variant (yang-persson-energy, yang-persson-printed, wang-mueser), "
         "gamma (default: the variant's), tol, max_iter, hardness [Pa]; an empty cell takes the "
         "default. A scene that fails (a value out of range, an unreadable spectrum file) is "
@@ -345,12 +346,14 @@ def _table_status(table) -> int:
 
 
 def _sweep_in_parallel(psd, E, args, loads):
-    """The loads of the sweep command as a scene table on --workers/--scheduler: rows with
-    the attributes of a result (load, alpha, p0, ...) and the table."""
+    """The loads of the sweep command (either geometry) as a scene table on
+    --workers/--scheduler: rows with the attributes of a result (load, alpha, p0, ...) and the
+    table."""
     import numpy as np
 
     k = len(loads)
     scenes = {
+        "geometry": [args.geometry] * k,
         "psd": [psd] * k,
         "E_star": [E] * k,
         "radius": [args.radius] * k,

@@ -152,9 +152,13 @@ def cmd_sphere_sweep(args: argparse.Namespace) -> int:
     _check_outputs(args)
     loads = np.geomspace(args.loads_from, args.loads_to, args.loads_num)
     th = _theory(psd, E, args)
-    model = PointContact(psd, E, args.radius, model=args.model, **_solve_kwargs(args, th))
-    with _progress(len(loads), "sweep") as bar:
-        results = model.sweep(loads, progress=bar.update)
+    table = None
+    if args.workers is None and args.scheduler is None:
+        model = PointContact(psd, E, args.radius, model=args.model, **_solve_kwargs(args, th))
+        with _progress(len(loads), "sweep") as bar:
+            results = model.sweep(loads, progress=bar.update)
+    else:
+        results, table = _sweep_on_executor(psd, E, args, loads)
     print(_spectrum_line(psd, source))
     print(f"geometry         sphere on a flat, R = {args.radius:.6g} m; loads F in N")
     print(
@@ -166,7 +170,8 @@ def cmd_sphere_sweep(args: argparse.Namespace) -> int:
             f"{r.load:>12.4g}{r.alpha:>12.4g}{r.p0:>13.5g}{r.p0_ratio:>10.5f}{r.s:>12.4g}"
             f"{r.fwhm:>12.4g}{r.w_over_s:>8.4f}{'yes' if r.converged else 'NO':>6}"
         )
-    _report_warnings(results)
+    if table is None:
+        _report_warnings(results)
     if args.csv:
         from fastline.io import write_point_sweep_csv
 
@@ -176,7 +181,33 @@ def cmd_sphere_sweep(args: argparse.Namespace) -> int:
 
         gu = th.exponential_fit().gamma_u if th is not None else None
         _save(plot_sweep(results, gamma_u=gu), args.plot, args)
-    return _convergence_status(results)
+    if table is None:
+        return _convergence_status(results)
+    from fastline.cli import _table_status
+
+    return _table_status(table)
+
+
+def _sweep_on_executor(psd, E, args, loads):
+    """--workers/--scheduler: the loads as sphere scenes of :func:`fastline.sweep` (the
+    cylinder's path, :func:`fastline.cli._sweep_in_parallel`); rows with the attributes of a
+    :class:`~fastline.PointContactResult` that the table, the CSV file and the figure read
+    (``hertz_radius`` tells the figure it is a sphere) and the sweep's table."""
+    from types import SimpleNamespace
+
+    from fastline.cli import _sweep_in_parallel  # here: fastline.cli imports this module
+    from fastline.limits import hertz_point_contact
+
+    rows, table = _sweep_in_parallel(psd, E, args, loads)
+    names = ("load", "alpha", "p0", "p0_ratio", "s", "fwhm", "w_over_s", "converged")
+    results = [
+        SimpleNamespace(
+            **{k: row[k].item() for k in names},
+            hertz_radius=hertz_point_contact(E, args.radius, float(row["load"])).a,
+        )
+        for row in rows
+    ]
+    return results, table
 
 
 def cmd_sphere_paper(args: argparse.Namespace) -> int:

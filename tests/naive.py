@@ -785,3 +785,27 @@ def cell_mean_spectrum(psd, qx: float, qy: float, dqx: float, dqy: float) -> flo
     pts = [s * r for r in radii for s in (-1, 1) if lo < s * r < hi]
     total = quad(inner, lo, hi, points=pts or None, epsabs=0.0, epsrel=1e-9, limit=200)[0]
     return total / (dqx * dqy)
+
+
+# ---- profile measures (fastline._contact.peak / fwhm, compiled in fastline._solve_kernels) ------
+def peak_parabola(p):
+    """Peak by the parabola through the three points around np.argmax (the maximum at an end)."""
+    i = int(np.argmax(p))
+    if 0 < i < p.size - 1:
+        a, b, c = p[i - 1], p[i], p[i + 1]
+        den = a - 2.0 * b + c
+        if den < 0.0:
+            return float(b - 0.25 * (a - c) * (0.5 * (a - c) / den))
+    return float(p[i])
+
+
+def fwhm_crossings(x, p, p0):
+    """Width between the outermost cells with p >= p0/2, each end interpolated linearly to the
+    crossing; NaN when the half maximum is reached at an end of the grid."""
+    above = np.nonzero(p >= 0.5 * p0)[0]
+    i, j = above[0], above[-1]
+    if i == 0 or j == p.size - 1:
+        return float("nan")
+    xl = np.interp(0.5 * p0, [p[i - 1], p[i]], [x[i - 1], x[i]])
+    xr = np.interp(0.5 * p0, [p[j + 1], p[j]], [x[j + 1], x[j]])
+    return float(xr - xl)

@@ -348,6 +348,90 @@ def test_variant_column_on_a_process_pool(variant_serial, pool):
     assert res.stats.workers == 2
 
 
+# ---- spheres: geometry="sphere" rows are PointContact scenes --------------------------------
+N_SPHERE = 48  # cells of the sphere's grid (kept small: the ring operator is dense)
+SPHERE_LOADS = (0.05, 0.3, 2.0, 12.0)  # N: alpha about 3 .. 0.03 for h_rms = 1e-6 m
+
+
+def sphere_scene(load, **extra) -> dict:
+    return scene(1e-6, 0.8, load, geometry="sphere", n=N_SPHERE, **extra)
+
+
+def point_contact(**kw) -> fl.PointContact:
+    psd = fl.SelfAffinePSD(1e-6, 0.8, 1e3, 1e4, 1e9)
+    return fl.PointContact(psd, E_STAR, RADIUS, n=N_SPHERE, warn=False, **kw)
+
+
+def assert_rows_are(res, rows, results) -> None:
+    """Every result column of the rows equals the results' attribute, bit for bit."""
+    for i, r in zip(rows, results, strict=True):
+        for name in batch.RESULT_COLUMNS[:10]:
+            assert res[name][i] == getattr(r, name), (i, name)
+
+
+@pytest.mark.parametrize("engine", ["serial", "pool"])
+def test_sphere_rows_are_point_contact_solves(engine, request):
+    """chunksize 1: each sphere row is PointContact(...).solve(load), bit for bit, in the
+    serial engine and on a 2-process pool."""
+    executor = "serial" if engine == "serial" else request.getfixturevalue("pool")
+    loads = SPHERE_LOADS[::-1]
+    res = run([sphere_scene(f) for f in loads], executor, chunksize=1)
+    assert res.ok.all() and list(res["geometry"]) == ["sphere"] * 4
+    pc = point_contact()
+    assert_rows_are(res, range(4), [pc.solve(f) for f in loads])
+    assert res["alpha"][0] == pytest.approx(1e-6 * RADIUS / pc.solve(loads[0]).hertz_radius ** 2)
+
+
+def test_sphere_pieces_are_point_contact_sweeps(pool):
+    """chunksize 2: the rows are PointContact.sweep over pairs of consecutive loads, on the
+    serial engine and on a pool alike."""
+    rows = [sphere_scene(f) for f in SPHERE_LOADS]
+    res = run(rows, chunksize=2)
+    pc = point_contact()
+    assert_rows_are(res, range(4), pc.sweep(SPHERE_LOADS[:2]) + pc.sweep(SPHERE_LOADS[2:]))
+    assert_same_table(run(rows, pool, chunksize=2), res)
+
+
+def test_mixed_cylinder_and_sphere_table(tmp_path):
+    """Cylinders and spheres of one spectrum in one table: each row equals its geometry's
+    model, one theory serves both, n defaults to the geometry's own, a bad sphere load fails
+    its row only, the validity warnings name each geometry's loads in its unit, and the CSV
+    file names the load column by its unit."""
+    sphere_rows = [sphere_scene(f) for f in SPHERE_LOADS[:2]]
+    cylinder_rows = [scene(1e-6, 0.8, f) for f in (1e4, 1e5)]
+    defaults = [{**sphere_scene(1.0), "n": None}, {**scene(1e-6, 0.8, 1e4), "n": None}]
+    rows = [*sphere_rows, *cylinder_rows, *defaults, sphere_scene(-1.0)]
+    res = run(rows, chunksize=1)
+    geometries = ["sphere", "sphere", "cylinder", "cylinder", "sphere", "cylinder", "sphere"]
+    assert list(res["geometry"]) == geometries
+    assert_rows_are(res, (0, 1), [point_contact().solve(f) for f in SPHERE_LOADS[:2]])
+    lc = fl.LineContact(fl.SelfAffinePSD(1e-6, 0.8, 1e3, 1e4, 1e9), E_STAR, RADIUS, n=N)
+    assert_rows_are(res, (2, 3), [lc.solve(f) for f in (1e4, 1e5)])
+    assert res["n"][4] == fl.point_contact.DEFAULT_N and res["n"][5] == fl.line_contact.DEFAULT_N
+    psd = fl.SelfAffinePSD(1e-6, 0.8, 1e3, 1e4, 1e9)
+    assert res["p0"][4] == fl.PointContact(psd, E_STAR, RADIUS, warn=False).solve(1.0).p0
+    assert res.stats.theory_builds == 1 and res.stats.model_builds == 4
+    assert "load must lie in" in res["error"][6] and " N (" in res["error"][6]
+    assert np.count_nonzero(res.failed) == 1
+    narrow = [m for c, m in res.warnings if c == "narrow_contact"]
+    assert len(narrow) == 2
+    assert any("[3 of 3 solves: F = 0.05, 0.3, 1 N]" in m for m in narrow)
+    assert any("[3 of 3 solves: f_N = 1e+04" in m and m.endswith(" N/m]") for m in narrow)
+    res.to_csv(tmp_path / "mixed.csv")
+    meta, cols = read_csv(tmp_path / "mixed.csv")
+    assert "load" in cols and meta["load_unit"] == "N (sphere); N/m (cylinder)"
+    spheres = run(sphere_rows)
+    spheres.to_csv(tmp_path / "spheres.csv")
+    _, cols = read_csv(tmp_path / "spheres.csv")
+    assert "load_N" in cols and "load_N_per_m" not in cols
+    (tmp_path / "scenes.csv").write_text(
+        "h_rms,hurst,q0,qr,q1,E_star,radius,geometry,load_N,n\n"
+        f"1e-6,0.8,1e3,1e4,1e9,{E_STAR},{RADIUS},sphere,{SPHERE_LOADS[0]},{N_SPHERE}\n"
+    )
+    again = run(batch.read_scenes(tmp_path / "scenes.csv"))
+    assert again["p0"][0] == res["p0"][0] and again["geometry"][0] == "sphere"
+
+
 # ---- bad tables: refused before any task is submitted -----------------------------------------
 class SpyExecutor(cf.Executor):
     def __init__(self):
@@ -385,7 +469,12 @@ BAD_TABLES = [
         r"'variant' must be one of \('yang-persson-energy', .*row 1 is 'persson'",
     ),
     ([{**GOOD, "variant": 3}], TypeError, "'variant' must hold a string"),
-    ([{**GOOD, "geometry": "sphere"}], ValueError, r"'geometry' must be one of \('cylinder',\)"),
+    (
+        [GOOD, {**GOOD, "geometry": "line"}],
+        ValueError,
+        r"'geometry' must be one of \('cylinder', 'sphere'\); row 1 is 'line'",
+    ),
+    ([{**GOOD, "geometry": 2}], TypeError, "'geometry' must hold a string; row 0 holds 2"),
     ([{"psd": 1.0, **{k: GOOD[k] for k in ("E_star", "radius", "load")}}], TypeError, "PSD, the"),
     ([], ValueError, "at least one scene"),
     ([GOOD, 3], TypeError, "row 1 must be a dict"),
@@ -547,6 +636,101 @@ def test_cli_sweep_variant_on_workers(tmp_path):
     assert meta["variant"] == "yang-persson-printed" and meta["gamma"] == "0.45"
     np.testing.assert_allclose(a["p0_ratio"], b["p0_ratio"], rtol=RTOL_CONTINUATION)
     assert np.max(a["p0_ratio"] / c["p0_ratio"]) > 1.0 + MIN_VARIANT_EFFECT
+
+
+SPHERE_SWEEP_ARGS = ["sweep", "--geometry", "sphere", "--h-rms", "1e-6", "--n", N_SPHERE]
+SPHERE_SWEEP_ARGS += ["--loads-num", 6, "--chunksize", 2]
+
+
+def table_lines(out: str) -> list[str]:
+    """The printed table of a sweep (after its header line)."""
+    lines = out.splitlines()
+    start = next(k for k, ln in enumerate(lines) if ln.lstrip().startswith("load"))
+    return lines[start:]
+
+
+def test_cli_sphere_sweep_on_workers_and_scheduler(tmp_path, dask_client, monkeypatch):
+    """--geometry sphere with --workers 2, --workers 1 and --scheduler runs fastline.sweep on
+    sphere scenes (it was ignored before) and writes the same file, byte for byte; the printed
+    table is the serial sweep's, the file agrees with it to the solver tolerance."""
+    calls = []
+
+    def spy(scenes, executor=None, **kw):
+        calls.append((set(scenes["geometry"]), executor, kw["workers"]))
+        return real(scenes, executor, **kw)
+
+    real = batch.sweep
+    monkeypatch.setattr(batch, "sweep", spy)
+    files, printed = {}, {}
+    for name, extra in [
+        ("pool", ["--workers", 2]),
+        ("one", ["--workers", 1]),
+        ("dask", ["--scheduler", dask_client.scheduler.address]),
+        ("plain", []),
+    ]:
+        files[name] = tmp_path / f"{name}.csv"
+        status, out, err = cli([*SPHERE_SWEEP_ARGS, *extra, "--csv", files[name]])
+        assert status == 0, err
+        printed[name] = table_lines(out)
+        warned = [ln for ln in err.splitlines() if ln.startswith("fastline: warning:")]
+        assert len(warned) == len(set(warned)) >= 1  # once per cause
+    assert [(g, w) for g, _, w in calls] == [({"sphere"}, 2), ({"sphere"}, 1), ({"sphere"}, None)]
+    assert calls[2][1] is not None  # the dask client
+    text = {k: f.read_bytes() for k, f in files.items()}
+    assert text["pool"] == text["one"] == text["dask"]
+    assert printed["pool"] == printed["plain"] and len(printed["plain"]) == 7
+    meta, a = read_csv(files["pool"])
+    _, b = read_csv(files["plain"])
+    assert meta["geometry"] == "sphere" and np.array_equal(a["load_N"], b["load_N"])
+    for col in ("p0_Pa", "p0_ratio", "s_m", "w_m", "w_over_s", "alpha"):
+        np.testing.assert_allclose(a[col], b[col], rtol=RTOL_CONTINUATION, err_msg=col)
+
+
+def test_cli_sphere_sweep_plot_on_workers(tmp_path, monkeypatch):
+    """The figure of a parallel sphere sweep draws the Hertz sphere's w/s, sqrt(15)."""
+    pytest.importorskip("matplotlib")
+    import matplotlib.pyplot as plt
+
+    figures = []
+    monkeypatch.setattr(fl.cli_sphere, "_save", lambda fig, path, args: figures.append(fig))
+    status, _, err = cli([*SPHERE_SWEEP_ARGS, "--workers", 2, "--plot", tmp_path / "s.png"])
+    assert status == 0, err
+    ws_axes = figures[0].axes[0]
+    levels = [ln.get_ydata()[0] for ln in ws_axes.get_lines() if len(set(ln.get_ydata())) == 1]
+    assert any(np.isclose(y, np.sqrt(15.0)) for y in levels)
+    plt.close(figures[0])
+
+
+@pytest.mark.parametrize(
+    "argv, message",
+    [
+        (["sweep", "--geometry", "ball", "--workers", 2], "--geometry: invalid choice: 'ball'"),
+        (["sweep", "--geometry", "sphere", "--workers", 0], "--workers: must be >= 1"),
+    ],
+)
+def test_cli_sphere_sweep_bad_options(argv, message):
+    status, _, err = cli(argv)
+    assert status == 2 and message in err
+
+
+def test_cli_batch_geometry_column(tmp_path):
+    """A geometry column in a batch file: sphere rows (load in N) are PointContact solves; an
+    unknown geometry refuses the file (exit 2, naming the column and row)."""
+    header = "label,h_rms,hurst,q0,qr,q1,E_star,radius,geometry,load,n"
+    lines = [header, f"c,1e-6,0.8,1e3,1e4,1e9,{E_STAR},{RADIUS},,1e4,{N}"]
+    lines += [f"s,1e-6,0.8,1e3,1e4,1e9,{E_STAR},{RADIUS},sphere,0.3,{N_SPHERE}"]
+    (tmp_path / "scenes.csv").write_text("\n".join(lines) + "\n")
+    status, _, err = cli(["batch", tmp_path / "scenes.csv", "--out", tmp_path / "out.csv"])
+    assert status == 0, err
+    meta, cols = read_csv(tmp_path / "out.csv")
+    assert list(cols["geometry"]) == ["cylinder", "sphere"] and "load" in cols
+    assert cols["p0_Pa"][1] == point_contact().solve(0.3).p0
+    (tmp_path / "bad.csv").write_text(
+        "\n".join([lines[0], lines[1], lines[2].replace("sphere", "ball")])
+    )
+    status, _, err = cli(["batch", tmp_path / "bad.csv", "--out", tmp_path / "bad_out.csv"])
+    assert status == 2 and "column 'geometry' must be one of ('cylinder', 'sphere'); row 1" in err
+    assert not (tmp_path / "bad_out.csv").exists()
 
 
 def test_cli_batch_variant_column(tmp_path):

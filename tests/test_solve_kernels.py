@@ -4,10 +4,10 @@ from __future__ import annotations
 
 import math
 
+import naive
 import numpy as np
 import pytest
 
-from fastline._contact import fwhm, peak
 from fastline._core import LN_FLOOR
 from fastline._solve_kernels import (
     cold_start_into,
@@ -65,9 +65,25 @@ def test_cells_and_measures_equal_the_numpy_forms():
     np.testing.assert_array_equal(w, dx)
     p = np.maximum(1.0 - (x / 2.2e-4) ** 2, 0.0) ** 0.5 * 1e6 + np.exp(-((x / 1e-4) ** 2)) * 3e5
     p0, s, width, total = line_measures(x, p, dx)
-    assert p0 == pytest.approx(peak(p), rel=RTOL_ROUNDOFF)
+    assert p0 == pytest.approx(naive.peak_parabola(p), rel=RTOL_ROUNDOFF)
     assert p0 > p.max()  # the parabola through the top three cells
     assert s == pytest.approx(_std(x, p, dx), rel=RTOL_ROUNDOFF)
-    assert width == pytest.approx(fwhm(x, p, p0), rel=RTOL_ROUNDOFF)
+    assert width == pytest.approx(naive.fwhm_crossings(x, p, p0), rel=RTOL_ROUNDOFF)
     assert total == pytest.approx(p.sum(), rel=RTOL_ROUNDOFF)
     assert math.isnan(line_measures(x, np.ones(n), dx)[2])  # no half-maximum crossing
+
+
+def test_peak_and_fwhm_wrappers_against_the_references():
+    """The public measures (fastline._contact.peak / fwhm, used by the point contact and the
+    error estimates) on a skewed profile, a peak at the grid's end and a plateau."""
+    from fastline._contact import fwhm, peak
+
+    x = np.linspace(-1.0, 2.0, 301)
+    skewed = np.exp(-((x - 0.3) ** 2) / 0.08) * (1.0 + 0.4 * x)
+    for p in (skewed, np.exp(-x), np.where(np.abs(x) < 0.5, 1.0, 0.0)):
+        p0 = peak(p)
+        assert p0 == pytest.approx(naive.peak_parabola(p), rel=RTOL_ROUNDOFF)
+        ref = naive.fwhm_crossings(x, p, p0)
+        got = fwhm(x, p, p0)
+        assert (math.isnan(got) and math.isnan(ref)) or got == pytest.approx(ref, rel=1e-12)
+    assert math.isnan(fwhm(x, np.exp(-x), 1.0))  # half maximum reached at the grid's end
