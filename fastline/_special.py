@@ -30,6 +30,7 @@ from __future__ import annotations
 
 import functools
 import math
+from pathlib import Path
 from typing import TYPE_CHECKING
 
 import numba
@@ -86,9 +87,33 @@ def _scaled_e1(z: np.ndarray) -> np.ndarray:
     return np.sum(w / (1.0 + t / z[:, None]), axis=1)
 
 
+#: the gamma-free Chebyshev coefficients, computed once by :func:`compute_gamma_free_tables`
+#: and shipped with the package: building them needs ``scipy.special.exp1``, whose import
+#: (~0.13 s) and the interpolation (~0.04 s) were a fifth of a fresh process's first answer.
+#: ``tests/test_special.py`` recomputes them; regenerate with :func:`write_gamma_free_tables`.
+_TABLES_FILE = Path(__file__).with_name("_special_tables.npz")
+_TABLE_NAMES = ("c1a", "c1b", "c2a", "c2b", "c3")
+
+
 @functools.lru_cache(maxsize=1)
 def _gamma_free_tables():
-    """Chebyshev coefficients of the gamma-free parts, (region1 a/b, region2 a/b, region3)."""
+    """Chebyshev coefficients of the gamma-free parts, (region1 a/b, region2 a/b, region3),
+    read from the shipped file (computed afresh if it is missing)."""
+    try:
+        with np.load(_TABLES_FILE) as data:
+            return tuple(np.array(data[name]) for name in _TABLE_NAMES)
+    except OSError:
+        return compute_gamma_free_tables()
+
+
+def write_gamma_free_tables(path: Path = _TABLES_FILE) -> None:
+    """Recompute the shipped coefficient file (after changing a degree or a region)."""
+    np.savez(path, **dict(zip(_TABLE_NAMES, compute_gamma_free_tables(), strict=True)))
+
+
+def compute_gamma_free_tables() -> tuple:
+    """The coefficients of :func:`_gamma_free_tables` by Chebyshev interpolation of the
+    gamma-free parts of F (``scipy.special.exp1`` for E1 in region 2)."""
     from scipy.special import exp1
 
     c1a = _cheb.chebinterpolate(lambda s: _phi_a(0.5 * (s + 1.0)), _DEG1)

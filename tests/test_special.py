@@ -123,3 +123,15 @@ def test_F_rejects_bad_x0(x0):
 def test_F_rejects_bad_gamma(gamma):
     with pytest.raises(ValueError, match=r"^gamma\b"):
         universal_F(1.0, gamma)
+
+
+def test_shipped_coefficients_are_the_computed_ones():
+    """The gamma-free Chebyshev tables read from fastline/_special_tables.npz equal a fresh
+    computation (a stale file after a change of degree or region would fail here)."""
+    from fastline._special import _TABLE_NAMES, _gamma_free_tables, compute_gamma_free_tables
+
+    shipped, fresh = _gamma_free_tables(), compute_gamma_free_tables()
+    assert len(shipped) == len(fresh) == len(_TABLE_NAMES)
+    for name, a, b in zip(_TABLE_NAMES, shipped, fresh, strict=True):
+        assert a.shape == b.shape, name
+        np.testing.assert_allclose(a, b, rtol=1e-14, atol=1e-16 * np.abs(b).max(), err_msg=name)
