@@ -61,7 +61,7 @@ PREDICTOR_MAX_STEP = math.log(1.5)
 #: Hertz-like contact, in a tail 100-300 below the peak); blended, the paper's 50-load sweeps
 #: cost 43 / 43 / 36 % fewer convolutions than independent solves (domain alone: 36 / 36 / 17
 #: %, with cold starts below alpha 5e-3); with the core interpolated by cubic Hermite
-#: (:func:`hermite_interp`) instead of linearly, 46 / 47 / 40 %, and with the first Newton
+#: (:func:`hermite_slopes`) instead of linearly, 46 / 47 / 40 %, and with the first Newton
 #: step's forcing scaled to the start's residual (``fastline._core.ETA0_SCALE``) 49 / 47 / 42 %.
 CORE_DEPTH = (3.0, 10.0)
 
@@ -126,25 +126,12 @@ def log_pressure(result) -> np.ndarray:
 
 
 def hermite_slopes(x: np.ndarray, y: np.ndarray) -> np.ndarray:
-    """Slopes dy/dx for :func:`hermite_interp`: second-order finite differences, one-sided
-    at the ends (``np.gradient``, exact for quadratics)."""
+    """Slopes dy/dx of the sweep predictor's cubic Hermite interpolant
+    (:func:`fastline._solve_kernels.hermite_accumulate`): second-order finite differences,
+    one-sided at the ends (``np.gradient``, exact for quadratics). Cubic instead of linear
+    interpolation of ln p onto the moved cells saves Newton steps (the paper's surface-3 sweep:
+    1159 convolutions with linear, 1089 with cubic interpolation)."""
     return np.gradient(y, x, edge_order=2)
-
-
-def hermite_interp(
-    xq: np.ndarray, x: np.ndarray, y: np.ndarray, slopes: np.ndarray | None = None
-) -> np.ndarray:
-    """y(xq) by the cubic Hermite interpolant of (x, y) with :func:`hermite_slopes` (or the
-    ``slopes`` given); constant beyond the ends, like ``np.interp``. A sweep predicts the core
-    of each contact with it (compiled, :func:`fastline._solve_kernels.hermite_accumulate`):
-    linear interpolation of ln p onto the moved cells left residuals that cost extra Newton
-    steps (the paper's surface-3 sweep: 1159 convolutions with linear, 1089 with cubic
-    interpolation)."""
-    x, y = np.ascontiguousarray(x, float), np.ascontiguousarray(y, float)
-    m = hermite_slopes(x, y) if slopes is None else np.ascontiguousarray(slopes, float)
-    out = np.zeros(np.shape(xq))
-    hermite_accumulate(np.ascontiguousarray(xq, float), x, y, m, 1.0, out)
-    return out
 
 
 class _Solved(NamedTuple):
@@ -419,6 +406,17 @@ class ContactModel:
         depth = np.max(in_domain) - in_domain
         tail = np.clip((depth - CORE_DEPTH[0]) / (CORE_DEPTH[1] - CORE_DEPTH[0]), 0.0, 1.0)
         return tail * in_domain + (1.0 - tail) * in_contact
+
+    def _separation_and_area(self, out: _core.Outcome) -> tuple[np.ndarray, np.ndarray]:
+        """Separation u (m) and real contact-area fraction of a solve's outcome: the law's at
+        the solved pressures, or, for a hard (Hertz) contact, the gap and 1 where p > 0."""
+        p = out.pressure
+        if self._law is None:
+            return out.separation, (p > 0.0).astype(float)
+        separation = out.separation
+        if separation is None:
+            separation = self._law.separation_and_slope(out.v)[0]
+        return separation, self._law.real_area(p)
 
     def _run(self, grid, start: np.ndarray | None) -> _core.Outcome:
         v = self._cold_start(grid) if start is None else start

@@ -152,7 +152,7 @@ def fwhm(x, p, p0):
 def hermite_accumulate(xq, x, y, m, weight, out):
     """``out += weight * H(xq)``, H the cubic Hermite interpolant through (x, y) with slopes m
     (x increasing), constant beyond the ends: the sweep predictor's core term (see
-    :func:`fastline._contact.hermite_interp`). The query points are visited in increasing
+    :func:`fastline._contact.hermite_slopes`). The query points are visited in increasing
     order when they are sorted, so the interval search moves forward."""
     n = x.shape[0]
     j = 0

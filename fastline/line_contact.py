@@ -393,13 +393,7 @@ class LineContact(ContactModel):
     def _result(self, grid: _LineGrid, out: _core.Outcome) -> LineContactResult:
         x, dx, hz = grid.x, grid.dx, grid.hertz
         p = out.pressure
-        if self._law is None:
-            separation, real = out.separation, (p > 0.0).astype(float)
-        else:
-            separation = out.separation
-            if separation is None:
-                separation = self._law.separation_and_slope(out.v)[0]
-            real = self._law.real_area(p)
+        separation, real = self._separation_and_area(out)
         p0, s, w, total = _measures(x, p, dx)
         op = grid.disc.op
         return LineContactResult(

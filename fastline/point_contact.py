@@ -380,13 +380,7 @@ class PointContact(ContactModel):
     def _result(self, grid: _RingGrid, out: _core.Outcome) -> PointContactResult:
         r, dr, hz = grid.x, grid.dr, grid.hertz
         p = out.pressure
-        if self._law is None:
-            separation, real = out.separation, (p > 0.0).astype(float)
-        else:
-            separation = out.separation
-            if separation is None:
-                separation = self._law.separation_and_slope(out.v)[0]
-            real = self._law.real_area(p)
+        separation, real = self._separation_and_area(out)
         x, pd = _diameter(r, p)
         p0 = peak(pd)
         s = _radial_std(p, dr, hz.load)
