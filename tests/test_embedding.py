@@ -232,6 +232,47 @@ def test_cache_switch_by_environment():
         assert out.stdout.strip() == expected
 
 
+#: modules a line-contact solve has no use for: they must not load with it (start-up, issue 13)
+NOT_FOR_A_SOLVE = (
+    "fastline.leakage",
+    "fastline.topography",
+    "fastline.batch",
+    "fastline.bem",
+    "fastline.point_contact",
+    "fastline.plotting",
+    "matplotlib",
+    "pyfftw",
+    "dask",
+)
+
+
+def test_import_is_lazy_and_a_solve_loads_only_what_it_needs():
+    code = (
+        "import sys, fastline as fl\n"
+        "print('numba' in sys.modules)\n"
+        "lc = fl.LineContact(fl.SelfAffinePSD(10e-6, 0.8, 1e3, 1e4, 1e9), 1.33e9, 0.01, n=64)\n"
+        "lc.solve(1e4)\n"
+        "print(' '.join(m for m in sys.modules))\n"
+    )
+    out = subprocess.run(
+        [sys.executable, "-W", "ignore", "-c", code], capture_output=True, text=True
+    )
+    assert out.returncode == 0, out.stderr
+    first, loaded = out.stdout.strip().splitlines()
+    assert first == "False"  # `import fastline` alone imports neither numba nor numpy's users
+    loaded = set(loaded.split())
+    assert "fastline.line_contact" in loaded
+    assert not loaded.intersection(NOT_FOR_A_SOLVE)
+
+
+def test_every_public_name_resolves():
+    assert set(fl.__all__) <= set(dir(fl))
+    for name in fl.__all__:
+        assert getattr(fl, name) is not None
+    with pytest.raises(AttributeError, match="no attribute 'nonexistent'"):
+        fl.nonexistent  # noqa: B018
+
+
 def test_per_n_caches_are_bounded():
     """A code that adapts n must not grow memory without bound: kernel spectra, FFTW plans
     (compiled path) and pyFFTW workspaces (fallback) are all least-recently-used caches."""
