@@ -28,15 +28,63 @@ def first_answer(cache_dir):
     return dt, float(out.stdout.strip().splitlines()[-1])
 
 
+#: the same first answer, with a clock read after each stage of start-up
+STAGED = (
+    "import time\n"
+    "t = [time.perf_counter()]\n"
+    "import numpy\n"
+    "t.append(time.perf_counter())\n"
+    "import numba\n"
+    "t.append(time.perf_counter())\n"
+    "import fastline as fl\n"
+    "from fastline.line_contact import solve_line_contact\n"
+    "t.append(time.perf_counter())\n"
+    "from numba.core.registry import cpu_target\n"
+    "cpu_target.target_context.refresh()\n"
+    "t.append(time.perf_counter())\n"
+    "psd = fl.SelfAffinePSD(10e-6, 0.8, 1e3, 1e4, 1e9)\n"
+    "r = solve_line_contact(psd, 1.33e9, 0.01, 1.0e4)\n"
+    "t.append(time.perf_counter())\n"
+    "print(' '.join(str(b - a) for a, b in zip(t, t[1:])))\n"
+)
+#: what each interval of STAGED measures
+STAGES = (
+    "import numpy",
+    "import numba",
+    "import fastline and its line-contact modules",
+    "Numba's first-use set-up (typing and lowering registries; loads scipy.linalg)",
+    "theory tables, loading the cached kernels, the solve",
+)
+
+
+def stages(cache_dir, repeat=5):
+    """Seconds of each start-up stage (:data:`STAGES`) of a warm first answer, the median over
+    ``repeat`` fresh interpreters (the cache in ``cache_dir`` must be filled already)."""
+    env = dict(os.environ, NUMBA_CACHE_DIR=cache_dir)
+    runs = []
+    for _ in range(repeat):
+        out = subprocess.run(
+            [sys.executable, "-W", "ignore", "-c", STAGED],
+            env=env,
+            capture_output=True,
+            text=True,
+            check=True,
+        )
+        runs.append([float(v) for v in out.stdout.split()])
+    runs.sort(key=sum)
+    return runs[len(runs) // 2]
+
+
 def cold_and_warm():
     with tempfile.TemporaryDirectory(prefix="fastline-numba-") as d:
         cold, p_cold = first_answer(d)
         warm, p_warm = first_answer(d)
-    return cold, warm, p_cold, p_warm
+        staged = stages(d)
+    return cold, warm, p_cold, p_warm, staged
 
 
 def test_first_answer(benchmark):
     benchmark.group = "startup"
-    cold, warm, p_cold, p_warm = benchmark.pedantic(cold_and_warm, rounds=1, iterations=1)
+    cold, warm, p_cold, p_warm, _ = benchmark.pedantic(cold_and_warm, rounds=1, iterations=1)
     benchmark.extra_info.update(cold_seconds=cold, warm_seconds=warm, p0_ratio=p_warm)
     assert p_cold == p_warm and 0.0 < p_warm < 2.0
