@@ -33,6 +33,7 @@ import os
 import sys
 import threading
 from collections import OrderedDict
+from collections.abc import Iterator
 
 import numba
 import numpy as np
@@ -49,9 +50,10 @@ _FFTW_ESTIMATE = 1 << 6
 ALIGN = 64
 
 
-def _candidates() -> list[str]:
-    """Paths of the FFTW double-precision library, most specific first."""
-    out = []
+def _candidates() -> Iterator[str]:
+    """Paths of the FFTW double-precision library, most specific first. A generator: the
+    system search (``ctypes.util.find_library`` runs ``ldconfig``, ~40 ms) only happens when
+    pyFFTW's own copy is not found."""
     spec = importlib.util.find_spec("pyfftw")
     if spec is not None and spec.submodule_search_locations:
         pkg = spec.submodule_search_locations[0]
@@ -63,12 +65,11 @@ def _candidates() -> list[str]:
             os.path.join(site, "pyfftw.libs", "libfftw3-3*.dll"),
         ]
         for pattern in patterns:
-            out.extend(sorted(p for p in glob.glob(pattern) if "_omp" not in p))
+            yield from sorted(p for p in glob.glob(pattern) if "_omp" not in p)
     for name in ("fftw3", "fftw3-3"):
         found = ctypes.util.find_library(name)
         if found:
-            out.append(found)
-    return out
+            yield found
 
 
 def _load():
