@@ -9,8 +9,8 @@ those of :mod:`fastline._core` (module docstring there); tests hold the two path
 
 Laws enter as a kind code and arrays (one compiled signature for all):
 
-* ``0`` Persson, table T1: ``prm = (v0, h, u0)``, ``A, B, C, E = L, L1, L2, kappa``
-  (:func:`fastline.persson._lnu_table`);
+* ``0`` Persson, table T1 in its solver form: ``prm``, ``A = Cf``
+  (:func:`fastline.persson._solver_form`, :func:`fastline.persson._solver_law`);
 * ``1`` exponential: ``prm = (u0, ln(beta E*))``;
 * ``2`` tabulated: ``A, B, C = V, U, S`` (:func:`fastline.laws._tabulated_u`).
 
@@ -42,7 +42,7 @@ from fastline._jit import JIT
 from fastline._solve_kernels import normalise_into as _normalise
 from fastline._toeplitz_pcg import _convolve, solve_newton_system
 from fastline.laws import _hermite
-from fastline.persson import _lnu_table
+from fastline.persson import _solver_law
 
 _EPS = float(np.finfo(np.float64).eps)
 
@@ -52,10 +52,7 @@ def _law(kind, v, prm, A, B, C, E, u, dU):
     """u and du/d(ln p) at v = ln p for the law of ``kind`` (module docstring)."""
     n = v.shape[0]
     if kind == 0:
-        for i in range(n):
-            lu, d = _lnu_table(v[i], prm[0], prm[1], A, B, C, prm[2], E)
-            u[i] = math.exp(lu)
-            dU[i] = u[i] * d
+        _solver_law(v, prm, A, u, dU)
     elif kind == 1:
         for i in range(n):
             u[i] = prm[0] * (prm[1] - v[i])

@@ -54,7 +54,7 @@ from fastline.persson import (
     PerssonTheory,
     _log_pressure_from_table,
     _pressure_from_table,
-    _separation_and_slope,
+    _solver_law,
 )
 
 __all__ = ["PressureLaw", "PerssonLaw", "ExponentialLaw", "TabulatedLaw", "check_law"]
@@ -154,7 +154,7 @@ class PerssonLaw(PressureLaw):
         v = np.ascontiguousarray(v, dtype=np.float64)
         u = np.empty_like(v)
         d = np.empty_like(v)
-        _separation_and_slope(v.ravel(), *self.theory._t1, u.ravel(), d.ravel())
+        _solver_law(v.ravel(), *self.theory._t1_solver, u.ravel(), d.ravel())
         return u, d
 
     def log_pressure(self, u: ArrayLike) -> np.ndarray:
@@ -173,9 +173,11 @@ class PerssonLaw(PressureLaw):
 
     def _compiled_form(self):
         """``(kind, prm, A, B, C, E)`` for the compiled line-contact Newton
-        (:mod:`fastline._line_newton`): table T1."""
-        v0, h, L, L1, L2, u0, kappa = self.theory._t1
-        return 0, np.array([v0, h, u0]), L, L1, L2, kappa
+        (:mod:`fastline._line_newton`): table T1 in its solver form (``A`` the Horner
+        coefficients; :func:`fastline.persson._solver_form`)."""
+        prm, Cf = self.theory._t1_solver
+        dummy = np.zeros(1)
+        return 0, prm, Cf, dummy, dummy, dummy
 
 
 class ExponentialLaw(PressureLaw):

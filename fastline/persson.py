@@ -26,6 +26,8 @@ Numerics
   exponential law ``u = u0 ln(beta E*/p)`` continues it (the theory's own small-p asymptote),
   above it the near-full-contact form ``ln u = ln u_hi - k (p^2 - p_hi^2) - m ln(p/p_hi)``
   (the large-x behaviour of F, with k and m matching the table's slope and curvature).
+  The solvers read T1 with each cell's quintic in Horner form (:func:`_solver_form`): one
+  polynomial and one ``exp`` per cell inside the table, none below it.
 * Table T2, for p(u): ``v`` as a cubic Hermite polynomial in u on cells that split every
   binade ``[2^e, 2^(e+1))`` of u into ``2^m`` equal parts. The cell index and the local
   coordinate are read off the bits of the float64 (exponent and leading mantissa bits), so
@@ -281,11 +283,84 @@ def _lnu_table(v, v0, h, L, L1, L2, u0, kappa):
 
 @numba.njit(**JIT)
 def _separation_and_slope(v, v0, h, L, L1, L2, u0, kappa, u, dudv):
-    """Solver-facing: u and du/dv at v = ln p, vectorised (T1 and its extensions)."""
+    """u and du/dv at v = ln p, vectorised, from the Hermite data of T1 and its extensions
+    (:meth:`PerssonTheory.separation_table`; the solvers use :func:`_solver_law`)."""
     for i in range(v.shape[0]):
         lu, d = _lnu_table(v[i], v0, h, L, L1, L2, u0, kappa)
         u[i] = math.exp(lu)
         dudv[i] = u[i] * d
+
+
+#: entries of the solver form's parameter vector (:func:`_solver_form`)
+_SF_V0, _SF_INV_H, _SF_U0, _SF_U_LO, _SF_V_HI, _SF_L_HI, _SF_K, _SF_M, _SF_P2_HI = range(9)
+
+
+def _solver_form(t1: tuple) -> tuple[np.ndarray, np.ndarray]:
+    """Table T1 in the form the solvers evaluate: ``(prm, Cf)``.
+
+    Each cell's quintic Hermite (:func:`_quintic`) rewritten in Horner form,
+    ``ln u = sum_j Cf[6 k + j] t^j`` with ``t = (v - v_k)/h`` in [0, 1]: the same polynomial
+    (1e-14 apart, round-off), evaluated with 5 multiply-adds for ln u and 4 for its slope
+    instead of the 12 basis polynomials. ``prm`` holds the grid (v0, 1/h), the exponential law
+    below it (u0, u(v0)) and the near-full-contact form above it (v_hi, ln u(v_hi), k, m,
+    p_hi^2); :func:`_solver_law` evaluates it.
+    """
+    v0, h, L, L1, L2, u0, kappa = t1
+    f0, a0, b0 = L[:-1], h * L1[:-1], h * h * L2[:-1]  # value, slope, curvature per unit t
+    f1, a1, b1 = L[1:], h * L1[1:], h * h * L2[1:]
+    r0 = f1 - (f0 + a0 + 0.5 * b0)  # what c3..c5 must add at t = 1 to value, slope, curvature
+    r1 = a1 - (a0 + b0)
+    r2 = b1 - b0
+    Cf = np.empty((L.size - 1, 6))
+    Cf[:, 0], Cf[:, 1], Cf[:, 2] = f0, a0, 0.5 * b0
+    Cf[:, 3] = 10.0 * r0 - 4.0 * r1 + 0.5 * r2
+    Cf[:, 4] = -15.0 * r0 + 7.0 * r1 - r2
+    Cf[:, 5] = 6.0 * r0 - 3.0 * r1 + 0.5 * r2
+    v_hi = v0 + (L.size - 1) * h
+    prm = np.array(
+        [v0, 1.0 / h, u0, math.exp(L[0]), v_hi, L[-1], kappa[0], kappa[1], math.exp(2.0 * v_hi)]
+    )
+    return prm, Cf.ravel()
+
+
+@numba.njit(**JIT)
+def _solver_law(v, prm, Cf, u, dudv):
+    """u and du/dv at v = ln p, vectorised, from the solver form of T1 (:func:`_solver_form`).
+
+    The branches of :func:`_lnu_table` on the same thresholds: below the table the exponential
+    law directly in u (no exp, no log), inside one Horner evaluation and one exp, above it the
+    near-full-contact form (two exps; cells in deep full contact only).
+    """
+    v0, inv_h, u0, u_lo = prm[_SF_V0], prm[_SF_INV_H], prm[_SF_U0], prm[_SF_U_LO]
+    v_hi = prm[_SF_V_HI]
+    last = Cf.shape[0] // 6 - 1
+    for i in range(v.shape[0]):
+        x = v[i]
+        if x <= v0:
+            u[i] = u_lo + u0 * (v0 - x)
+            dudv[i] = -u0
+        elif x < v_hi:
+            z = (x - v0) * inv_h
+            k = min(int(z), last)
+            t = z - k
+            c = 6 * k
+            c1, c2, c3, c4, c5 = Cf[c + 1], Cf[c + 2], Cf[c + 3], Cf[c + 4], Cf[c + 5]
+            lu = Cf[c] + t * (c1 + t * (c2 + t * (c3 + t * (c4 + t * c5))))
+            d = (c1 + t * (2.0 * c2 + t * (3.0 * c3 + t * (4.0 * c4 + t * 5.0 * c5)))) * inv_h
+            e = math.exp(lu)
+            u[i] = e
+            dudv[i] = e * d
+        else:
+            u[i], dudv[i] = _near_full_contact(x, prm)
+
+
+@numba.njit(**JIT)
+def _near_full_contact(v, prm):
+    """u and du/dv above table T1: ``ln u = L_hi - k (p^2 - p_hi^2) - m (v - v_hi)``."""
+    k, m = prm[_SF_K], prm[_SF_M]
+    p2 = math.exp(2.0 * v)
+    e = math.exp(prm[_SF_L_HI] - k * (p2 - prm[_SF_P2_HI]) - m * (v - prm[_SF_V_HI]))
+    return e, e * (-2.0 * k * p2 - m)
 
 
 @numba.njit(**JIT)
@@ -639,6 +714,7 @@ class PerssonTheory:
         k = -L2[-1] / (4.0 * p_hi * p_hi)
         kappa = np.array([k, -L1[-1] - 2.0 * k * p_hi * p_hi])
         self._t1 = (v0, h, L, L1, L2, u0, kappa)
+        self._t1_solver = _solver_form(self._t1)
         self.p_range = (p_lo, p_hi)
 
     @property
@@ -700,7 +776,8 @@ class PerssonTheory:
         return _pressure_from_table(flat, self._t2).reshape(u.shape)
 
     def separation_table(self, p: ArrayLike) -> tuple[np.ndarray, np.ndarray]:
-        """u(p) in m and du/dv (v = ln p) from the table T1 (what the solver uses)."""
+        """u(p) in m and du/dv (v = ln p) from the table T1 (its Hermite data; the solvers
+        evaluate the same polynomials in Horner form, round-off apart: :func:`_solver_law`)."""
         p = positive_array("p", p)
         v = np.ascontiguousarray(np.log(p.ravel()))
         u, d = np.empty_like(v), np.empty_like(v)

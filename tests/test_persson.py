@@ -13,7 +13,7 @@ import numpy as np
 import pytest
 from scipy.special import erf, erfinv
 
-from fastline.persson import PerssonTheory, _quintic
+from fastline.persson import PerssonTheory, _quintic, _separation_and_slope, _solver_law
 from fastline.spectra import SelfAffinePSD, TabulatedPSD
 
 RTOL_REF = 1e-6  # default-rtol PerssonTheory vs the quad reference
@@ -26,6 +26,10 @@ RTOL_FIT_SLOPE = 1e-3  # -du/dln p at small p vs u0
 RTOL_FIT_LAW = 1e-4  # u(p) vs u0 ln(beta E*/p) at p = 1e-9 E*
 RTOL_FIT_REF = 1e-6  # closed-form u0 vs the reference's slope between 1e-11 and 1e-10 E*
 RTOL_EXACT = 1e-12  # erf identities, quintic Hermite on polynomials
+# T1's solver form (Horner) vs its Hermite data: the same polynomials up to round-off (measured
+# <= 1.3e-12 in u and 2.4e-12 in du/dv over 5 surfaces x 3 rtols; one ulp of the cell coordinate
+# times |d ln u/dv| ~ 300 near full contact)
+RTOL_SOLVER_FORM = 1e-11
 N_PRESSURES = 6
 
 E_STAR = 1.33e9  # Pa, the paper's scenes
@@ -321,6 +325,42 @@ def test_rtol_setting(rtol, epsrel):
     ref = np.array([naive.separation(psd, E_STAR, float(pi), GAMMA, epsrel=epsrel) for pi in p])
     np.testing.assert_allclose(th.separation(p), ref, rtol=rtol, atol=0.0)
     np.testing.assert_allclose(th.separation_table(p)[0], ref, rtol=rtol, atol=0.0)
+
+
+# ------------------------------------------------------------------------------------------------
+# the solvers' form of table T1 (Horner)
+# ------------------------------------------------------------------------------------------------
+def _t1_probes(th):
+    """v = ln p on every T1 node and one ulp either side, the cell midpoints, exactly on both
+    table ends, and beyond them on both sides."""
+    v0, h, L = th._t1[:3]
+    nodes = v0 + h * np.arange(L.size)
+    v_hi = nodes[-1]
+    ulp = np.spacing(np.abs(nodes))
+    beyond = np.array([v0 - 60.0, v0 - 1.0, v_hi + 0.1, v_hi + 0.5])  # u ~ 1e-185 m
+    mids = 0.5 * (nodes[1:] + nodes[:-1])
+    return np.concatenate([nodes, nodes - ulp, nodes + ulp, mids, [v0, v_hi], beyond])
+
+
+@pytest.mark.parametrize("rtol", [1e-4, 1e-6, 1e-8])
+@pytest.mark.parametrize("case", ["surface1", "hurst0.3", "tabulated1"])
+def test_solver_form_equals_table(case, rtol):
+    """The law the solvers evaluate (T1 as Horner polynomials, both extensions) against T1's
+    Hermite data, and inside the table against the direct quadrature to the theory's rtol."""
+    th = _theory(case, rtol)
+    v = _t1_probes(th)
+    u, dudv, ut, dt = (np.empty_like(v) for _ in range(4))
+    _solver_law(v, *th._t1_solver, u, dudv)
+    _separation_and_slope(v, *th._t1, ut, dt)
+    assert np.all(ut > 0.0) and np.all(dt < 0.0)
+    np.testing.assert_allclose(u, ut, rtol=RTOL_SOLVER_FORM, atol=0.0)
+    np.testing.assert_allclose(dudv, dt, rtol=RTOL_SOLVER_FORM, atol=0.0)
+    v0, h, L, _, _, u0, _ = th._t1
+    below = v <= v0  # the exponential law: slope -u0 exactly, joined to the table at v0
+    assert np.all(dudv[below] == -u0)
+    inside = np.linspace(v0, v0 + (L.size - 1) * h, 41)[1:-1] + 0.37 * h
+    _solver_law(inside, *th._t1_solver, u[:39], dudv[:39])
+    np.testing.assert_allclose(u[:39], th.separation(np.exp(inside)), rtol=rtol, atol=0.0)
 
 
 # ------------------------------------------------------------------------------------------------
