@@ -70,8 +70,15 @@ def _law(kind, v, prm, A, B, C, E, u, dU):
             elif x >= A[m - 1]:
                 dU[i] = C[m - 1]
                 u[i] = B[m - 1] + C[m - 1] * (x - A[m - 1])
-            else:
-                k = min(np.searchsorted(A, x, side="right") - 1, m - 2)
+            else:  # bisection for A[k] <= x < A[k + 1] (np.searchsorted: ~0.3 s more compile)
+                k = 0
+                hi = m - 1
+                while hi - k > 1:
+                    mid = (k + hi) // 2
+                    if A[mid] <= x:
+                        k = mid
+                    else:
+                        hi = mid
                 u[i], dU[i] = _hermite(x, A, B, C, k)
 
 
@@ -250,4 +257,4 @@ def _forcing(res, res_prev, eta_prev, tol):
         eta = 0.9 * (res / res_prev) ** 2
         if 0.9 * eta_prev * eta_prev > 0.1:
             eta = max(eta, 0.9 * eta_prev * eta_prev)
-    return min(ETA_MAX, max(eta, ETA_FLOOR, 0.5 * tol / res))
+    return min(ETA_MAX, max(max(eta, ETA_FLOOR), 0.5 * tol / res))  # 2-argument max: one compile
