@@ -402,7 +402,7 @@ class ContactModel:
         in_contact = np.zeros(grid.x.size)
         xq = grid.x / width
         for w, a in terms:
-            hermite_accumulate(xq, a.xi, a.v, a.slope, w, in_contact)
+            hermite_accumulate(xq, a.xi, a.v, a.slope, float(w), in_contact)  # one signature
         depth = np.max(in_domain) - in_domain
         tail = np.clip((depth - CORE_DEPTH[0]) / (CORE_DEPTH[1] - CORE_DEPTH[0]), 0.0, 1.0)
         return tail * in_domain + (1.0 - tail) * in_contact

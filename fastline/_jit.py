@@ -23,7 +23,7 @@ from __future__ import annotations
 
 import os
 
-__all__ = ["JIT", "CACHE_ENV"]
+__all__ = ["JIT", "JIT_INNER", "CACHE_ENV"]
 
 #: environment variable that switches the on-disk cache off when set to 0/false/no/off
 CACHE_ENV = "FASTLINE_NUMBA_CACHE"
@@ -35,5 +35,12 @@ def _cache_enabled() -> bool:
 
 #: keyword arguments of ``numba.njit`` shared by every kernel of the package
 JIT = dict(
-    cache=_cache_enabled(), nogil=True, fastmath={"contract", "arcp", "nsz"}, error_model="numpy"
+    cache=_cache_enabled(),
+    nogil=True,
+    fastmath={"contract", "arcp", "nsz"},
+    error_model="numpy",
+    no_cfunc_wrapper=True,
 )
+
+#: options of kernels called only from other kernels, never from Python
+JIT_INNER = dict(JIT, no_cpython_wrapper=True)

@@ -38,7 +38,7 @@ from fastline._core import (
     ROUNDOFF_FACTOR,
 )
 from fastline._fftw import aligned_buffers
-from fastline._jit import JIT
+from fastline._jit import JIT, JIT_INNER
 from fastline._solve_kernels import normalise_into as _normalise
 from fastline._toeplitz_pcg import _convolve, solve_newton_system
 from fastline.laws import _hermite
@@ -47,7 +47,7 @@ from fastline.persson import _solver_law
 _EPS = float(np.finfo(np.float64).eps)
 
 
-@numba.njit(**JIT)
+@numba.njit(**JIT_INNER)
 def _law(kind, v, prm, A, B, C, E, u, dU):
     """u and du/d(ln p) at v = ln p for the law of ``kind`` (module docstring)."""
     n = v.shape[0]
@@ -67,12 +67,19 @@ def _law(kind, v, prm, A, B, C, E, u, dU):
             elif x >= A[m - 1]:
                 dU[i] = C[m - 1]
                 u[i] = B[m - 1] + C[m - 1] * (x - A[m - 1])
-            else:
-                k = min(np.searchsorted(A, x, side="right") - 1, m - 2)
+            else:  # bisection for A[k] <= x < A[k + 1] (np.searchsorted: ~0.3 s more compile)
+                k = 0
+                hi = m - 1
+                while hi - k > 1:
+                    mid = (k + hi) // 2
+                    if A[mid] <= x:
+                        k = mid
+                    else:
+                        hi = mid
                 u[i], dU[i] = _hermite(x, A, B, C, k)
 
 
-@numba.njit(**JIT)
+@numba.njit(**JIT_INNER)
 def _evaluate(v, u1_in, fft, kspec, scale, gap, w, kind, prm, A, B, C, E, a, c, p, U, dU, gk, r):
     """Pressure, law, g + K p and the residual at v (one FFT convolution). ``u1_in`` NaN: the
     load-weighted least-squares rigid approach. Returns ``(u1, ||r||_2, size)``, size the
@@ -238,7 +245,7 @@ def newton_line(
             eta_cap = eta * 1e-3
 
 
-@numba.njit(**JIT)
+@numba.njit(**JIT_INNER)
 def _forcing(res, res_prev, eta_prev, tol):
     """Eisenstat-Walker choice 2 (:func:`fastline._core._forcing`)."""
     if res_prev != res_prev:
@@ -247,4 +254,4 @@ def _forcing(res, res_prev, eta_prev, tol):
         eta = 0.9 * (res / res_prev) ** 2
         if 0.9 * eta_prev * eta_prev > 0.1:
             eta = max(eta, 0.9 * eta_prev * eta_prev)
-    return min(ETA_MAX, max(eta, ETA_FLOOR, 0.5 * tol / res))
+    return min(ETA_MAX, max(max(eta, ETA_FLOOR), 0.5 * tol / res))  # 2-argument max: one compile
