@@ -38,7 +38,7 @@ from fastline._core import (
     ROUNDOFF_FACTOR,
 )
 from fastline._fftw import aligned_buffers
-from fastline._jit import JIT, JIT_INNER
+from fastline._jit import JIT
 from fastline._solve_kernels import normalise_into as _normalise
 from fastline._toeplitz_pcg import _convolve, solve_newton_system
 from fastline.laws import _hermite
@@ -47,7 +47,7 @@ from fastline.persson import _solver_law
 _EPS = float(np.finfo(np.float64).eps)
 
 
-@numba.njit(**JIT_INNER)
+@numba.njit(**JIT)
 def _law(kind, v, prm, A, B, C, E, u, dU):
     """u and du/d(ln p) at v = ln p for the law of ``kind`` (module docstring)."""
     n = v.shape[0]
@@ -79,7 +79,7 @@ def _law(kind, v, prm, A, B, C, E, u, dU):
                 u[i], dU[i] = _hermite(x, A, B, C, k)
 
 
-@numba.njit(**JIT_INNER)
+@numba.njit(**JIT)
 def _evaluate(v, u1_in, fft, kspec, scale, gap, w, kind, prm, A, B, C, E, a, c, p, U, dU, gk, r):
     """Pressure, law, g + K p and the residual at v (one FFT convolution). ``u1_in`` NaN: the
     load-weighted least-squares rigid approach. Returns ``(u1, ||r||_2, size)``, size the
@@ -245,7 +245,7 @@ def newton_line(
             eta_cap = eta * 1e-3
 
 
-@numba.njit(**JIT_INNER)
+@numba.njit(**JIT)
 def _forcing(res, res_prev, eta_prev, tol):
     """Eisenstat-Walker choice 2 (:func:`fastline._core._forcing`)."""
     if res_prev != res_prev:

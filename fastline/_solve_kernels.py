@@ -19,7 +19,7 @@ import math
 import numba
 
 from fastline._core import _LN_TINY, LN_FLOOR
-from fastline._jit import JIT, JIT_INNER
+from fastline._jit import JIT
 
 _LN2 = math.log(2.0)
 
@@ -54,7 +54,7 @@ def pressure_into(v, p):
         p[i] = math.exp(v[i]) if v[i] > floor else 0.0
 
 
-@numba.njit(**JIT_INNER)
+@numba.njit(**JIT)
 def _logaddexp(a, b):
     """``ln(e^a + e^b)`` as ``numpy.logaddexp`` computes it (equal infinities, NaN)."""
     if a == b:

@@ -44,7 +44,7 @@ import numba
 import numpy as np
 
 from fastline._fftw import aligned_buffers, execute
-from fastline._jit import JIT, JIT_INNER
+from fastline._jit import JIT
 
 #: core block of the smoother: cells with D < CORE_THETA K00
 CORE_THETA = 10.0
@@ -91,7 +91,7 @@ def apply_kernel(x, kspec, scale, fr2c, fc2r, pf, pb, out):
 # ----------------------------------------------------------------------------------------------
 # preconditioner set-up
 # ----------------------------------------------------------------------------------------------
-@numba.njit(**JIT_INNER)
+@numba.njit(**JIT)
 def _first_last(D, limit):
     """First and one-past-last cell with ``D < limit`` (0, 0 if none)."""
     i0 = -1
@@ -106,7 +106,7 @@ def _first_last(D, limit):
     return i0, i1
 
 
-@numba.njit(**JIT_INNER)
+@numba.njit(**JIT)
 def _chol_solve(L, nc, b):
     """``b <- (L L^T)^-1 b`` for the leading nc x nc block, in place."""
     for i in range(nc):
@@ -124,7 +124,7 @@ def _chol_solve(L, nc, b):
 # ----------------------------------------------------------------------------------------------
 # preconditioner application
 # ----------------------------------------------------------------------------------------------
-@numba.njit(**JIT_INNER)
+@numba.njit(**JIT)
 def _precondition(
     y, out, minv, i0, i1, S, cinv, nc, e, HP, L, fr2c, fc2r, pf, pb, a, c, tmp, r1, g1, g2
 ):
@@ -298,7 +298,7 @@ def solve_newton_system(
     return lam, its, kapps, circ
 
 
-@numba.njit(**JIT_INNER)
+@numba.njit(**JIT)
 def _coarse_matrices(D, scale, prefix, j0, j1, nc, e, HP, L):
     """Aggregate edges ``e``, ``H P`` (n x nc) and the Cholesky factor ``L`` of ``P^T H P``
     with its constant mode penalised."""
@@ -346,7 +346,7 @@ def _coarse_matrices(D, scale, prefix, j0, j1, nc, e, HP, L):
             L[i, j] = acc / L[j, j]
 
 
-@numba.njit(**JIT_INNER)
+@numba.njit(**JIT)
 def _jacobi_norm(res, jac, s_jac):
     """Jacobi-weighted norm of ``res`` with its Jacobi-weighted mean removed (the part the
     projection onto zero-load increments sees, as cheap as a dot product)."""
