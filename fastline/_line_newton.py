@@ -30,6 +30,7 @@ from fastline._core import (
     ETA0_SCALE,
     ETA_FLOOR,
     ETA_MAX,
+    ETA_RES_SCALE,
     ETA_RETRY_MIN,
     FLOOR_STALL,
     LINE_SEARCH_HALVINGS,
@@ -247,11 +248,13 @@ def newton_line(
 
 @numba.njit(**JIT)
 def _forcing(res, res_prev, eta_prev, tol):
-    """Eisenstat-Walker choice 2 (:func:`fastline._core._forcing`)."""
+    """Eisenstat-Walker choice 2, floored at ``ETA_RES_SCALE * res``
+    (:func:`fastline._core._forcing`)."""
     if res_prev != res_prev:
         eta = min(ETA_MAX, ETA0_SCALE * res)
     else:
         eta = 0.9 * (res / res_prev) ** 2
         if 0.9 * eta_prev * eta_prev > 0.1:
             eta = max(eta, 0.9 * eta_prev * eta_prev)
-    return min(ETA_MAX, max(max(eta, ETA_FLOOR), 0.5 * tol / res))  # 2-argument max: one compile
+    # two-argument max only: one compiled version of it
+    return min(ETA_MAX, max(max(max(eta, ETA_RES_SCALE * res), ETA_FLOOR), 0.5 * tol / res))

@@ -17,7 +17,10 @@ a two-level method:
 * coarse correction on the smooth modes of the wide block (cells with ``D < WIDE_THETA K00``:
   the core plus the contact edge, where D spans five decades and neither Jacobi nor a circulant
   fits), ``nc`` piecewise-constant aggregates, applied multiplicatively:
-  ``B = C + (I - C H) S (I - H C)``, ``C = P (P^T H P)^-1 P^T``. ``H P`` comes from prefix sums
+  ``B = C + (I - C H) S (I - H C)``, ``C = P (P^T H P)^-1 P^T``. The aggregates are denser
+  where ln(D + K00) changes fast (``EDGE_SHARE``, :func:`_aggregate_edges`): the slowest modes
+  of the preconditioned system sit at the rim of the core, where the smoother switches from
+  the circulant to Jacobi, and that rim widens in cells with n. ``H P`` comes from prefix sums
   of the Toeplitz coefficients (no FFT): ``sum_{j in [a, b)} khat_|i-j| = T[i-a+n] - T[i-b+n]``.
   The coarse matrix penalises its constant mode (the projection handles constants; the log
   kernel's constant mode is strongly negative).
@@ -51,6 +54,9 @@ CORE_THETA = 10.0
 _CORE_MIN_CELLS = 8
 #: wide block of the coarse correction: cells with D < WIDE_THETA K00
 WIDE_THETA = 100.0
+#: share of the coarse aggregates placed by the variation of ln(D + K00) across the wide block
+#: (the rest by width; :func:`_aggregate_edges`)
+EDGE_SHARE = 0.7
 #: decoupled cells, left out of CG: D > FROZEN_THETA K00
 FROZEN_THETA = 1e10
 #: CG stops when its residual has not improved for this many iterations (round-off)
@@ -210,7 +216,8 @@ def solve_newton_system(
     if nc < 2:
         nc = 0
     else:
-        _coarse_matrices(D, scale, prefix, j0, j1, nc, e, HP, L)
+        _aggregate_edges(D, K00, j0, j1, nc, e)
+        _coarse_matrices(D, scale, prefix, nc, e, HP, L)
     # -- projected PCG ----------------------------------------------------------------------
     m1, z, d, Hd, jac = np.empty(n), np.empty(n), np.empty(n), np.empty(n), np.empty(n)
     res, best_dp, best_res = np.empty(n), np.empty(n), np.empty(n)
@@ -299,12 +306,57 @@ def solve_newton_system(
 
 
 @numba.njit(**JIT)
-def _coarse_matrices(D, scale, prefix, j0, j1, nc, e, HP, L):
-    """Aggregate edges ``e``, ``H P`` (n x nc) and the Cholesky factor ``L`` of ``P^T H P``
-    with its constant mode penalised."""
+def _aggregate_edges(D, K00, j0, j1, nc, e):
+    """Edges ``e[0] = j0 < e[1] < ... < e[nc] = j1`` of the coarse aggregates: equal shares of
+    the density ``(1 - EDGE_SHARE) / (j1 - j0) + EDGE_SHARE |d ln(D + K00)| / total`` per cell,
+    i.e. by width in the core (where D << K00 and ln(D + K00) is flat) and by decades of D
+    across the contact edge. Over the 160 count scenes (5 hard surfaces, alpha 1e-4..1e3,
+    n 256..16384, with ``fastline._core.ETA_RES_SCALE``): 4446 convolutions with equal widths,
+    3898 with a share of 0.5, 3713 with 0.7 (mirror-symmetric); the worst scene (alpha 1e-2,
+    n 16384) 109 -> 99.
+
+    Mirror-symmetric: the left half of the edges counts the share from ``j0``, the right half
+    from ``j1``, an even ``nc`` puts the middle edge at the centre, so a symmetric D gives a
+    symmetric preconditioner (and p(x) = p(-x) to round-off). Needs ``j1 - j0 >= 4 nc``."""
+    total = 0.0
+    for i in range(j0 + 1, j1):
+        total += abs(math.log((D[i] + K00) / (D[i - 1] + K00)))
+    flat = (1.0 - EDGE_SHARE) / (j1 - j0) if total > 0.0 else 1.0 / (j1 - j0)
+    steep = EDGE_SHARE / total if total > 0.0 else 0.0
+    half = nc // 2
+    e[0] = j0
+    e[nc] = j1
+    if 2 * half == nc:
+        e[half] = (j0 + j1) // 2
+    k = 1  # edge b opens when the share of the cells left of b reaches k / nc (1e-9: ties)
+    acc = flat
+    for b in range(j0 + 1, j1):
+        if k >= (nc + 1) // 2:
+            break
+        if acc * nc >= k - 1e-9:
+            e[k] = b
+            k += 1
+        acc += flat + steep * abs(math.log((D[b] + K00) / (D[b - 1] + K00)))
+    k = 1  # the same from the right: edge b with the share right of b reaching k / nc
+    acc = flat
+    for b in range(j1 - 1, j0, -1):
+        if k >= (nc + 1) // 2:
+            break
+        if acc * nc >= k - 1e-9:
+            e[nc - k] = b
+            k += 1
+        acc += flat + steep * abs(math.log((D[b - 1] + K00) / (D[b] + K00)))
+    for m in range(nc - 1, 0, -1):  # at least one cell each
+        e[m] = min(e[m], e[m + 1] - 1)
+    for m in range(1, nc):
+        e[m] = max(e[m], e[m - 1] + 1)
+
+
+@numba.njit(**JIT)
+def _coarse_matrices(D, scale, prefix, nc, e, HP, L):
+    """``H P`` (n x nc) for the aggregates with edges ``e`` and the Cholesky factor ``L`` of
+    ``P^T H P`` with its constant mode penalised."""
     n = D.shape[0]
-    for k in range(nc + 1):
-        e[k] = j0 + (k * (j1 - j0) + nc // 2) // nc
     for i in range(n):
         for k in range(nc):
             HP[i, k] = scale * (prefix[i - e[k] + n] - prefix[i - e[k + 1] + n])
