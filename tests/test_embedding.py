@@ -19,6 +19,7 @@ import pytest
 
 import fastline as fl
 from fastline import elastic
+from fastline._jit import JIT
 
 # tiered tolerances
 RTOL_CONTINUATION = 1e-7  # a sweep (warm starts) vs independent solves, tol 1e-8 in u/u0
@@ -230,6 +231,39 @@ def test_cache_switch_by_environment():
         env = dict(os.environ, FASTLINE_NUMBA_CACHE=value)
         out = subprocess.run([sys.executable, "-c", code], env=env, capture_output=True, text=True)
         assert out.stdout.strip() == expected
+
+
+def test_package_stamp_follows_every_module(tmp_path):
+    from fastline._jit import package_stamp
+
+    (tmp_path / "a.py").write_text("x = 1\n")
+    (tmp_path / "sub").mkdir()
+    (tmp_path / "sub" / "b.py").write_text("y = 2\n")
+    (tmp_path / "__pycache__").mkdir()
+    first = package_stamp.__wrapped__(str(tmp_path))
+    (tmp_path / "__pycache__" / "c.py").write_text("ignored\n")  # caches do not count
+    assert package_stamp.__wrapped__(str(tmp_path)) == first
+    (tmp_path / "sub" / "b.py").write_text("y = 3\n")  # same size, new mtime
+    os.utime(tmp_path / "sub" / "b.py", ns=(1, 1))
+    assert package_stamp.__wrapped__(str(tmp_path)) != first
+
+
+@pytest.mark.skipif(not JIT["cache"], reason="the on-disk cache is switched off")
+def test_kernels_are_stamped_with_the_whole_package():
+    """A kernel's cached code holds the kernels it calls from other modules: its cache must go
+    stale when any module changes (fastline._jit docstring)."""
+    from fastline import _jit
+    from fastline._line_newton import newton_line
+
+    locator = newton_line._cache._impl.locator
+    assert isinstance(locator, _jit._PackageStampedLocator)
+    assert locator.get_source_stamp()[1] == _jit.package_stamp()
+    assert locator.get_cache_path() == locator._inner.get_cache_path()
+    # functions outside the package keep Numba's own locators
+    assert (
+        _jit._PackageStampedLocator.from_function(test_cache_switch_by_environment, __file__)
+        is None
+    )
 
 
 #: modules a line-contact solve has no use for: they must not load with it (start-up, issue 13)
