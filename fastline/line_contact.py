@@ -34,6 +34,7 @@ from fastline._contact import (  # noqa: F401 (METHODS ... shared_theory: import
     PREDICTOR_MAX_STEP,
     SWEEP_PREDICTOR_ORDER,
     ContactModel,
+    DeferredFields,
     fwhm,
     log_pressure,
     peak,
@@ -43,7 +44,12 @@ from fastline._core import ConvergenceWarning, Discretisation, dot
 from fastline._solve_kernels import line_cells, line_measures
 from fastline.elastic import LogKernelOperator, _log_reference_shift
 from fastline.laws import PressureLaw
-from fastline.limits import HertzLineContact, _hertz_line, gaussian_line_contact
+from fastline.limits import (
+    HertzLineContact,
+    _gaussian_line,
+    _hertz_line,
+    gaussian_line_contact,
+)
 from fastline.persson import PerssonTheory
 from fastline.spectra import PSD
 
@@ -65,10 +71,12 @@ LOAD_RANGE = (1e-12, 1e4)
 
 
 @dataclass
-class LineContactResult:
+class LineContactResult(DeferredFields):
     """The solution of one line-contact scene and what follows from it.
 
-    Arrays are on the solver grid (cell centres). Units: m, Pa, N/m.
+    Arrays are on the solver grid (cell centres). Units: m, Pa, N/m. ``real_area`` and
+    ``diagnostics`` of a solve are computed when first read (for ``diagnostics``, unless the
+    model warns); the values are the same (:class:`fastline._contact.DeferredFields`).
 
     Attributes
     ----------
@@ -151,6 +159,8 @@ class LineContactResult:
     diagnostics: dict = field(default_factory=dict)
     theory: PerssonTheory | None = field(default=None, repr=False, compare=False)
     error_estimate: resolution.ErrorEstimate | None = field(default=None, repr=False, compare=False)
+
+    _DEFERRABLE = frozenset({"real_area", "diagnostics"})
 
     def __repr__(self):
         return (
@@ -385,7 +395,10 @@ class LineContact(ContactModel):
         return _build_grid(self.n, half, self.radius, self.E_star, hz)
 
     def _gaussian(self, load: float):
-        return gaussian_line_contact(self._u0(), self.radius, load)
+        u0 = self._u0()
+        if type(u0) is float and 0.0 < u0 < math.inf:  # what the checks would pass unchanged
+            return _gaussian_line(u0, self.radius, load)
+        return gaussian_line_contact(u0, self.radius, load)
 
     def _rescaled_start(self, grid: _LineGrid, initial: LineContactResult) -> np.ndarray:
         return _rescaled_start(grid, initial)

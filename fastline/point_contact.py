@@ -33,7 +33,7 @@ from typing import Any, ClassVar
 import numpy as np
 
 from fastline import _core
-from fastline._contact import ContactModel, fwhm, log_pressure, peak
+from fastline._contact import ContactModel, DeferredFields, fwhm, log_pressure, peak
 from fastline._core import ConvergenceWarning, Discretisation, dot
 from fastline.axisymmetric import MAX_N as _OPERATOR_MAX_N
 from fastline.axisymmetric import RingKernelOperator, ring_edges
@@ -60,11 +60,13 @@ LOAD_RANGE = (1e-18, 1e6)
 
 
 @dataclass
-class PointContactResult:
+class PointContactResult(DeferredFields):
     """The solution of one point-contact scene and what follows from it.
 
     Arrays are on the solver's cells (centres ``r_j = j dr``, the first a disc). Units: m, Pa,
-    N.
+    N. ``real_area`` and ``diagnostics`` of a solve are computed when first read (for
+    ``diagnostics``, unless the model warns); the values are the same
+    (:class:`fastline._contact.DeferredFields`).
 
     Attributes
     ----------
@@ -152,6 +154,8 @@ class PointContactResult:
     edge_pressure: float
     diagnostics: dict = field(default_factory=dict)
     theory: PerssonTheory | None = field(default=None, repr=False, compare=False)
+
+    _DEFERRABLE = frozenset({"real_area", "diagnostics"})
 
     def __repr__(self):
         return (
