@@ -149,22 +149,61 @@ class Deferred(NamedTuple):
 _deferred_lock = threading.RLock()
 
 
+class _DeferredField:
+    """The class attribute of a deferrable field: a non-data descriptor, so that an instance
+    that holds the value answers from its ``__dict__`` at full speed and only a pending field
+    reaches :meth:`__get__` (what :func:`functools.cached_property` does; here with one lock
+    for all and the computation kept on the instance)."""
+
+    def __init__(self, name: str) -> None:
+        self.name = name
+
+    def __get__(self, result, owner=None):
+        if result is None:
+            return self
+        with _deferred_lock:
+            d = result.__dict__
+            if self.name in d:  # computed by another thread meanwhile
+                return d[self.name]
+            pending = d.get("_deferred")
+            if not pending or self.name not in pending:
+                raise AttributeError(f"{type(result).__name__!r} has no {self.name!r} (never set)")
+            value = d[self.name] = pending[self.name](result)
+            del pending[self.name]
+            if not pending:
+                del d["_deferred"]
+            return value
+
+
+def deferrable(*names: str):
+    """Class decorator (above ``@dataclass``) of a :class:`DeferredFields` result: the fields
+    ``names`` may be given as :class:`Deferred`."""
+
+    def install(cls):
+        cls._DEFERRABLE = frozenset(names)
+        for name in names:  # after @dataclass: the fields keep no default
+            setattr(cls, name, _DeferredField(name))
+        return cls
+
+    return install
+
+
 class DeferredFields:
     """Mixin of the result dataclasses: fields that are costly and rarely read (the real-area
     profile, the validity diagnostics) can be given as :class:`Deferred` and are computed on
-    their first access, once, then kept like any attribute.
+    their first access, once, then kept like any attribute (the fields are named by
+    :func:`deferrable`).
 
     A solve builds them with the GIL held (~10 us of a 50 us Python budget per solve), so two
     threads solving different scenes serialise on them; deferred, that work is done only when
     someone reads the field. Reading, comparing, copying and pickling a result see the same
-    values as an eager construction: ``__getattr__`` (called only for attributes missing from
-    the instance) computes a pending field, and pickling computes every pending field first
-    (the pending computations, which may hold a law, never travel). ``vars(result)`` lists a
-    pending field only once it has been read. Thread-safe: one lock, held while a field is
-    computed.
+    values as an eager construction: the first read computes a pending field, and pickling
+    computes every pending field first (the pending computations, which may hold a law, never
+    travel). ``vars(result)`` lists a pending field only once it has been read. Thread-safe:
+    one lock, held while a field is computed.
     """
 
-    #: the fields that may be deferred
+    #: the fields that may be deferred (set by :func:`deferrable`)
     _DEFERRABLE: frozenset = frozenset()
 
     def __post_init__(self):
@@ -179,24 +218,6 @@ class DeferredFields:
             d = self.__dict__
             d.pop(name, None)
             d.setdefault("_deferred", {})[name] = compute
-
-    def __getattr__(self, name: str):
-        # called only for an attribute missing from the instance: a pending field, or none
-        if name in self._DEFERRABLE:
-            with _deferred_lock:
-                d = self.__dict__
-                if name in d:  # computed by another thread meanwhile
-                    return d[name]
-                pending = d.get("_deferred")
-                if pending and name in pending:
-                    value = d[name] = pending[name](self)
-                    del pending[name]
-                    if not pending:
-                        del d["_deferred"]
-                    return value
-        raise AttributeError(
-            f"{type(self).__name__!r} object has no attribute {name!r}", name=name, obj=self
-        )
 
     def __getstate__(self) -> dict:
         for name in tuple(self.__dict__.get("_deferred", ())):

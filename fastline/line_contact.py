@@ -35,6 +35,7 @@ from fastline._contact import (  # noqa: F401 (METHODS ... shared_theory: import
     SWEEP_PREDICTOR_ORDER,
     ContactModel,
     DeferredFields,
+    deferrable,
     fwhm,
     log_pressure,
     peak,
@@ -70,6 +71,7 @@ MAX_N = 2**22
 LOAD_RANGE = (1e-12, 1e4)
 
 
+@deferrable("real_area", "diagnostics")
 @dataclass
 class LineContactResult(DeferredFields):
     """The solution of one line-contact scene and what follows from it.
@@ -159,8 +161,6 @@ class LineContactResult(DeferredFields):
     diagnostics: dict = field(default_factory=dict)
     theory: PerssonTheory | None = field(default=None, repr=False, compare=False)
     error_estimate: resolution.ErrorEstimate | None = field(default=None, repr=False, compare=False)
-
-    _DEFERRABLE = frozenset({"real_area", "diagnostics"})
 
     def __repr__(self):
         return (

@@ -33,7 +33,14 @@ from typing import Any, ClassVar
 import numpy as np
 
 from fastline import _core
-from fastline._contact import ContactModel, DeferredFields, fwhm, log_pressure, peak
+from fastline._contact import (
+    ContactModel,
+    DeferredFields,
+    deferrable,
+    fwhm,
+    log_pressure,
+    peak,
+)
 from fastline._core import ConvergenceWarning, Discretisation, dot
 from fastline.axisymmetric import MAX_N as _OPERATOR_MAX_N
 from fastline.axisymmetric import RingKernelOperator, ring_edges
@@ -59,6 +66,7 @@ MAX_N = _OPERATOR_MAX_N
 LOAD_RANGE = (1e-18, 1e6)
 
 
+@deferrable("real_area", "diagnostics")
 @dataclass
 class PointContactResult(DeferredFields):
     """The solution of one point-contact scene and what follows from it.
@@ -154,8 +162,6 @@ class PointContactResult(DeferredFields):
     edge_pressure: float
     diagnostics: dict = field(default_factory=dict)
     theory: PerssonTheory | None = field(default=None, repr=False, compare=False)
-
-    _DEFERRABLE = frozenset({"real_area", "diagnostics"})
 
     def __repr__(self):
         return (
