@@ -5,10 +5,11 @@ compiled kernel; the Python around the kernels (checks, result, diagnostics, the
 dispatch) holds the GIL and serialises them. Measured here:
 
 * **GIL-held time** of a warm ``LineContact.solve``: the Newton kernel
-  (:func:`fastline._line_newton.newton_line`) is replaced by a compiled stub with the same
-  argument types (the same dispatch cost) that replays the recorded outputs of the real one, so
-  the stubbed solve takes the Python time plus the other kernels' compiled work; that work is
-  timed alone in compiled loops and subtracted. CPU time of this thread, best of many calls.
+  (:func:`fastline._line_newton.newton_line`, as :mod:`fastline.elastic` keeps it) is
+  replaced by a compiled stub with the same argument types (the same dispatch cost) that
+  replays the recorded outputs of the real one, so the stubbed solve takes the Python time
+  plus the other kernels' compiled work; that work is timed alone in compiled loops and
+  subtracted. CPU time of this thread, best of many calls.
 * **2-thread speed-up**: wall time of S solves of different loads in turn, over the wall time
   of the same solves split between 2 threads of one shared model; min / median / max over
   ``--runs`` runs (the machine's other load shows as spread).
@@ -29,8 +30,8 @@ import numba
 import numpy as np
 
 import fastline as fl
-from fastline import _line_newton
 from fastline import _solve_kernels as kernels
+from fastline import elastic
 from fastline.paper import E_STAR, RADIUS, load_for_alpha, surfaces
 
 ALPHAS = (1.0, 1e-2)
@@ -72,7 +73,7 @@ def _replay(v_end, u_end, hist_end, scalars):
 def newton_replayed(lc: fl.LineContact, load: float):
     """Within: ``lc.solve(load)`` runs everything but the Newton iteration (module docstring).
     Yields the compiled kernels' arguments of one solve (name -> args, first call)."""
-    real = _line_newton.newton_line
+    real = elastic._newton_kernel()
     calls: dict = {}
     spied = []
     for mod, name in (
@@ -96,19 +97,19 @@ def newton_replayed(lc: fl.LineContact, load: float):
         calls.setdefault("newton_line", (args[11].copy(), args[16].copy(), args[15].copy(), out))
         return out
 
-    _line_newton.newton_line = record
+    elastic._newton_line = record
     try:
         reference = lc.solve(load)
         for mod, name, fn in spied:
             setattr(mod, name, fn)
-        _line_newton.newton_line = _replay(*calls.pop("newton_line"))
+        elastic._newton_line = _replay(*calls.pop("newton_line"))
         replayed = lc.solve(load)
         assert np.array_equal(replayed.pressure, reference.pressure)
         yield calls
     finally:
         for mod, name, fn in spied:
             setattr(mod, name, fn)
-        _line_newton.newton_line = real
+        elastic._newton_line = real
 
 
 @numba.njit(nogil=True)

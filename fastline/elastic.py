@@ -467,15 +467,13 @@ class LogKernelOperator:
         the compiled FFT path is not available."""
         if not _fftw.AVAILABLE:
             return None
-        from fastline._line_newton import newton_line
-
         kspec, strang, prefix = _compiled_tables(self.n)
         hist = np.zeros((max_iter, 3))
         u = np.empty(self.n)
         N = 2 * self.n
         fft = _fftw.acquire(N)
         try:
-            u1, res, status, steps, cg, kapps, circ, tol_eff = newton_line(
+            u1, res, status, steps, cg, kapps, circ, tol_eff = _newton_kernel()(
                 fft,
                 kspec,
                 strang,
@@ -515,6 +513,20 @@ class LogKernelOperator:
         khat = influence_coefficients(self.n)
         idx = np.arange(self.n)
         return self._scale * khat[np.abs(idx[:, None] - idx[None, :])]
+
+
+_newton_line = None
+
+
+def _newton_kernel():
+    """:func:`fastline._line_newton.newton_line`, imported on first use (not at import: start-up
+    time) and kept (an import statement costs ~0.7 us a solve)."""
+    global _newton_line
+    if _newton_line is None:
+        from fastline._line_newton import newton_line
+
+        _newton_line = newton_line
+    return _newton_line
 
 
 #: core block of the preconditioner: cells with |du/dp| < CORE_THETA * K00. Measured totals over

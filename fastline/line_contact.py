@@ -22,7 +22,7 @@ import copy
 import math
 from collections.abc import Callable, Iterable
 from dataclasses import dataclass, field
-from typing import Any
+from typing import Any, NamedTuple
 
 import numpy as np
 from numpy.typing import ArrayLike
@@ -192,9 +192,9 @@ def _measures(x: np.ndarray, p: np.ndarray, dx: float) -> tuple[float, float, fl
 # ----------------------------------------------------------------------------------------------
 # the grid of one load
 # ----------------------------------------------------------------------------------------------
-@dataclass(frozen=True)
-class _LineGrid:
-    """Cells of one solve: coordinates, width, the Hertz reference and the discretisation."""
+class _LineGrid(NamedTuple):
+    """Cells of one solve: coordinates, width, the Hertz reference and the discretisation
+    (a tuple: built once per solve, ~1 us less than a frozen dataclass)."""
 
     x: np.ndarray
     dx: float
