@@ -11,7 +11,8 @@ dispatch) holds the GIL and serialises them. Measured here:
   plus the other kernels' compiled work; that work is timed alone in compiled loops and
   subtracted. CPU time of this thread, best of many calls.
 * **2-thread speed-up**: wall time of S solves of different loads in turn, over the wall time
-  of the same solves split between 2 threads of one shared model; min / median / max over
+  of the same solves split between 2 threads of one shared model (every other load each, no
+  pool: a pool's hand-over of each task costs GIL time of its own); min / median / max over
   ``--runs`` runs (the machine's other load shows as spread).
 
 Options: ``--ns 256 1024``, ``--runs 9``.
@@ -23,9 +24,9 @@ import argparse
 import contextlib
 import math
 import statistics
+import threading
 import time
 import warnings
-from concurrent.futures import ThreadPoolExecutor
 
 import numba
 import numpy as np
@@ -170,22 +171,38 @@ def gil_held(n: int, alpha: float, repeat: int = 2000, warn: bool = False) -> di
     return dict(solve=solve, replayed=replayed, kernels=work, gil=replayed - work)
 
 
+def _on_two_threads(lc: fl.LineContact, loads: np.ndarray) -> float:
+    """Wall time (s) of two threads, each solving every other load, started together."""
+    start = threading.Barrier(3)
+
+    def run(part):
+        start.wait()
+        for f in part:
+            lc.solve(f)
+
+    workers = [threading.Thread(target=run, args=(loads[k::2],)) for k in (0, 1)]
+    for t in workers:
+        t.start()
+    start.wait()
+    t0 = time.perf_counter()
+    for t in workers:
+        t.join()
+    return time.perf_counter() - t0
+
+
 def thread_speedups(n: int, runs: int, solves: int | None = None) -> list[float]:
     """Serial wall time / 2-thread wall time of ``solves`` solves (loads 1e3..1e6 N/m, surface
-    1, one shared model), one figure per run."""
+    1, one shared model; the loads split between the threads, no pool), one figure per run."""
     lc = fl.LineContact(surfaces()[0], E_STAR, RADIUS, n=n, warn=False)
     loads = np.geomspace(1e3, 1e6, solves or SOLVES.get(n, 120))
+    _on_two_threads(lc, loads[:16])  # both threads warm (FFT plans, caches)
     out = []
-    with ThreadPoolExecutor(2) as pool:
-        list(pool.map(lc.solve, loads[:8]))  # both threads warm (FFT plans, caches)
-        for _ in range(runs):
-            t = time.perf_counter()
-            for f in loads:
-                lc.solve(f)
-            serial = time.perf_counter() - t
-            t = time.perf_counter()
-            list(pool.map(lc.solve, loads))
-            out.append(serial / (time.perf_counter() - t))
+    for _ in range(runs):
+        t = time.perf_counter()
+        for f in loads:
+            lc.solve(f)
+        serial = time.perf_counter() - t
+        out.append(serial / _on_two_threads(lc, loads))
     return out
 
 
