@@ -26,6 +26,7 @@ import math
 import threading
 import warnings
 from collections.abc import Callable, Iterable
+from functools import partial
 from typing import NamedTuple
 
 import numpy as np
@@ -33,10 +34,10 @@ import numpy as np
 from fastline import _core
 from fastline import _solve_kernels as _kernels
 from fastline._core import ConvergenceWarning, normalise
-from fastline._solve_kernels import cold_start_into, hermite_accumulate
+from fastline._solve_kernels import cold_start_into, cold_start_normalised, hermite_accumulate
 from fastline._validate import E_STAR_RANGE, RADIUS_RANGE, finite_scalar, in_span, integer, positive
 from fastline.diagnostics import assess, warn_once
-from fastline.laws import ExponentialLaw, PerssonLaw, PressureLaw, check_law
+from fastline.laws import ExponentialLaw, PerssonLaw, PressureLaw, TabulatedLaw, check_law
 from fastline.persson import PerssonTheory
 from fastline.spectra import PSD
 from fastline.variants import DEFAULT_VARIANT, VARIANTS, get_variant
@@ -134,6 +135,98 @@ def hermite_slopes(x: np.ndarray, y: np.ndarray) -> np.ndarray:
     return np.gradient(y, x, edge_order=2)
 
 
+# ----------------------------------------------------------------------------------------------
+# result fields computed on first access
+# ----------------------------------------------------------------------------------------------
+class Deferred(NamedTuple):
+    """A field value still to compute: ``compute(result)`` gives it (:class:`DeferredFields`)."""
+
+    compute: Callable[[object], object]
+
+
+#: one lock for every deferred computation: rare (once per field and result), and a thread
+#: reading a field another thread is computing waits for that value instead of making its own
+_deferred_lock = threading.RLock()
+
+
+class _DeferredField:
+    """The class attribute of a deferrable field: a non-data descriptor, so that an instance
+    that holds the value answers from its ``__dict__`` at full speed and only a pending field
+    reaches :meth:`__get__` (what :func:`functools.cached_property` does; here with one lock
+    for all and the computation kept on the instance)."""
+
+    def __init__(self, name: str) -> None:
+        self.name = name
+
+    def __get__(self, result, owner=None):
+        if result is None:
+            return self
+        with _deferred_lock:
+            d = result.__dict__
+            if self.name in d:  # computed by another thread meanwhile
+                return d[self.name]
+            pending = d.get("_deferred")
+            if not pending or self.name not in pending:
+                raise AttributeError(f"{type(result).__name__!r} has no {self.name!r} (never set)")
+            value = d[self.name] = pending[self.name](result)
+            del pending[self.name]
+            if not pending:
+                del d["_deferred"]
+            return value
+
+
+def deferrable(*names: str):
+    """Class decorator (above ``@dataclass``) of a :class:`DeferredFields` result: the fields
+    ``names`` may be given as :class:`Deferred`."""
+
+    def install(cls):
+        cls._DEFERRABLE = frozenset(names)
+        for name in names:  # after @dataclass: the fields keep no default
+            setattr(cls, name, _DeferredField(name))
+        return cls
+
+    return install
+
+
+class DeferredFields:
+    """Mixin of the result dataclasses: fields that are costly and rarely read (the real-area
+    profile, the validity diagnostics) can be given as :class:`Deferred` and are computed on
+    their first access, once, then kept like any attribute (the fields are named by
+    :func:`deferrable`).
+
+    A solve builds them with the GIL held (~10 us of a 50 us Python budget per solve), so two
+    threads solving different scenes serialise on them; deferred, that work is done only when
+    someone reads the field. Reading, comparing, copying and pickling a result see the same
+    values as an eager construction: the first read computes a pending field, and pickling
+    computes every pending field first (the pending computations, which may hold a law, never
+    travel). ``vars(result)`` lists a pending field only once it has been read. Thread-safe:
+    one lock, held while a field is computed.
+    """
+
+    #: the fields that may be deferred (set by :func:`deferrable`)
+    _DEFERRABLE: frozenset = frozenset()
+
+    def __post_init__(self):
+        d = self.__dict__
+        pending = {k: d.pop(k).compute for k in self._DEFERRABLE if type(d.get(k)) is Deferred}
+        if pending:
+            d["_deferred"] = pending
+
+    def _defer(self, name: str, compute: Callable[[object], object]) -> None:
+        """Make field ``name`` pending: ``compute(result)`` gives it on first access."""
+        with _deferred_lock:
+            d = self.__dict__
+            d.pop(name, None)
+            d.setdefault("_deferred", {})[name] = compute
+
+    def __getstate__(self) -> dict:
+        for name in tuple(self.__dict__.get("_deferred", ())):
+            getattr(self, name)
+        state = dict(self.__dict__)
+        state.pop("_deferred", None)
+        return state
+
+
 class _Solved(NamedTuple):
     """A solution as a sweep's predictor uses it: ln load, ln of the contact width s (m), the
     cells in units of s, ln p on the cells (p in Pa) and its slopes in those units."""
@@ -143,6 +236,27 @@ class _Solved(NamedTuple):
     xi: np.ndarray
     v: np.ndarray
     slope: np.ndarray
+
+
+def _assessed(counts: dict, result, theory, hardness) -> dict:
+    """A result's ``diagnostics``: its solver ``counts`` and :func:`fastline.diagnostics.assess`
+    (no warnings: a model that warns assesses at once)."""
+    counts.update(assess(result, theory, hardness, warn=False))
+    return counts
+
+
+def _real_area(area: Callable, p: np.ndarray, result) -> np.ndarray | None:
+    """A result's ``real_area``: ``area(p)`` (a law's ``real_area`` at the solved pressures)."""
+    return area(p)
+
+
+#: load types whose in-range values :meth:`ContactModel._check_load` passes without
+#: :func:`fastline._validate.in_span` (which returns them as they are, as floats)
+_FLOATS = (float, np.float64)
+
+#: laws whose real area is a pure function of p, computed on first access of a result's
+#: ``real_area`` (a user's law is asked during the solve, as its errors should surface there)
+_SHIPPED_LAWS = (PerssonLaw, ExponentialLaw, TabulatedLaw)
 
 
 # ----------------------------------------------------------------------------------------------
@@ -259,12 +373,19 @@ class ContactModel:
         return self._solve_on(grid, start, self.warn)
 
     def _solve_on(self, grid, start: np.ndarray | None, warn: bool):
-        """Run the core from ``start`` (ln p; None: cold) and finish the result."""
+        """Run the core from ``start`` (ln p; None: cold) and finish the result. The validity
+        diagnostics are made now when they may warn, else on first access to the result's
+        ``diagnostics`` (:class:`DeferredFields`)."""
         outcome = self._run(grid, start)
         result = self._result(grid, outcome)
         if not result.converged and warn:
             warnings.warn(f"fastline: {result.message}", ConvergenceWarning, stacklevel=4)
-        result.diagnostics.update(assess(result, self._theory, self.hardness, warn=warn))
+        if warn:
+            result.diagnostics.update(assess(result, self._theory, self.hardness, warn=True))
+        else:
+            counts = result.diagnostics
+            theory, hardness = self._theory, self.hardness
+            result._defer("diagnostics", lambda r: _assessed(counts, r, theory, hardness))
         return result
 
     def _sweep(self, loads: Iterable[float], progress: Callable[[], object] | None) -> list:
@@ -313,6 +434,8 @@ class ContactModel:
         stays between ~1e-6 R and ~100 R, where every quantity of the solve is representable."""
         lo, hi = self.LOAD_RANGE
         scale = self._load_scale()
+        if type(load) in _FLOATS and lo * scale <= load <= hi * scale:  # in_span's answer, faster
+            return float(load)
         unit = f"{self.LOAD_UNIT} ([{lo:g}, {hi:g}] {self.LOAD_SCALE_TEXT})"
         return in_span(name, load, (lo * scale, hi * scale), unit)
 
@@ -350,21 +473,25 @@ class ContactModel:
     def _cold_start(self, grid) -> np.ndarray:
         """ln p to start from without a neighbour: Hertz and Gaussian profiles blended (up to
         a constant: :meth:`_run` normalises every start to the load)."""
-        x, hz = grid.x, grid.hertz
+        x = grid.x
         if self._law is None:  # hard contact: uniform pressure on the central third
             return np.where(np.abs(x) <= grid.half_width / 3.0, 0.0, -np.inf)
+        v = np.empty_like(x)
+        cold_start_into(x, *self._cold_profiles(grid.hertz), v)  # compiled, nogil
+        return v  # normalised to the load by _run, as every start is
+
+    def _cold_profiles(self, hz) -> tuple[float, float, float, float, float]:
+        """``(a, ln_h, floor, ln_g, 2 s^2)`` of :func:`fastline._solve_kernels.cold_start_into`:
+        the Hertz and Gaussian profiles of the cold start and their weights."""
         alpha = self._alpha(hz.delta)
         if not math.isfinite(alpha):
             alpha = 2.0 * self._u0() / hz.delta
         gs = self._gaussian(hz.load)
-        floor = self.COLD_FLOOR
         # weights alpha/(alpha + 0.3) and 0.3/(alpha + 0.3), in logarithms (no 1 - 1 at huge alpha)
         ln_wh = math.log(0.3) - math.log(alpha + 0.3)
         ln_wg = math.log(alpha) - math.log(alpha + 0.3)
-        v = np.empty_like(x)
         ln_h, ln_g = ln_wh + math.log(hz.p0), ln_wg + math.log(gs.p0)
-        cold_start_into(x, hz.a, ln_h, floor, ln_g, 2.0 * gs.s**2, v)  # compiled, nogil
-        return v  # normalised to the load by _run, as every start is
+        return hz.a, ln_h, self.COLD_FLOOR, ln_g, 2.0 * gs.s**2
 
     def _solved(self, grid, result) -> _Solved:
         """What a sweep keeps of a solution for the next predictions. ln p comes from the
@@ -407,27 +534,47 @@ class ContactModel:
         tail = np.clip((depth - CORE_DEPTH[0]) / (CORE_DEPTH[1] - CORE_DEPTH[0]), 0.0, 1.0)
         return tail * in_domain + (1.0 - tail) * in_contact
 
-    def _separation_and_area(self, out: _core.Outcome) -> tuple[np.ndarray, np.ndarray]:
+    def _separation_and_area(self, out: _core.Outcome) -> tuple[np.ndarray, np.ndarray | Deferred]:
         """Separation u (m) and real contact-area fraction of a solve's outcome: the law's at
-        the solved pressures, or, for a hard (Hertz) contact, the gap and 1 where p > 0."""
+        the solved pressures, or, for a hard (Hertz) contact, the gap and 1 where p > 0. The
+        area of a shipped law is :class:`Deferred` (computed when the result's ``real_area``
+        is first read); a user's law is asked now."""
         p = out.pressure
         if self._law is None:
             return out.separation, (p > 0.0).astype(float)
         separation = out.separation
         if separation is None:
             separation = self._law.separation_and_slope(out.v)[0]
+        if type(self._law) in _SHIPPED_LAWS:
+            return separation, Deferred(partial(_real_area, self._law.real_area, p))
         return separation, self._law.real_area(p)
 
     def _run(self, grid, start: np.ndarray | None) -> _core.Outcome:
-        v = self._cold_start(grid) if start is None else start
+        disc, load = grid.disc, grid.hertz.load
         if self._law is None:
+            v = self._cold_start(grid) if start is None else start
             max_iter = self.max_iter or 10 * self.n
             p = _core.pressure_of(v)  # exactly 0 off the predicted contact
-            return _core.hard_contact(grid.disc, p, grid.hertz.delta, self.tol, max_iter)
-        v = normalise(v, grid.hertz.load, grid.disc.weights)
+            return _core.hard_contact(disc, p, grid.hertz.delta, self.tol, max_iter)
+        if start is None:  # the cold start, normalised to the load, in one compiled call
+            v = np.empty_like(grid.x)
+            profiles = self._cold_profiles(grid.hertz)
+            cold_start_normalised(grid.x, *profiles, float(load), disc.weights, v)
+        else:
+            v = normalise(start, load, disc.weights)
         if self.method == "newton":
-            return _core.newton(grid.disc, self._law, v, self.tol, self.max_iter or MAX_NEWTON)
-        return _core.picard(grid.disc, self._law, v, self.tol, self.max_iter or MAX_PICARD_SWEEPS)
+            max_iter = self.max_iter or MAX_NEWTON
+            return _core.newton(disc, self._law, v, self.tol, max_iter, self._law_form())
+        return _core.picard(disc, self._law, v, self.tol, self.max_iter or MAX_PICARD_SWEEPS)
+
+    def _law_form(self) -> tuple | None:
+        """The law's ``_compiled_form()`` (None if it has none), made once per model: the law
+        of a model does not change."""
+        form = self.__dict__.get("_form")
+        if form is None:
+            make = getattr(self._law, "_compiled_form", None)
+            form = self._form = () if make is None else make()
+        return form or None
 
     # -- supplied by each geometry --------------------------------------------------------------
     def _grid(self, load: float):  # pragma: no cover - abstract

@@ -162,23 +162,34 @@ def dot(a: np.ndarray, b: np.ndarray) -> float:
     return float(np.add.reduce(a * b))
 
 
+_stages = None
+
+
+def _compiled_stages():
+    """:mod:`fastline._solve_kernels` (compiled, nogil), imported on first use: it imports this
+    module. Kept here: an import statement costs ~0.7 us a call."""
+    global _stages
+    if _stages is None:
+        from fastline import _solve_kernels
+
+        _stages = _solve_kernels
+    return _stages
+
+
 def normalise(v: np.ndarray, load: float, weights: np.ndarray) -> np.ndarray:
     """Shift v so that ``sum(w exp(v)) = load`` exactly (log-sum-exp, no overflow; terms below
     e^-460 of the largest are left out rather than computed as slow subnormal numbers)."""
-    from fastline._solve_kernels import normalise_into  # compiled, nogil (imports this module)
-
     out = np.array(v, dtype=np.float64)
-    normalise_into(out, float(load), np.ascontiguousarray(weights, dtype=np.float64))
+    w = np.ascontiguousarray(weights, dtype=np.float64)
+    _compiled_stages().normalise_into(out, float(load), w)
     return out
 
 
 def pressure_of(v: np.ndarray) -> np.ndarray:
     """exp(v), flushed to 0 below 1e-200 of the peak and below 1e-290 Pa (``LN_FLOOR``)."""
-    from fastline._solve_kernels import pressure_into  # compiled, nogil (imports this module)
-
     v = np.ascontiguousarray(v, dtype=np.float64)
     p = np.empty_like(v)
-    pressure_into(v, p)
+    _compiled_stages().pressure_into(v, p)
     return p
 
 
@@ -326,15 +337,18 @@ def _message(ok: bool, res: float, tol: float, tol_eff: float, work: str, stalle
     return f"not converged: residual {res:.2e} (tol {tol_eff:.1e}) after {work} ({why})"
 
 
-def _newton_compiled(disc: Discretisation, law, v, tol, max_iter) -> Outcome | None:
+def _newton_compiled(disc: Discretisation, law, v, tol, max_iter, form=None) -> Outcome | None:
     """The same iteration in one compiled call, when the operator and the law provide one
-    (the line contact with a shipped law: :mod:`fastline._line_newton`); None otherwise."""
+    (the line contact with a shipped law: :mod:`fastline._line_newton`); None otherwise.
+    ``form`` is the law's ``_compiled_form()`` if the caller keeps it (a model does)."""
     run = getattr(disc.op, "newton_compiled", None)
-    form = getattr(law, "_compiled_form", None)
+    if form is None:
+        make = getattr(law, "_compiled_form", None)
+        form = None if make is None else make()
     if run is None or form is None:
         return None
     v = np.array(v, dtype=np.float64)
-    out = run(disc.gap, disc.weights, disc.load, form(), law.u0, v, tol, max_iter)
+    out = run(disc.gap, disc.weights, disc.load, form, law.u0, v, tol, max_iter)
     if out is None:
         return None
     u1, res, status, steps, cg, tol_eff, hist, u = out
@@ -344,7 +358,9 @@ def _newton_compiled(disc: Discretisation, law, v, tol, max_iter) -> Outcome | N
     return Outcome(v, u1, res, status == 0, steps, message, info, pressure_of(v), u)
 
 
-def newton(disc: Discretisation, law, v: np.ndarray, tol: float, max_iter: int) -> Outcome:
+def newton(
+    disc: Discretisation, law, v: np.ndarray, tol: float, max_iter: int, form: tuple | None = None
+) -> Outcome:
     """Newton-Krylov on ``v = ln p`` in the u(p) form.
 
     Each step solves ``(D + K) dp + du1 = r`` (``dp = p dv``, ``D = |du_law/dp|``) by projected
@@ -358,9 +374,11 @@ def newton(disc: Discretisation, law, v: np.ndarray, tol: float, max_iter: int) 
     1000 times more accurately, and the forcing stays capped there for the rest of the solve.
     Without it, Newton stalled at residual 0.51 and 1.2e-3 in two scenes of the random campaign
     whose centres reach full contact (docs/theory.md, numerics notes).
+
+    ``form``: the law's ``_compiled_form()``, when the caller keeps it (else asked here).
     """
     u_ref = law.u0
-    fast = _newton_compiled(disc, law, v, tol, max_iter)
+    fast = _newton_compiled(disc, law, v, tol, max_iter, form)
     if fast is not None:
         return fast
     it = _evaluate(disc, law, v, None)

@@ -134,7 +134,8 @@ def acquire(N: int) -> tuple[int, int, int, int]:
             entry = _plans[N] = _make(N)
         entry[4] += 1
         _plans.move_to_end(N)
-        _evict()
+        if len(_plans) > PLANS_KEPT:
+            _evict()
         return entry[0], entry[1], entry[2], entry[3]
 
 
@@ -142,7 +143,8 @@ def release(N: int) -> None:
     """Unpin the plans of length N (see :func:`acquire`)."""
     with _plan_lock:
         _plans[N][4] -= 1
-        _evict()
+        if len(_plans) > PLANS_KEPT:
+            _evict()
 
 
 def _evict() -> None:

@@ -152,6 +152,7 @@ _strang: OrderedDict[int, np.ndarray] = OrderedDict()
 _real_spectra: OrderedDict[int, np.ndarray] = OrderedDict()
 _prefixes: OrderedDict[int, np.ndarray] = OrderedDict()
 _strang_writable: OrderedDict[int, np.ndarray] = OrderedDict()
+_table_sets: OrderedDict[int, tuple[np.ndarray, np.ndarray, np.ndarray]] = OrderedDict()
 _local = threading.local()
 
 
@@ -203,12 +204,23 @@ def _build_prefix(n: int) -> np.ndarray:
 
 
 def _compiled_tables(n: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """Real kernel spectrum / 2n (length n + 1), Strang spectrum and Toeplitz prefix sums."""
-    return (
+    """Real kernel spectrum / 2n (length n + 1), Strang spectrum and Toeplitz prefix sums
+    (kept together per n: one look-up per solve)."""
+    with _spectrum_lock:
+        tables = _table_sets.get(n)
+        if tables is not None:
+            _table_sets.move_to_end(n)
+            return tables
+    tables = (
         _cached(_real_spectra, n, _build_real_spectrum, readonly=False),
         _cached(_strang_writable, n, _build_strang_spectrum, readonly=False),
         _cached(_prefixes, n, _build_prefix, readonly=False),
     )
+    with _spectrum_lock:
+        _table_sets[n] = tables
+        while len(_table_sets) > SPECTRA_KEPT:
+            _table_sets.popitem(last=False)
+    return tables
 
 
 def _build_strang_spectrum(n: int) -> np.ndarray:
@@ -310,7 +322,6 @@ class LogKernelOperator:
         "convolutions",
         "circulant_solves",
         "_scale",
-        "_spec",
     )
 
     def __init__(self, n: int, dx: float, E_star: float) -> None:
@@ -327,7 +338,6 @@ class LogKernelOperator:
     def _set(self, n: int, dx: float, E_star: float) -> None:
         self.n, self.dx, self.E_star = n, dx, E_star
         self._scale = dx / E_star
-        self._spec = _kernel_spectrum(n)
         self.diagonal = self._scale * _KHAT0
         self.convolutions = 0
         self.circulant_solves = 0
@@ -371,7 +381,7 @@ class LogKernelOperator:
         head_in, cview, head_out, fwd, bwd, _, _ = _workspace(n)
         np.copyto(head_in, p)
         fwd()
-        np.multiply(cview, self._spec, out=cview)
+        np.multiply(cview, _kernel_spectrum(n), out=cview)
         bwd()
         if out is None:
             out = np.multiply(head_out, self._scale)
@@ -457,15 +467,13 @@ class LogKernelOperator:
         the compiled FFT path is not available."""
         if not _fftw.AVAILABLE:
             return None
-        from fastline._line_newton import newton_line
-
         kspec, strang, prefix = _compiled_tables(self.n)
         hist = np.zeros((max_iter, 3))
         u = np.empty(self.n)
         N = 2 * self.n
         fft = _fftw.acquire(N)
         try:
-            u1, res, status, steps, cg, kapps, circ, tol_eff = newton_line(
+            u1, res, status, steps, cg, kapps, circ, tol_eff = _newton_kernel()(
                 fft,
                 kspec,
                 strang,
@@ -505,6 +513,20 @@ class LogKernelOperator:
         khat = influence_coefficients(self.n)
         idx = np.arange(self.n)
         return self._scale * khat[np.abs(idx[:, None] - idx[None, :])]
+
+
+_newton_line = None
+
+
+def _newton_kernel():
+    """:func:`fastline._line_newton.newton_line`, imported on first use (not at import: start-up
+    time) and kept (an import statement costs ~0.7 us a solve)."""
+    global _newton_line
+    if _newton_line is None:
+        from fastline._line_newton import newton_line
+
+        _newton_line = newton_line
+    return _newton_line
 
 
 #: core block of the preconditioner: cells with |du/dp| < CORE_THETA * K00. Measured totals over

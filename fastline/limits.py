@@ -273,6 +273,11 @@ def gaussian_line_contact(u0: float, radius: float, load: float) -> GaussianLine
     u0 = positive("u0", u0, "m")
     radius = positive("radius", radius, "m")
     load = positive("load", load, "N/m")
+    return _gaussian_line(u0, radius, load)
+
+
+def _gaussian_line(u0: float, radius: float, load: float) -> GaussianLineContact:
+    """:func:`gaussian_line_contact` of values already checked (a solver's own), no checks."""
     s = math.sqrt(radius * u0)
     return GaussianLineContact(
         u0=u0, radius=radius, load=load, s=s, p0=load / (s * math.sqrt(2.0 * math.pi))

@@ -22,7 +22,7 @@ import copy
 import math
 from collections.abc import Callable, Iterable
 from dataclasses import dataclass, field
-from typing import Any
+from typing import Any, NamedTuple
 
 import numpy as np
 from numpy.typing import ArrayLike
@@ -34,6 +34,8 @@ from fastline._contact import (  # noqa: F401 (METHODS ... shared_theory: import
     PREDICTOR_MAX_STEP,
     SWEEP_PREDICTOR_ORDER,
     ContactModel,
+    DeferredFields,
+    deferrable,
     fwhm,
     log_pressure,
     peak,
@@ -43,7 +45,12 @@ from fastline._core import ConvergenceWarning, Discretisation, dot
 from fastline._solve_kernels import line_cells, line_measures
 from fastline.elastic import LogKernelOperator, _log_reference_shift
 from fastline.laws import PressureLaw
-from fastline.limits import HertzLineContact, _hertz_line, gaussian_line_contact
+from fastline.limits import (
+    HertzLineContact,
+    _gaussian_line,
+    _hertz_line,
+    gaussian_line_contact,
+)
 from fastline.persson import PerssonTheory
 from fastline.spectra import PSD
 
@@ -64,11 +71,14 @@ MAX_N = 2**22
 LOAD_RANGE = (1e-12, 1e4)
 
 
+@deferrable("real_area", "diagnostics")
 @dataclass
-class LineContactResult:
+class LineContactResult(DeferredFields):
     """The solution of one line-contact scene and what follows from it.
 
-    Arrays are on the solver grid (cell centres). Units: m, Pa, N/m.
+    Arrays are on the solver grid (cell centres). Units: m, Pa, N/m. ``real_area`` and
+    ``diagnostics`` of a solve are computed when first read (for ``diagnostics``, unless the
+    model warns); the values are the same (:class:`fastline._contact.DeferredFields`).
 
     Attributes
     ----------
@@ -182,9 +192,9 @@ def _measures(x: np.ndarray, p: np.ndarray, dx: float) -> tuple[float, float, fl
 # ----------------------------------------------------------------------------------------------
 # the grid of one load
 # ----------------------------------------------------------------------------------------------
-@dataclass(frozen=True)
-class _LineGrid:
-    """Cells of one solve: coordinates, width, the Hertz reference and the discretisation."""
+class _LineGrid(NamedTuple):
+    """Cells of one solve: coordinates, width, the Hertz reference and the discretisation
+    (a tuple: built once per solve, ~1 us less than a frozen dataclass)."""
 
     x: np.ndarray
     dx: float
@@ -385,7 +395,10 @@ class LineContact(ContactModel):
         return _build_grid(self.n, half, self.radius, self.E_star, hz)
 
     def _gaussian(self, load: float):
-        return gaussian_line_contact(self._u0(), self.radius, load)
+        u0 = self._u0()
+        if type(u0) is float and 0.0 < u0 < math.inf:  # what the checks would pass unchanged
+            return _gaussian_line(u0, self.radius, load)
+        return gaussian_line_contact(u0, self.radius, load)
 
     def _rescaled_start(self, grid: _LineGrid, initial: LineContactResult) -> np.ndarray:
         return _rescaled_start(grid, initial)

@@ -33,7 +33,14 @@ from typing import Any, ClassVar
 import numpy as np
 
 from fastline import _core
-from fastline._contact import ContactModel, fwhm, log_pressure, peak
+from fastline._contact import (
+    ContactModel,
+    DeferredFields,
+    deferrable,
+    fwhm,
+    log_pressure,
+    peak,
+)
 from fastline._core import ConvergenceWarning, Discretisation, dot
 from fastline.axisymmetric import MAX_N as _OPERATOR_MAX_N
 from fastline.axisymmetric import RingKernelOperator, ring_edges
@@ -59,12 +66,15 @@ MAX_N = _OPERATOR_MAX_N
 LOAD_RANGE = (1e-18, 1e6)
 
 
+@deferrable("real_area", "diagnostics")
 @dataclass
-class PointContactResult:
+class PointContactResult(DeferredFields):
     """The solution of one point-contact scene and what follows from it.
 
     Arrays are on the solver's cells (centres ``r_j = j dr``, the first a disc). Units: m, Pa,
-    N.
+    N. ``real_area`` and ``diagnostics`` of a solve are computed when first read (for
+    ``diagnostics``, unless the model warns); the values are the same
+    (:class:`fastline._contact.DeferredFields`).
 
     Attributes
     ----------

@@ -321,6 +321,7 @@ def test_per_n_caches_are_bounded():
     assert len(elastic._spectra) <= elastic.SPECTRA_KEPT
     assert len(elastic._strang) <= elastic.SPECTRA_KEPT
     assert len(elastic._real_spectra) <= elastic.SPECTRA_KEPT
+    assert len(elastic._table_sets) <= elastic.SPECTRA_KEPT
     assert len(elastic._local.plans) <= elastic.PLANS_KEPT
     assert len(_fftw._plans) <= _fftw.PLANS_KEPT
 

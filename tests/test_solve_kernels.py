@@ -11,6 +11,7 @@ import pytest
 from fastline._core import LN_FLOOR
 from fastline._solve_kernels import (
     cold_start_into,
+    cold_start_normalised,
     line_cells,
     line_measures,
     normalise_into,
@@ -44,6 +45,18 @@ def test_normalise_restores_the_load_and_flushes_like_numpy():
     ref = v + (math.log(2.5e3) - (v.max() + math.log(np.sum(w * share))))
     np.testing.assert_allclose(out, ref, rtol=RTOL_ROUNDOFF)
     assert np.sum(w * np.exp(out)) == pytest.approx(2.5e3, rel=RTOL_ROUNDOFF)
+
+
+def test_cold_start_normalised_is_the_two_stages_bit_for_bit():
+    a, ln_h, ln_g, s, load = 2e-4, math.log(3e7), math.log(1e7), 8e-5, 4e3
+    w = np.full(X.size, X[1] - X[0])
+    two = np.empty_like(X)
+    cold_start_into(X, a, ln_h, 0.0, ln_g, 2.0 * s * s, two)
+    normalise_into(two, load, w)
+    one = np.empty_like(X)
+    cold_start_normalised(X, a, ln_h, 0.0, ln_g, 2.0 * s * s, load, w, one)
+    np.testing.assert_array_equal(one, two)
+    assert np.sum(w * np.exp(one)) == pytest.approx(load, rel=RTOL_ROUNDOFF)
 
 
 def test_pressure_flushes_below_the_floor_and_on_nan():
