@@ -55,6 +55,8 @@ WIDE_THETA = 100.0
 FROZEN_THETA = 1e10
 #: interleaved partial sums of the reductions (strip length)
 _STRIP = 64
+#: cells per block of the coarse product H P c (:func:`_coarse_product`)
+_BLOCK = 256
 #: CG stops when its residual has not improved for this many iterations (round-off)
 _STAGNATION = 20
 
@@ -268,17 +270,23 @@ def _coarse_matrices(D, scale, prefix, j0, j1, nc, e, Tc, U, L):
 # one AXPY per edge with a contiguous slice of Tc (a slice, not ``Tc[i + offset]``: Numba cannot
 # prove an offset index non-negative, and its wrap-around test stops LLVM from vectorising).
 @numba.njit(**JIT)
-def _coarse_product(c, D, scale, e, nc, Tc, out):
-    """``out -= H P c``."""
+def _coarse_product(c, D, scale, e, nc, Tc, jumps, out):
+    """``out -= H P c`` (``jumps``: work array, nc + 1 values), in blocks of ``_BLOCK`` cells
+    that stay in the L1 cache while every edge's AXPY passes over them."""
     n = out.shape[0]
     prev = 0.0
     for j in range(nc + 1):
         cj = c[j] if j < nc else 0.0
-        s = scale * (cj - prev)
+        jumps[j] = scale * (cj - prev)
         prev = cj
-        t = Tc[n - e[j] : 2 * n - e[j]]
-        for i in range(n):
-            out[i] -= s * t[i]
+    for b in range(0, n, _BLOCK):
+        m = min(_BLOCK, n - b)
+        ob = out[b : b + m]
+        for j in range(nc + 1):
+            s = jumps[j]
+            t = Tc[n - e[j] + b : n - e[j] + b + m]
+            for i in range(m):
+                ob[i] -= s * t[i]
     for k in range(nc):
         dk = D[e[k] : e[k + 1]]
         ok = out[e[k] : e[k + 1]]
@@ -319,7 +327,7 @@ def _precondition(
         g1[k] = tot
     if nc > 0:  # r1 = R y - H P c1
         _chol_solve(L, nc, g1)
-        _coarse_product(g1, D, scale, e, nc, Tc, r1)
+        _coarse_product(g1, D, scale, e, nc, Tc, g2, r1)
     for i in range(n):  # smoother: Jacobi, and the scaled circulant on the core
         out[i] = minv[i] * r1[i]
     ffts = 0
