@@ -17,10 +17,13 @@ a two-level method:
 * coarse correction on the smooth modes of the wide block (cells with ``D < WIDE_THETA K00``:
   the core plus the contact edge, where D spans five decades and neither Jacobi nor a circulant
   fits), ``nc`` piecewise-constant aggregates, applied multiplicatively:
-  ``B = C + (I - C H) S (I - H C)``, ``C = P (P^T H P)^-1 P^T``. ``H P`` comes from prefix sums
-  of the Toeplitz coefficients (no FFT): ``sum_{j in [a, b)} khat_|i-j| = T[i-a+n] - T[i-b+n]``.
-  The coarse matrix penalises its constant mode (the projection handles constants; the log
-  kernel's constant mode is strongly negative).
+  ``B = C + (I - C H) S (I - H C)``, ``C = P (P^T H P)^-1 P^T``. Products with ``H P`` come
+  from prefix sums of the Toeplitz coefficients (no FFT, no n x nc matrix):
+  ``sum_{j in [a, b)} khat_|i-j| = T[i-a+n] - T[i-b+n]``, so ``H P c`` is one AXPY per
+  aggregate edge and ``(H P)^T z`` one dot product per edge, and ``P^T H P`` is four values of
+  the prefix sums of T per entry (O(nc^2) after an O(n) sum). The coarse matrix penalises its
+  constant mode (the projection handles constants; the log kernel's constant mode is strongly
+  negative).
 * cells with ``D > FROZEN_THETA K00`` are decoupled: CG leaves them out (``R B R``, R zeroing
   them; their vectors would hold subnormal numbers ~r/D, D up to 1e300, which slowed FFTs and
   dot products 10-100x) and they get the Jacobi update from the final residual.
@@ -34,6 +37,12 @@ Written in plain loops over arrays passed one by one (no tuples, no NumPy linear
 sorting): Numba compiles that in a fraction of the time, and first-call compilation is a real
 cost to users (the first version, with ``np.linalg.cholesky``, ``np.median`` and tuples of
 arrays, took 18 s to compile cold).
+
+Where the time goes (n = 4096, alpha = 1e-2, CPU time of the Newton systems of one solve, 59 FFT
+convolutions): the FFTs are 60%; the coarse products 16%, CG vector work 7%, set-ups 4%. Loops
+are written so that LLVM vectorises them: sums in strips of partial sums (:func:`_dot`), slices
+instead of offset indices (``x[i + o]`` with ``o`` unknown keeps a wrap-around test in the loop).
+Before these, with the n x nc matrix ``H P`` and serial sums, the FFTs were 45%.
 """
 
 from __future__ import annotations
