@@ -64,8 +64,6 @@ WIDE_THETA = 100.0
 FROZEN_THETA = 1e10
 #: interleaved partial sums of the reductions (strip length)
 _STRIP = 64
-#: cells per block of the coarse product H P c (:func:`_coarse_product`)
-_BLOCK = 256
 #: CG stops when its residual has not improved for this many iterations (round-off)
 _STAGNATION = 20
 
@@ -109,37 +107,8 @@ def apply_kernel(x, kspec, scale, fr2c, fc2r, pf, pb, out):
 # (``acc`` a work array, ``_STRIP`` long): strips of that length are plain element-wise loops,
 # which LLVM vectorises (0.2-0.25 ns per cell), in a fixed order (the same result on every run).
 @numba.njit(**JIT)
-def _total(acc):
-    """The sum of the partial sums ``acc``."""
-    s0 = s1 = s2 = s3 = 0.0
-    m = acc.shape[0] - acc.shape[0] % 4
-    for k in range(0, m, 4):
-        s0 += acc[k]
-        s1 += acc[k + 1]
-        s2 += acc[k + 2]
-        s3 += acc[k + 3]
-    for k in range(m, acc.shape[0]):
-        s0 += acc[k]
-    return (s0 + s1) + (s2 + s3)
-
-
-@numba.njit(**JIT)
-def _dot(a, b, acc):
-    """``sum_i a_i b_i``."""
-    width = acc.shape[0]
-    for k in range(width):
-        acc[k] = 0.0
-    for s in range(0, a.shape[0], width):
-        m = min(width, a.shape[0] - s)
-        sa, sb = a[s : s + m], b[s : s + m]
-        for k in range(m):
-            acc[k] += sa[k] * sb[k]
-    return _total(acc)
-
-
-@numba.njit(**JIT)
 def _wdot(w, a, b, acc):
-    """``sum_i w_i a_i b_i``."""
+    """``sum_i w_i a_i b_i`` (``w`` a vector of ones for a plain dot product)."""
     width = acc.shape[0]
     for k in range(width):
         acc[k] = 0.0
@@ -148,80 +117,25 @@ def _wdot(w, a, b, acc):
         sw, sa, sb = w[s : s + m], a[s : s + m], b[s : s + m]
         for k in range(m):
             acc[k] += sw[k] * sa[k] * sb[k]
-    return _total(acc)
+    s0 = s1 = s2 = s3 = 0.0  # the partial sums, in four chains
+    for k in range(0, width - 3, 4):
+        s0 += acc[k]
+        s1 += acc[k + 1]
+        s2 += acc[k + 2]
+        s3 += acc[k + 3]
+    for k in range(width - width % 4, width):
+        s0 += acc[k]
+    return (s0 + s1) + (s2 + s3)
 
 
 @numba.njit(**JIT)
-def _jacobi_norm(res, jac, mean, acc):
-    """Jacobi-weighted norm of ``res`` with its Jacobi-weighted mean (``mean``) removed: the
-    part the projection onto zero-load increments sees."""
-    width = acc.shape[0]
-    for k in range(width):
-        acc[k] = 0.0
-    for s in range(0, res.shape[0], width):
-        m = min(width, res.shape[0] - s)
-        sr, sj = res[s : s + m], jac[s : s + m]
-        for k in range(m):
-            r = sr[k] - mean
-            acc[k] += sj[k] * r * r
-    return math.sqrt(_total(acc))
-
-
-# the CG vector updates, each fused with the sum that follows it (one pass instead of two)
-@numba.njit(**JIT)
-def _apply_h(D, d, scale, w, Hd, acc):
-    """``Hd <- D d + scale Hd`` (Hd holding the convolution ``khat * d``); returns
-    ``sum w d Hd``."""
-    width = acc.shape[0]
-    for k in range(width):
-        acc[k] = 0.0
-    for s in range(0, d.shape[0], width):
-        m = min(width, d.shape[0] - s)
-        sD, sd, sw, sh = D[s : s + m], d[s : s + m], w[s : s + m], Hd[s : s + m]
-        for k in range(m):
-            h = sD[k] * sd[k] + scale * sh[k]
-            sh[k] = h
-            acc[k] += sw[k] * sd[k] * h
-    return _total(acc)
-
-
-@numba.njit(**JIT)
-def _cg_update(alpha, d, Hd, dp, res, jac, acc):
-    """``dp += alpha d``, ``res -= alpha Hd``; returns ``sum jac res``."""
-    width = acc.shape[0]
-    for k in range(width):
-        acc[k] = 0.0
-    for s in range(0, d.shape[0], width):
-        m = min(width, d.shape[0] - s)
-        sd, sh, sp, sr, sj = (
-            d[s : s + m],
-            Hd[s : s + m],
-            dp[s : s + m],
-            res[s : s + m],
-            jac[s : s + m],
-        )
-        for k in range(m):
-            sp[k] += alpha * sd[k]
-            r = sr[k] - alpha * sh[k]
-            sr[k] = r
-            acc[k] += sj[k] * r
-    return _total(acc)
-
-
-@numba.njit(**JIT)
-def _project(z, lam, m1, w, res, acc):
-    """``z -= lam m1`` (onto zero-load increments); returns ``sum w res z``."""
-    width = acc.shape[0]
-    for k in range(width):
-        acc[k] = 0.0
-    for s in range(0, z.shape[0], width):
-        m = min(width, z.shape[0] - s)
-        sz, sm, sw, sr = z[s : s + m], m1[s : s + m], w[s : s + m], res[s : s + m]
-        for k in range(m):
-            v = sz[k] - lam * sm[k]
-            sz[k] = v
-            acc[k] += sw[k] * sr[k] * v
-    return _total(acc)
+def _jacobi_norm(res, jac, s_jac, ones, tmp, acc):
+    """Jacobi-weighted norm of ``res`` with its Jacobi-weighted mean removed (the part the
+    projection onto zero-load increments sees); ``tmp``: work array."""
+    mean = _wdot(jac, res, ones, acc) / s_jac
+    for i in range(res.shape[0]):
+        tmp[i] = res[i] - mean
+    return math.sqrt(_wdot(jac, tmp, tmp, acc))
 
 
 # ----------------------------------------------------------------------------------------------
@@ -318,81 +232,14 @@ def _coarse_matrices(D, scale, prefix, j0, j1, nc, e, Tc, U, L):
 
 
 @numba.njit(**JIT)
-def _log_sum(x):
-    """``sum_i ln x_i`` (x > 0), one logarithm per product of eight values (a logarithm is
-    4 ns, a product 0.2; blocks whose product leaves [1e-280, 1e280] take one per value)."""
-    total = 0.0
-    for b in range(0, x.shape[0], 8):
-        block = x[b : b + 8]
-        prod = 1.0
-        for i in range(block.shape[0]):
-            prod *= block[i]
-        if 1e-280 < prod < 1e280:
-            total += math.log(prod)
-        else:
-            for i in range(block.shape[0]):
-                total += math.log(block[i])
-    return total
-
-
-# ----------------------------------------------------------------------------------------------
-# coarse products: H P c and (H P)^T z in O(n nc) from the prefix sums, no n x nc matrix
-# ----------------------------------------------------------------------------------------------
-# ``(K P c)_i = sum_k c_k (T[i - e_k + n] - T[i - e_{k+1} + n])
-#             = sum_j (c_j - c_{j-1}) Tc[i - e_j + n]``   (edges j = 0..nc, c_-1 = c_nc = 0):
-# one AXPY per edge with a contiguous slice of Tc (a slice, not ``Tc[i + offset]``: Numba cannot
-# prove an offset index non-negative, and its wrap-around test stops LLVM from vectorising).
-@numba.njit(**JIT)
-def _coarse_product(c, D, scale, e, nc, Tc, jumps, out):
-    """``out -= H P c`` (``jumps``: work array, nc + 1 values), in blocks of ``_BLOCK`` cells
-    that stay in the L1 cache while every edge's AXPY passes over them."""
-    n = out.shape[0]
-    prev = 0.0
-    for j in range(nc + 1):
-        cj = c[j] if j < nc else 0.0
-        jumps[j] = scale * (cj - prev)
-        prev = cj
-    for b in range(0, n, _BLOCK):
-        m = min(_BLOCK, n - b)
-        ob = out[b : b + m]
-        for j in range(nc + 1):
-            s = jumps[j]
-            t = Tc[n - e[j] + b : n - e[j] + b + m]
-            for i in range(m):
-                ob[i] -= s * t[i]
-    for k in range(nc):
-        dk = D[e[k] : e[k + 1]]
-        ok = out[e[k] : e[k + 1]]
-        for i in range(dk.shape[0]):
-            ok[i] -= dk[i] * c[k]
-
-
-@numba.njit(**JIT)
-def _coarse_restrict(z, D, scale, e, nc, Tc, acc, g):
-    """``g = (H P)^T z``: ``g_k = scale (q_k - q_{k+1}) + sum_{i in k} D_i z_i`` with the edge
-    correlations ``q_j = sum_i z_i Tc[i - e_j + n]``."""
-    n = z.shape[0]
-    for j in range(nc + 1):
-        g[j] = _dot(z, Tc[n - e[j] : 2 * n - e[j]], acc)
-    for k in range(nc):
-        dz = 0.0
-        for i in range(e[k], e[k + 1]):
-            dz += D[i] * z[i]
-        g[k] = scale * (g[k] - g[k + 1]) + dz
-
-
-# ----------------------------------------------------------------------------------------------
-# preconditioner application
-# ----------------------------------------------------------------------------------------------
-@numba.njit(**JIT)
 def _precondition(
     y, out, D, scale, minv, i0, i1, S, cinv, nc, e, Tc, L, fr2c, fc2r, pf, pb, a, c, work, g
 ):
     """``out = R B R y`` (two-level, module docstring; R zeroes the frozen cells); returns the
-    number of FFT convolutions. ``a, c``: FFT buffers; ``work`` (2n + _STRIP) and ``g``
-    (2 nc + 2): work arrays."""
+    number of FFT convolutions. ``a, c``: FFT buffers; ``g`` (2 nc + 2) and ``work``
+    (3n + _STRIP): work arrays, ``work[2n:3n]`` holding ones (for :func:`_wdot`)."""
     n = y.shape[0]
-    tmp, r1, acc = work[:n], work[n : 2 * n], work[2 * n :]
+    tmp, r1, ones, acc = work[:n], work[n : 2 * n], work[2 * n : 3 * n], work[3 * n :]
     g1, g2 = g[: nc + 1], g[nc + 1 :]
     for i in range(n):  # R y, and the coarse right-hand side P^T R y
         r1[i] = y[i] if minv[i] > 0.0 else 0.0
@@ -401,24 +248,39 @@ def _precondition(
         for i in range(e[k], e[k + 1]):
             tot += r1[i]
         g1[k] = tot
-    if nc > 0:  # r1 = R y - H P c1
+    if nc > 0:  # r1 = R y - H P c1: one AXPY per aggregate edge, then the diagonal
         _chol_solve(L, nc, g1)
-        _coarse_product(g1, D, scale, e, nc, Tc, g2, r1)
+        prev = 0.0
+        for j in range(nc + 1):
+            cj = g1[j] if j < nc else 0.0
+            jump = scale * (cj - prev)
+            prev = cj
+            t = Tc[n - e[j] : 2 * n - e[j]]
+            for i in range(n):
+                r1[i] -= jump * t[i]
+        for k in range(nc):
+            for i in range(e[k], e[k + 1]):
+                r1[i] -= D[i] * g1[k]
     for i in range(n):  # smoother: Jacobi, and the scaled circulant on the core
         out[i] = minv[i] * r1[i]
     ffts = 0
     m = i1 - i0
     if m > 0:
-        rc, mc, oc = r1[i0:i1], minv[i0:i1], out[i0:i1]
         for i in range(m):
-            tmp[i] = S[i] * rc[i] if mc[i] > 0.0 else 0.0
+            tmp[i] = S[i] * r1[i0 + i] if minv[i0 + i] > 0.0 else 0.0
         _convolve(tmp, m, cinv, fr2c, fc2r, pf, pb, a, c, tmp)
         for i in range(m):
-            if mc[i] > 0.0:
-                oc[i] = S[i] * tmp[i]
+            if minv[i0 + i] > 0.0:
+                out[i0 + i] = S[i] * tmp[i]
         ffts = 1
     if nc > 0:  # c2 = (P^T H P)^-1 (H P)^T z1, out = z1 + P (c1 - c2)
-        _coarse_restrict(out, D, scale, e, nc, Tc, acc, g2)
+        for j in range(nc + 1):  # g2 = (H P)^T z1: edge correlations, then the diagonal
+            g2[j] = _wdot(out, Tc[n - e[j] : 2 * n - e[j]], ones, acc)
+        for k in range(nc):
+            dz = 0.0
+            for i in range(e[k], e[k + 1]):
+                dz += D[i] * out[i]
+            g2[k] = scale * (g2[k] - g2[k + 1]) + dz
         _chol_solve(L, nc, g2)
         for k in range(nc):
             d = g1[k] - g2[k]
@@ -443,8 +305,10 @@ def solve_newton_system(
     """
     n = D.shape[0]
     a, c = aligned_buffers(2 * n)
-    work, g = np.empty(2 * n + min(n, _STRIP)), np.empty(2 * nc_max + 2)
-    tmp, acc = work[:n], work[2 * n :]
+    work, g = np.empty(3 * n + min(n, _STRIP)), np.empty(2 * nc_max + 2)
+    tmp, ones, acc = work[:n], work[2 * n : 3 * n], work[3 * n :]
+    for i in range(n):
+        ones[i] = 1.0
     # -- smoother: Jacobi (0 on frozen cells), scaled circulant on the core -------------------
     minv, S, cinv = np.empty(n), np.empty(n), np.empty(n + 1)
     for i in range(n):
@@ -454,7 +318,9 @@ def solve_newton_system(
         i0 = i1 = 0
     else:
         Dc = D[i0:i1]
-        logsum = _log_sum(Dc)
+        logsum = 0.0
+        for i in range(i1 - i0):
+            logsum += math.log(Dc[i])
         shift = math.exp(logsum / (i1 - i0))  # geometric mean of D on the core
         for i in range(i1 - i0):
             S[i] = math.sqrt((K00 + shift) / (K00 + Dc[i]))
@@ -480,12 +346,12 @@ def solve_newton_system(
     for i in range(n):
         jac[i] = w[i] * minv[i]  # 0 on frozen cells: their residual is theirs alone
         res[i] = rhs[i]
-    s_m1 = _dot(w, m1, acc)
-    s_jac = _dot(w, minv, acc)
+    s_m1 = _wdot(w, m1, ones, acc)
+    s_jac = _wdot(w, minv, ones, acc)
     circ += _precondition(
         res, z, D, scale, minv, i0, i1, S, cinv, nc, e, Tc, L, fr2c, fc2r, pf, pb, a, c, work, g
     )
-    lam = _dot(w, z, acc) / s_m1
+    lam = _wdot(w, z, ones, acc) / s_m1
     for i in range(n):
         z[i] -= lam * m1[i]
         d[i] = z[i]
@@ -493,7 +359,7 @@ def solve_newton_system(
         best_dp[i] = 0.0
         best_res[i] = res[i]
     rz = _wdot(w, res, z, acc)
-    r0 = _jacobi_norm(res, jac, _dot(jac, res, acc) / s_jac, acc)
+    r0 = _jacobi_norm(res, jac, s_jac, ones, tmp, acc)
     # the best iterate so far (by Jacobi residual) is what is returned: if round-off breaks CG
     # down at a tight tolerance (the log kernel's constant mode has a large negative energy, so
     # a tiny leak off zero load makes <d, H d> negative), nothing worse than it comes back
@@ -501,13 +367,17 @@ def solve_newton_system(
     while its < maxit and rz > 0.0:
         _convolve(d, n, kspec, fr2c, fc2r, pf, pb, a, c, Hd)
         kapps += 1
-        dHd = _apply_h(D, d, scale, w, Hd, acc)
+        for i in range(n):
+            Hd[i] = D[i] * d[i] + scale * Hd[i]
+        dHd = _wdot(w, d, Hd, acc)
         if not dHd > 0.0:
             break
         alpha = rz / dHd
-        mean = _cg_update(alpha, d, Hd, dp, res, jac, acc) / s_jac
+        for i in range(n):
+            dp[i] += alpha * d[i]
+            res[i] -= alpha * Hd[i]
         its += 1
-        rn = _jacobi_norm(res, jac, mean, acc)
+        rn = _jacobi_norm(res, jac, s_jac, ones, tmp, acc)
         if rn < best:
             best, best_its = rn, its
             for i in range(n):
@@ -518,14 +388,17 @@ def solve_newton_system(
         circ += _precondition(
             res, z, D, scale, minv, i0, i1, S, cinv, nc, e, Tc, L, fr2c, fc2r, pf, pb, a, c, work, g
         )
-        rz_new = _project(z, _dot(w, z, acc) / s_m1, m1, w, res, acc)
+        lam = _wdot(w, z, ones, acc) / s_m1
+        for i in range(n):
+            z[i] -= lam * m1[i]
+        rz_new = _wdot(w, res, z, acc)
         beta = rz_new / rz
         for i in range(n):
             d[i] = z[i] + beta * d[i]
         rz = rz_new
     # -- finish: the best iterate, back onto zero load, the frozen cells' Jacobi update ------
-    lam = _dot(jac, best_res, acc) / s_jac
-    drift = _dot(w, best_dp, acc) / s_m1
+    lam = _wdot(jac, best_res, ones, acc) / s_jac
+    drift = _wdot(w, best_dp, ones, acc) / s_m1
     for i in range(n):
         dp[i] = best_dp[i] - drift * m1[i]
         if minv[i] == 0.0:
