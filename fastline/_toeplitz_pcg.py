@@ -38,11 +38,12 @@ sorting): Numba compiles that in a fraction of the time, and first-call compilat
 cost to users (the first version, with ``np.linalg.cholesky``, ``np.median`` and tuples of
 arrays, took 18 s to compile cold).
 
-Where the time goes (n = 4096, alpha = 1e-2, CPU time of the Newton systems of one solve, 59 FFT
-convolutions): the FFTs are 60%; the coarse products 16%, CG vector work 7%, set-ups 4%. Loops
-are written so that LLVM vectorises them: sums in strips of partial sums (:func:`_dot`), slices
+Where the time goes (n = 4096, alpha = 1e-2, CPU time of the 5 Newton systems of one solve, 59
+FFT convolutions, one run on a loaded 2-core machine): FFTs 54%, coarse products 28%, CG vector
+work 7%, set-ups 4%; before the prefix-sum coarse level and the strip sums (an n x nc matrix
+``H P`` built per system, serial sums): FFTs 43%, coarse level 33%, CG vector work 13%. Loops
+are written so that LLVM vectorises them: sums in strips of partial sums (:func:`_wdot`), slices
 instead of offset indices (``x[i + o]`` with ``o`` unknown keeps a wrap-around test in the loop).
-Before these, with the n x nc matrix ``H P`` and serial sums, the FFTs were 45%.
 """
 
 from __future__ import annotations
@@ -174,7 +175,7 @@ def _chol_solve(L, nc, b):
 @numba.njit(**JIT)
 def _coarse_matrices(D, scale, prefix, j0, j1, nc, e, Tc, U, L):
     """Aggregate edges ``e``, the centred prefix sums ``Tc = T - T[n]`` (for ``H P`` products,
-    :func:`_coarse_product`) and the Cholesky factor ``L`` of ``P^T H P`` with its constant
+    :func:`_precondition`) and the Cholesky factor ``L`` of ``P^T H P`` with its constant
     mode penalised.
 
     ``(P^T K P)_km = sum_{i in k} sum_{j in m} khat_|i-j|`` is four values of ``U``, the prefix
@@ -328,12 +329,13 @@ def solve_newton_system(
             cinv[k] = 1.0 / ((scale * strang[k] + shift) * (2 * n))
     # -- coarse level: aggregates of the wide block, Cholesky of penalised P^T H P -------------
     e = np.empty(nc_max + 1, np.int64)
-    Tc, U, L = np.empty(2 * n), np.empty(2 * n + 1), np.empty((nc_max, nc_max))
     j0, j1 = _first_last(D, WIDE_THETA * K00)
     nc = min(nc_max, (j1 - j0) // 4)
     if nc < 2:
         nc = 0
-    else:
+    m = 2 * n if nc > 0 else 0  # no prefix tables without a coarse level
+    Tc, U, L = np.empty(m), np.empty(m + 1), np.empty((nc_max, nc_max))
+    if nc > 0:
         _coarse_matrices(D, scale, prefix, j0, j1, nc, e, Tc, U, L)
     # -- projected PCG ----------------------------------------------------------------------
     m1, z, d, Hd, jac = np.empty(n), np.empty(n), np.empty(n), np.empty(n), np.empty(n)
