@@ -809,3 +809,15 @@ def fwhm_crossings(x, p, p0):
     xl = np.interp(0.5 * p0, [p[i - 1], p[i]], [x[i - 1], x[i]])
     xr = np.interp(0.5 * p0, [p[j + 1], p[j]], [x[j + 1], x[j]])
     return float(xr - xl)
+
+
+def coarse_operator(
+    D: np.ndarray, K: np.ndarray, edges: np.ndarray
+) -> tuple[np.ndarray, np.ndarray]:
+    """Dense ``H P`` (n x nc) and ``P`` of the two-level preconditioner's coarse space:
+    ``H = diag(D) + K``, ``P[i, k] = 1`` for the cells ``edges[k] <= i < edges[k + 1]``."""
+    n, nc = D.size, edges.size - 1
+    P = np.zeros((n, nc))
+    for k in range(nc):
+        P[edges[k] : edges[k + 1], k] = 1.0
+    return (np.diag(D) + K) @ P, P

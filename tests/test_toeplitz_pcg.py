@@ -1,0 +1,131 @@
+"""The compiled Newton-system solver's building blocks against dense NumPy references.
+
+The solver itself is tested against a dense saddle-point solve in tests/test_elastic.py; here
+the prefix-sum forms of the coarse level (no n x nc matrix) and the strip-wise reductions.
+"""
+
+from __future__ import annotations
+
+import math
+
+import naive
+import numpy as np
+import pytest
+
+from fastline._toeplitz_pcg import (
+    _STRIP,
+    _aggregate_edges,
+    _coarse_matrices,
+    _jacobi_norm,
+    _precondition,
+    _wdot,
+    prefix_sums,
+)
+
+RTOL_ROUNDOFF = 1e-12  # reordered sums of O(n) terms
+RTOL_COARSE = 1e-10  # prefix-sum differences of ~n-term sums against the dense product
+
+N, J0, J1, NC = 150, 30, 121, 6  # wide block [J0, J1) cut into NC aggregates of 15-16 cells
+SCALE = 2.0
+
+
+def _scene():
+    K = naive.log_kernel_matrix(N, 1.0, 1.0)
+    khat = K[0] / SCALE  # K = SCALE * toeplitz(khat), as the solver writes it
+    D = np.random.default_rng(7).uniform(0.1, 3.0, N) * K[0, 0]
+    e = np.empty(NC + 1, np.int64)
+    Tc, U, L = np.empty(2 * N), np.empty(2 * N + 1), np.empty((NC, NC))
+    _aggregate_edges(D, K[0, 0], J0, J1, NC, e)
+    _coarse_matrices(D, SCALE, prefix_sums(khat), J0, J1, NC, e, Tc, U, L)
+    return K, D, e, Tc, L
+
+
+def test_aggregates_tile_the_wide_block():
+    e = _scene()[2]
+    assert e[0] == J0 and e[-1] == J1
+    assert np.all(np.diff(e) >= 1)
+
+
+#: a wide block placed symmetrically in the grid, as a symmetric solve has it
+S0, S1 = 30, N - 30
+
+
+def _edges(D, nc=NC):
+    e = np.empty(nc + 1, np.int64)
+    _aggregate_edges(D, 1.0, S0, S1, nc, e)
+    return e
+
+
+def test_aggregates_of_a_flat_block_have_nearly_equal_widths():
+    widths = np.diff(_edges(np.full(N, 0.5)))
+    assert widths.max() - widths.min() <= 2  # counted from both ends, they meet in the middle
+
+
+@pytest.mark.parametrize("nc", [NC, NC + 1])
+def test_aggregates_are_mirror_symmetric_and_dense_where_d_changes(nc):
+    """A symmetric D (flat core, steep rims) gives mirror-image edges, narrower aggregates on
+    the rims than in the core."""
+    centre = 0.5 * (N - 1)
+    r = np.abs(np.arange(N) - centre) / (0.5 * (S1 - S0))
+    D = np.exp(np.clip(12.0 * (r - 0.6), 0.0, None)) * 1e-2  # 1e-2 in the core, rising 12/unit
+    e = _edges(D, nc)
+    assert np.array_equal(e - S0, (S1 - e)[::-1])
+    widths = np.diff(e)
+    assert widths[0] < widths[nc // 2] and widths[-1] < widths[nc // 2]
+
+
+def test_two_level_preconditioner_is_the_dense_product():
+    """Jacobi smoother (no core) and the coarse correction, ``H P c`` and ``(H P)^T z`` from the
+    prefix sums, against the dense two-level operator
+    ``B = C + (I - C H) M (I - H C)``, ``C = P (L L^T)^-1 P^T``, ``M = diag(1/(D + K00))``."""
+    K, D, e, Tc, L = _scene()
+    HP, P = naive.coarse_operator(D, K, e)
+    Lf = np.tril(L)
+    A = Lf @ Lf.T
+    minv = 1.0 / (D + K[0, 0])
+    y = np.random.default_rng(3).standard_normal(N)
+    c1 = np.linalg.solve(A, P.T @ y)
+    z1 = minv * (y - HP @ c1)
+    want = z1 + P @ (c1 - np.linalg.solve(A, HP.T @ z1))
+    out = np.empty(N)
+    work, g = np.empty(3 * N + _STRIP), np.empty(2 * NC + 2)
+    work[2 * N : 3 * N] = 1.0  # its ones segment
+    a, c = np.empty(2 * N), np.empty(2 * N + 2)  # FFT buffers: unused without a core
+    none = np.empty(0)
+    ffts = _precondition(
+        y, out, D, SCALE, minv, 0, 0, none, none, NC, e, Tc, L, 0, 0, 0, 0, a, c, work, g
+    )
+    assert ffts == 0
+    np.testing.assert_allclose(out, want, rtol=0.0, atol=RTOL_COARSE * np.abs(want).max())
+
+
+def test_coarse_factor_is_galerkin_matrix_plus_a_constant_mode_penalty():
+    """L L^T = P^T H P + beta s s^T (s the aggregate sizes, beta > 0): the Galerkin matrix
+    from second-order prefix sums, its constant mode penalised."""
+    K, D, e, _, L = _scene()
+    HP, P = naive.coarse_operator(D, K, e)
+    A = P.T @ HP
+    Lf = np.tril(L)
+    M = Lf @ Lf.T - A
+    s = np.diff(e).astype(float)
+    beta = s @ M @ s / (s @ s) ** 2
+    assert beta > 0.0
+    np.testing.assert_allclose(
+        M, beta * np.outer(s, s), rtol=0.0, atol=RTOL_COARSE * np.abs(A).max()
+    )
+
+
+@pytest.mark.parametrize("n", [1, 5, _STRIP - 1, _STRIP, _STRIP + 1, 3 * _STRIP + 7])
+def test_strip_reductions_equal_numpy(n):
+    rng = np.random.default_rng(n)
+    w, a, b = rng.uniform(0.5, 1.5, n), rng.standard_normal(n), rng.standard_normal(n)
+    acc = np.empty(min(n, _STRIP))
+    scale = np.abs(a * b).sum() * 1.5
+    ones = np.ones(n)
+    assert _wdot(ones, a, b, acc) == pytest.approx(a @ b, abs=RTOL_ROUNDOFF * scale)
+    assert _wdot(w, a, b, acc) == pytest.approx(np.sum(w * a * b), abs=RTOL_ROUNDOFF * scale)
+    res = a + 10.0  # a mean far above the spread: the mean is removed before squaring
+    mean = np.sum(w * res) / w.sum()
+    want = math.sqrt(np.sum(w * (res - mean) ** 2))
+    got = _jacobi_norm(res, w, w.sum(), ones, np.empty(n), acc)
+    assert got == pytest.approx(want, rel=RTOL_ROUNDOFF)
