@@ -58,7 +58,7 @@ def _replay(v_end, u_end, hist_end, scalars):
 
     @numba.njit(nogil=True)
     def stub(
-        fft, kspec, strang, prefix, scale, K00, gap, w, load, law, u_ref, v, tol, mi, nc, h, u
+        fft, kspec, strang, prefix, scale, K00, gap, w, load, law, u_ref, v, tol, mi, nc, h, u, ws
     ):
         for i in range(v.shape[0]):
             v[i] = v_end[i]
@@ -75,7 +75,7 @@ def _replay(v_end, u_end, hist_end, scalars):
 def newton_replayed(lc: fl.LineContact, load: float):
     """Within: ``lc.solve(load)`` runs everything but the Newton iteration (module docstring).
     Yields the compiled kernels' arguments of one solve (name -> args, first call)."""
-    real = elastic._newton_kernel()
+    real, size = elastic._newton_kernel()
     calls: dict = {}
     spied = []
     for mod, name in (
@@ -99,19 +99,19 @@ def newton_replayed(lc: fl.LineContact, load: float):
         calls.setdefault("newton_line", (args[11].copy(), args[16].copy(), args[15].copy(), out))
         return out
 
-    elastic._newton_line = record
+    elastic._newton_line = record, size
     try:
         reference = lc.solve(load)
         for mod, name, fn in spied:
             setattr(mod, name, fn)
-        elastic._newton_line = _replay(*calls.pop("newton_line"))
+        elastic._newton_line = _replay(*calls.pop("newton_line")), size
         replayed = lc.solve(load)
         assert np.array_equal(replayed.pressure, reference.pressure)
         yield calls
     finally:
         for mod, name, fn in spied:
             setattr(mod, name, fn)
-        elastic._newton_line = real
+        elastic._newton_line = real, size
 
 
 @numba.njit(nogil=True)

@@ -43,7 +43,17 @@ from numba.extending import intrinsic
 
 from fastline._jit import JIT
 
-__all__ = ["AVAILABLE", "acquire", "release", "execute", "aligned_buffers", "library_path"]
+__all__ = [
+    "AVAILABLE",
+    "acquire",
+    "release",
+    "execute",
+    "aligned_buffers",
+    "aligned_views",
+    "aligned_size",
+    "ALIGN_PAD",
+    "library_path",
+]
 
 _FFTW_ESTIMATE = 1 << 6
 #: byte alignment of the buffers the plans are made on and executed with (AVX-512 safe)
@@ -183,15 +193,31 @@ def execute(typingctx, fn, plan, src, dst):
     return sig, codegen
 
 
+#: float64 elements :func:`aligned_views` needs beyond ``2 N`` for transforms of length N (``N``
+#: real, ``N + 2`` for the complex half spectrum, up to 16 to reach the alignment of each)
+ALIGN_PAD = 2 + 16
+
+
+def aligned_size(N: int) -> int:
+    """float64 elements :func:`aligned_views` needs for transforms of length N."""
+    return 2 * N + ALIGN_PAD
+
+
 @numba.njit(**JIT)
-def aligned_buffers(N):
+def aligned_views(raw, N):
     """A real buffer of length N and one of length N + 2 for the N/2 + 1 complex values as
-    interleaved (real, imaginary) pairs (FFTW's layout), both 64-byte aligned, one allocation;
-    for executing the plans of :func:`plans` from compiled code (no complex dtype needed)."""
-    raw = np.empty(N + (N + 2) + 16)
+    interleaved (real, imaginary) pairs (FFTW's layout), both 64-byte aligned views into
+    ``raw`` (float64, at least :func:`aligned_size` ``(N)`` elements), for executing the plans
+    of :func:`acquire` from compiled code (no complex dtype needed)."""
     off = (-raw.ctypes.data % 64) // 8
     off2 = off + N + (-N % 8)
     return raw[off : off + N], raw[off2 : off2 + N + 2]
+
+
+@numba.njit(**JIT)
+def aligned_buffers(N):
+    """:func:`aligned_views` on a new allocation."""
+    return aligned_views(np.empty(N + (N + 2) + 16), N)
 
 
 if __name__ == "__main__":  # pragma: no cover - a quick check of the set-up

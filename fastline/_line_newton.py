@@ -38,14 +38,24 @@ from fastline._core import (
     MAX_CG,
     ROUNDOFF_FACTOR,
 )
-from fastline._fftw import aligned_buffers
+from fastline._fftw import ALIGN_PAD, aligned_size, aligned_views
 from fastline._jit import JIT
 from fastline._solve_kernels import normalise_into as _normalise
 from fastline._toeplitz_pcg import _convolve, solve_newton_system
+from fastline._toeplitz_pcg import workspace_size as _system_workspace
 from fastline.laws import _hermite
 from fastline.persson import _solver_law
 
 _EPS = float(np.finfo(np.float64).eps)
+#: n-sized work arrays of :func:`newton_line` itself (iterate and trial: v, p, U, dU, gk, r each;
+#: D and dp)
+_HEAD_ARRAYS = 14
+
+
+def workspace_size(n: int) -> int:
+    """float64 elements of the work space :func:`newton_line` takes for n cells (its own
+    arrays, then the Newton system's)."""
+    return aligned_size(2 * n) + _HEAD_ARRAYS * n + _system_workspace(n)
 
 
 @numba.njit(**JIT)
@@ -135,26 +145,37 @@ def newton_line(
     nc,
     hist,
     u_out,
+    ws,
 ):
     """Newton-Krylov on v = ln p (in place) for the line contact; ``law`` is
     ``(kind, prm, A, B, C, E)``, ``hist`` (max_iter x 3) receives (residual, CG iterations,
-    step), ``u_out`` the law's separation at the final iterate. Returns ``(u1, residual, status,
-    steps, cg_iterations, k_applications, circulant_solves, tol_effective)``."""
+    step), ``u_out`` the law's separation at the final iterate, ``ws`` is float64 work space of
+    :func:`workspace_size` ``(n)`` elements (contents irrelevant: every work array of the solve
+    is a view into it, :func:`fastline._toeplitz_pcg.solve_newton_system`). Returns ``(u1,
+    residual, status, steps, cg_iterations, k_applications, circulant_solves,
+    tol_effective)``."""
     kind, prm, A, B, C, E = law
     fr2c, fc2r, pf, pb = fft
     n = v_io.shape[0]
-    v = v_io.copy()
-    a, c = aligned_buffers(2 * n)
-    p, U, dU, gk, r = np.empty(n), np.empty(n), np.empty(n), np.empty(n), np.empty(n)
-    v2, p2, U2, dU2, gk2, r2 = (
-        np.empty(n),
-        np.empty(n),
-        np.empty(n),
-        np.empty(n),
-        np.empty(n),
-        np.empty(n),
-    )
-    D, dp = np.empty(n), np.empty(n)
+    a, c = aligned_views(ws, 2 * n)
+    o = 4 * n + ALIGN_PAD  # aligned_size(2 n)
+    v = ws[o + 0 * n : o + 1 * n]
+    p = ws[o + 1 * n : o + 2 * n]
+    U = ws[o + 2 * n : o + 3 * n]
+    dU = ws[o + 3 * n : o + 4 * n]
+    gk = ws[o + 4 * n : o + 5 * n]
+    r = ws[o + 5 * n : o + 6 * n]
+    v2 = ws[o + 6 * n : o + 7 * n]
+    p2 = ws[o + 7 * n : o + 8 * n]
+    U2 = ws[o + 8 * n : o + 9 * n]
+    dU2 = ws[o + 9 * n : o + 10 * n]
+    gk2 = ws[o + 10 * n : o + 11 * n]
+    r2 = ws[o + 11 * n : o + 12 * n]
+    D = ws[o + 12 * n : o + 13 * n]
+    dp = ws[o + 13 * n : o + 14 * n]
+    tail = ws[o + _HEAD_ARRAYS * n :]
+    for i in range(n):
+        v[i] = v_io[i]
     u1, phi, size = _evaluate(
         v, math.nan, fft, kspec, scale, gap, w, kind, prm, A, B, C, E, a, c, p, U, dU, gk, r
     )
@@ -183,7 +204,23 @@ def newton_line(
         eta = min(_forcing(res, res_prev, eta, tol_eff), eta_cap)
         res_prev = res
         du1, its, ka, ci = solve_newton_system(
-            fr2c, fc2r, pf, pb, kspec, strang, prefix, scale, K00, D, w, r, eta, MAX_CG, nc, dp
+            fr2c,
+            fc2r,
+            pf,
+            pb,
+            kspec,
+            strang,
+            prefix,
+            scale,
+            K00,
+            D,
+            w,
+            r,
+            eta,
+            MAX_CG,
+            nc,
+            dp,
+            tail,
         )
         cg_total += its
         kapps += ka

@@ -119,6 +119,25 @@ def test_threads_share_one_model_bit_for_bit():
         assert np.array_equal(a, b)
 
 
+def test_compiled_workspace_contents_never_matter():
+    """The compiled solves work in a per-thread buffer kept between solves (elastic.
+    _compiled_workspace): filled with NaN, or left by a larger or a smaller grid, it gives the
+    same result bit for bit as a fresh one."""
+    lc_small = fl.LineContact(SURFACES[0], E_STAR, RADIUS, n=128)
+    lc_big = fl.LineContact(SURFACES[0], E_STAR, RADIUS, n=512)
+    load = 2e4
+    elastic._local.__dict__.pop("compiled_ws", None)
+    fresh = lc_small.solve(load)
+    assert elastic._local.compiled_ws.size >= 128  # the solve used the kept buffer
+    elastic._local.compiled_ws[:] = np.nan
+    assert np.array_equal(lc_small.solve(load).pressure, fresh.pressure)
+    grown = lc_big.solve(load)  # grows the buffer; then the small grid reuses its head
+    assert np.all(np.isfinite(grown.pressure))
+    again = lc_small.solve(load)
+    assert np.array_equal(again.pressure, fresh.pressure)
+    assert again.convolutions == fresh.convolutions
+
+
 def test_shared_theory_cache_under_thread_stress():
     """Many threads, fresh and dropped spectra, tiny switch interval: the one-call function's
     theory cache never fails (the id()-keyed cache of 0.1 raised KeyError here)."""
