@@ -282,7 +282,7 @@ def main():
     fig.savefig(IMG / "perf_time_vs_n.png", dpi=110)
     plt.close(fig)
 
-    fig, ax = plt.subplots(figsize=(6.5, 4.3))
+    fig, ax = plt.subplots(figsize=(8.5, 4.3))
     for k, a in enumerate(ERR_ALPHAS):
         col = cmap(k / (len(ERR_ALPHAS) - 1))
         ax.loglog(
@@ -290,7 +290,7 @@ def main():
             [base[(a, n)]["ef"] for n in BASE_NS],
             "o-",
             color=col,
-            label=f"fastline a={a:g}",
+            label=f"fastline, alpha={a:g}",
         )
         ax.loglog(
             [base[(a, n)]["tb"] * 1e3 for n in BASE_NS],
@@ -298,13 +298,18 @@ def main():
             "s--",
             color=col,
             mfc="none",
-            label=f"SciPy baseline a={a:g}",
+            label=f"SciPy baseline, alpha={a:g}",
         )
     ax.set_xlabel("time per solve [ms]")
     ax.set_ylabel("max rel. error of p0 ratio, w/s")
-    ax.set_title(f"n = {', '.join(map(str, BASE_NS))}")
     ax.grid(True, which="both", alpha=0.3)
-    ax.legend(fontsize=6, ncol=2)
+    ax.legend(  # beside the axes: the data fill every corner
+        fontsize=7,
+        title=f"n = {', '.join(map(str, BASE_NS))} along each line",
+        title_fontsize=7,
+        loc="upper left",
+        bbox_to_anchor=(1.01, 1.0),
+    )
     fig.tight_layout()
     fig.savefig(IMG / "perf_baseline.png", dpi=110)
     plt.close(fig)
