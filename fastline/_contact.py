@@ -50,9 +50,12 @@ MAX_PICARD_SWEEPS = 5000
 #: ones. Over the paper's three 50-load line-contact sweeps (n = 1024, the predictor below) the
 #: total convolutions were 4337 independent, 2747 / 2596 / 2620 with degree 2 / 3 / 4.
 SWEEP_PREDICTOR_ORDER = 3
-#: largest step in ln f_N over which the polynomial extrapolates; a longer step starts from the
-#: previous solution rescaled (degree 0). An O-ring sweep of 6-12 loads over 10..1e4 N/m (steps
-#: of ln 2-ln 4) failed to converge from cubic predictions and converged from degree 0.
+#: largest step in ln f_N over which the polynomial extrapolates; a longer step starts cold. An
+#: O-ring sweep of 6-12 loads over 10..1e4 N/m (steps of ln 2-ln 4) failed to converge from cubic
+#: predictions. The previous solution rescaled (degree 0), the remedy before, cost up to 5x the
+#: convolutions of a cold start below alpha ~0.05 (surface 1, n = 256, 32 loads alpha 1e3..1e-3,
+#: steps of ln 1.55: 714 convolutions against 512 independent; 137 against 23 at alpha 1.3e-3)
+#: and saved at most 4 per solve near alpha 0.1-1.
 PREDICTOR_MAX_STEP = math.log(1.5)
 #: where a sweep's prediction follows the contact and where the domain: cells whose predicted
 #: ln p lies less than ``CORE_DEPTH[0]`` below the peak take the prediction in x / s (the core
@@ -383,10 +386,15 @@ class ContactModel:
         if warn:
             result.diagnostics.update(assess(result, self._theory, self.hardness, warn=True))
         else:
-            counts = result.diagnostics
-            theory, hardness = self._theory, self.hardness
-            result._defer("diagnostics", lambda r: _assessed(counts, r, theory, hardness))
+            self._defer_diagnostics(result)
         return result
+
+    def _defer_diagnostics(self, result) -> None:
+        """Make a result's validity diagnostics pending: made on first access
+        (:class:`DeferredFields`), added to its solver counts."""
+        counts = result.diagnostics
+        theory, hardness = self._theory, self.hardness
+        result._defer("diagnostics", lambda r: _assessed(counts, r, theory, hardness))
 
     def _sweep(self, loads: Iterable[float], progress: Callable[[], object] | None) -> list:
         """Continuation along the loads (see the geometry's ``sweep``): increasing order, each
@@ -403,7 +411,10 @@ class ContactModel:
                 cold.convolutions += result.convolutions  # count all the work done
                 cold.diagnostics["restarted_cold"] = True
                 result = cold
-            history = (history + [self._solved(grid, result)])[-(SWEEP_PREDICTOR_ORDER + 1) :]
+            solved = self._solved(grid, result)
+            if history and history[-1].ln_load == solved.ln_load:  # a repeated load: no two
+                history.pop()  # solutions at one load (the Lagrange weights divide by the gap)
+            history = (history + [solved])[-(SWEEP_PREDICTOR_ORDER + 1) :]
             out[i] = result
             if progress is not None:
                 progress()
@@ -509,16 +520,16 @@ class ContactModel:
 
     def _predict(self, grid, history: list[_Solved]) -> np.ndarray | None:
         """ln p at this load extrapolated from earlier solutions of this model (same n) by
-        the Lagrange polynomial in ln load through the last ones (degree 0 after a step longer
-        than ``PREDICTOR_MAX_STEP``): in the core of the contact at the same x / s (s, the
-        standard deviation of p, extrapolated too), in the tail at the same place in the
-        domain, blended by depth below the peak (``CORE_DEPTH``). None (a cold start) without
-        history."""
+        the Lagrange polynomial in ln load through the last ones: in the core of the contact at
+        the same x / s (s, the standard deviation of p, extrapolated too), in the tail at the
+        same place in the domain, blended by depth below the peak (``CORE_DEPTH``). None (a
+        cold start) without history and after a step longer than ``PREDICTOR_MAX_STEP``."""
         if not history:
             return None
         t = math.log(grid.hertz.load)
-        order = SWEEP_PREDICTOR_ORDER if t - history[-1].ln_load <= self.PREDICTOR_MAX_STEP else 0
-        pts = history[-(order + 1) :]
+        if t - history[-1].ln_load > self.PREDICTOR_MAX_STEP:
+            return None
+        pts = history[-(SWEEP_PREDICTOR_ORDER + 1) :]
         weights = [
             math.prod((t - b.ln_load) / (a.ln_load - b.ln_load) for b in pts if b is not a)
             for a in pts

@@ -27,8 +27,9 @@ from typing import Any, NamedTuple
 import numpy as np
 from numpy.typing import ArrayLike
 
-from fastline import _core, resolution
+from fastline import _core, _fftw, resolution
 from fastline._contact import (  # noqa: F401 (METHODS ... shared_theory: importable here as before)
+    MAX_NEWTON,
     METHODS,
     MODELS,
     PREDICTOR_MAX_STEP,
@@ -357,19 +358,76 @@ class LineContact(ContactModel):
         The loads are solved in increasing order. Each solve starts from a prediction made
         from the solutions already found: ln p extrapolated in ln f_N by a polynomial through
         the last ``SWEEP_PREDICTOR_ORDER + 1`` of them, in the core of the contact at the same
-        x / s, in the tail at the same place in the domain (degree 0 after a step longer than
-        ``PREDICTOR_MAX_STEP``; a cold start after a failed predicted start;
-        :mod:`fastline._contact`). Over the paper's 50-load
-        sweeps this costs fewer FFT convolutions than independent solves
-        (docs/performance.md gives the figure); each result is the converged solution at its
-        load, equal to an independent solve to the solver tolerance. Warnings are emitted once
-        per cause for the whole sweep, naming the loads concerned
-        (:func:`fastline.diagnostics.warn_once`). ``progress``, if given, is called with no
-        argument after each solve (e.g. a tqdm bar's ``update``).
+        x / s, in the tail at the same place in the domain (a cold start after a step longer
+        than ``PREDICTOR_MAX_STEP``, and again after a failed predicted start;
+        :mod:`fastline._contact`). With Newton and a shipped law the whole loop is one
+        compiled call that releases the GIL (:mod:`fastline._line_sweep`; with ``progress``,
+        one call per load). Over the paper's 50-load sweeps this costs fewer FFT convolutions
+        than independent solves, and less time (docs/performance.md gives the figures); each
+        result is the converged solution at its load, equal to an independent solve to the
+        solver tolerance. Warnings are emitted once per cause for the whole sweep, naming the
+        loads concerned (:func:`fastline.diagnostics.warn_once`). ``progress``, if given, is
+        called with no argument after each solve (e.g. a tqdm bar's ``update``).
         """
         if self.accuracy is not None:  # each load on its own grids: no continuation
             return resolution.sweep_to_accuracy(self, self._check_loads(loads), progress)
         return self._sweep(loads, progress)
+
+    def _sweep(
+        self, loads: Iterable[float], progress: Callable[[], object] | None
+    ) -> list[LineContactResult]:
+        """Continuation along the loads in compiled calls (:mod:`fastline._line_sweep`) when
+        the solve itself is compiled (Newton, a shipped law, FFTW found); else the Python loop
+        of :meth:`fastline._contact.ContactModel._sweep` (the same predictor)."""
+        form = self._law_form() if self.method == "newton" else None
+        if form is None or not _fftw.AVAILABLE:
+            return super()._sweep(loads, progress)
+        loads = self._check_loads(loads)
+        order = np.argsort(loads, kind="stable")
+        hzs = [_hertz_line(self.E_star, self.radius, f) for f in loads[order].tolist()]
+        halves = [self._extent("half_width", self.half_width, hz, hz.load) for hz in hzs]
+        cold = np.array([self._cold_profiles(hz) for hz in hzs])
+        arrays = _line_sweep().run_sweep(
+            self.n,
+            self.E_star,
+            self.radius,
+            loads[order],
+            np.array(halves),
+            cold,
+            form,
+            self._law.u0,
+            self.tol,
+            self.max_iter or MAX_NEWTON,
+            progress,
+        )
+        out: list = [None] * loads.size
+        for k, i in enumerate(order.tolist()):
+            grid = _build_grid(self.n, halves[k], self.radius, self.E_star, hzs[k])
+            out[i] = self._swept_result(grid, arrays, k)
+        if self.warn:
+            self._warn_sweep(out)
+        return out
+
+    def _swept_result(self, grid: _LineGrid, arrays, k: int) -> LineContactResult:
+        """The result of load k of a compiled sweep (:func:`fastline._line_sweep.run_sweep`)."""
+        u1, res, status, steps, cg, kapps, circ, tol_eff, restarted = arrays.stats[k].tolist()
+        status, steps = int(status), int(steps)
+        message = _core._message(
+            status == 0, res, self.tol, tol_eff, f"{steps} Newton steps", status == 2
+        )
+        history = [(r, int(c), t) for r, c, t in arrays.hist[k, :steps].tolist()]
+        info = {"cg_iterations": int(cg), "newton_history": history, "tol_effective": tol_eff}
+        v = arrays.v[k]
+        outcome = _core.Outcome(
+            v, u1, res, status == 0, steps, message, info, _core.pressure_of(v), arrays.u[k]
+        )
+        op = grid.disc.op
+        op.convolutions, op.circulant_solves = int(kapps + circ), int(circ)
+        result = self._result(grid, outcome)
+        if restarted:
+            result.diagnostics["restarted_cold"] = True
+        self._defer_diagnostics(result)
+        return result
 
     def estimate_error(self, result: LineContactResult) -> resolution.ErrorEstimate:
         """Relative errors of a result of this model from one companion solve on the same
@@ -444,6 +502,14 @@ class LineContact(ContactModel):
             },
             theory=self._theory,
         )
+
+
+def _line_sweep():
+    """:mod:`fastline._line_sweep`, imported on the first sweep (its kernels are not needed
+    by a model that only solves)."""
+    from fastline import _line_sweep
+
+    return _line_sweep
 
 
 # ----------------------------------------------------------------------------------------------

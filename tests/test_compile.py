@@ -5,8 +5,8 @@ read-only or a differently typed tuple argument) is compiled a second time, whic
 fresh process 0.1-10 s of CPU (the line contact's Newton kernel alone ~2.5 s) and a second
 cache entry. The scenes below run in a fresh interpreter (sharing the on-disk Numba cache of
 the test run, so this is ~1 s once the cache is warm) through the paths a first user meets:
-a Persson and an exponential solve at two grid sizes, and a sweep whose predictor takes both
-the degree-0 and the polynomial branch.
+a Persson and an exponential solve at two grid sizes, and a (compiled) sweep with polynomial
+predictions and a long step that starts cold.
 """
 
 from __future__ import annotations
@@ -26,7 +26,7 @@ solve_line_contact(psd, 1.33e9, 0.01, 1.0e4, warn=False)
 solve_line_contact(psd, 1.33e9, 0.01, 3.0e5, n=256, warn=False)
 solve_line_contact(psd, 1.33e9, 0.01, 1.0e4, model="exponential", n=256, warn=False)
 lc = fl.LineContact(psd, 1.33e9, 0.01, n=256, warn=False)
-lc.sweep([1.0e4, 1.1e4, 1.2e4, 1.3e4, 4.0e4])  # polynomial steps, then a degree-0 step
+lc.sweep([1.0e4, 1.1e4, 1.2e4, 1.3e4, 4.0e4])  # polynomial steps, then a long (cold) step
 sigs = {
     f"{d.py_func.__module__}.{d.py_func.__qualname__}": [str(s) for s in d.signatures]
     for d in gc.get_objects()
@@ -38,7 +38,7 @@ print(json.dumps(sigs))
 #: kernels the scenes above must reach (the check below would pass vacuously without them)
 REACHED = (
     "fastline._line_newton.newton_line",
-    "fastline._solve_kernels.hermite_accumulate",
+    "fastline._line_sweep.sweep_line",
     "fastline._solve_kernels.line_measures",
 )
 

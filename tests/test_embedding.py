@@ -358,6 +358,10 @@ def test_coarse_sweep_converges(num):
 
 
 def test_sweep_restarts_cold_when_the_prediction_fails(monkeypatch):
+    """The Python loop (the compiled sweep's own test: tests/test_line_sweep.py)."""
+    from fastline import _fftw
+
+    monkeypatch.setattr(_fftw, "AVAILABLE", False)  # the Python loop and the Python Newton
     lc = fl.LineContact(SURFACES[0], E_STAR, RADIUS, n=256, max_iter=6, warn=False)
     zigzag = np.tile([30.0, -30.0], lc.n // 2)  # ln p alternating by 60 between cells
     poisoned = lambda grid, history: None if not history else zigzag  # noqa: E731
