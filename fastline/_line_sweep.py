@@ -12,8 +12,8 @@ released: for each load, in increasing order,
    the first load and after a step in ln load longer than ``PREDICTOR_MAX_STEP``,
 3. the compiled Newton solve (:func:`fastline._line_newton.newton_line`); when it fails from a
    predicted start, once more from the cold start (its work counted too),
-4. what the next predictions need (:func:`_remember`): ln load, ln s, the cells in units of s,
-   ln p and its slopes.
+4. the pressure and its measures (p0, s, FWHM), and what the next predictions need
+   (:func:`_remember`): ln load, ln s, the cells in units of s, ln p and its slopes.
 
 The prediction is that of the Python loop, stage for stage, on the same constants
 (``SWEEP_PREDICTOR_ORDER``, ``PREDICTOR_MAX_STEP``, ``CORE_DEPTH`` of :mod:`fastline._contact`);
@@ -57,9 +57,13 @@ STATS = (
     "circulant_solves",
     "tol_effective",
     "restarted_cold",
+    "p0",
+    "s",
+    "fwhm",
+    "sum_p",
 )
-#: n-sized work arrays of :func:`sweep_line` itself: x, gap, w, p, in_domain, in_contact
-_OWN_ARRAYS = 6
+#: n-sized work arrays of :func:`sweep_line` itself: x, gap, w, in_domain, in_contact
+_OWN_ARRAYS = 5
 
 
 def workspace_size(n: int) -> int:
@@ -127,9 +131,10 @@ def predict_into(t, order, core_lo, core_hi, scal, cells, nh, x, work, out):
 
 
 @numba.njit(**JIT)
-def _remember(t, x, v, dx, half, p, scal, cells, nh):
-    """Add the solution ln p = ``v`` at ln load ``t`` to the history (the oldest out when it is
-    full; a solution at the newest load replaces it); returns the new count. ``p``: work."""
+def _remember(t, x, v, dx, width, scal, cells, nh):
+    """Add the solution ln p = ``v`` at ln load ``t``, of width ``width`` (m: its standard
+    deviation s), to the history (the oldest out when it is full; a solution at the newest load
+    replaces it); returns the new count."""
     keep = scal.shape[0]
     if nh > 0 and t == scal[nh - 1, 0]:
         nh -= 1  # the same load again: no two rows at one load (Lagrange weights)
@@ -140,9 +145,6 @@ def _remember(t, x, v, dx, half, p, scal, cells, nh):
             for j in range(3):
                 cells[j, k - 1, :] = cells[j, k, :]
         nh -= 1
-    pressure_into(v, p)
-    s = line_measures(x, p, dx)[1]
-    width = s if s > 0.0 else half
     scal[nh, 0] = t
     scal[nh, 1] = math.log(width)
     xi, lv, slope = cells[0, nh], cells[1, nh], cells[2, nh]
@@ -178,6 +180,7 @@ def sweep_line(
     k1,
     V,
     U,
+    P,
     stats,
     hist,
     ws,
@@ -189,13 +192,15 @@ def sweep_line(
     ``(a, ln_h, floor, ln_g, 2 s^2)`` of load k; ``law``, ``u_ref``, ``tol``, ``max_iter``,
     ``nc`` as in :func:`fastline._line_newton.newton_line`; ``predictor = (order, max_step,
     core_lo, core_hi)``. ``scal, cells, count``: the history (:func:`history_arrays`), updated
-    in place. Out, row k: ``V`` ln p, ``U`` the law's separation (m), ``stats`` the columns of
-    ``STATS``, ``hist`` (max_iter x 3) the Newton history. ``ws``: work space of
-    :func:`workspace_size` ``(n)`` elements."""
+    in place. Out, row k: ``V`` ln p, ``U`` the law's separation (m), ``P`` the pressure (Pa,
+    :func:`fastline._core.pressure_of` of ln p), ``stats`` the columns of ``STATS`` (the
+    profile's measures of :func:`fastline._solve_kernels.line_measures` among them), ``hist``
+    (max_iter x 3) the Newton history. ``ws``: work space of :func:`workspace_size` ``(n)``
+    elements."""
     n = V.shape[1]
     order, max_step, core_lo, core_hi = predictor
-    x, gap, w, p = ws[:n], ws[n : 2 * n], ws[2 * n : 3 * n], ws[3 * n : 4 * n]
-    work, solver_ws = ws[4 * n : 6 * n], ws[_OWN_ARRAYS * n :]
+    x, gap, w = ws[:n], ws[n : 2 * n], ws[2 * n : 3 * n]
+    work, solver_ws = ws[3 * n : 5 * n], ws[_OWN_ARRAYS * n :]
     nh = count[0]
     for k in range(k0, k1):
         load, v, u = loads[k], V[k], U[k]
@@ -243,20 +248,24 @@ def sweep_line(
             if status == 0 or nh == 0 or attempt == 1:
                 break
             restarted = 1.0  # the prediction misled Newton: start cold
+        pressure_into(v, P[k])
+        p0, s, fw, total = line_measures(x, P[k], dx)
         row = stats[k]
         row[0], row[1], row[2], row[3], row[4] = u1, res, status, steps, cg
         row[5], row[6], row[7], row[8] = kapps, circ, tol_eff, restarted
-        nh = _remember(t, x, v, dx, halves[k], p, scal, cells, nh)
+        row[9], row[10], row[11], row[12] = p0, s, fw, total
+        nh = _remember(t, x, v, dx, s if s > 0.0 else halves[k], scal, cells, nh)
     count[0] = nh
 
 
 class SweepArrays(NamedTuple):
     """What :func:`run_sweep` returns, row k for the k-th load in increasing order: ``v`` ln p
-    (p in Pa), ``u`` the law's separation (m), ``stats`` the columns of ``STATS``, ``hist``
-    each solve's Newton history (residual, CG iterations, step)."""
+    (p in Pa), ``u`` the law's separation (m), ``p`` the pressure (Pa), ``stats`` the columns
+    of ``STATS``, ``hist`` each solve's Newton history (residual, CG iterations, step)."""
 
     v: np.ndarray
     u: np.ndarray
+    p: np.ndarray
     stats: np.ndarray
     hist: np.ndarray
 
@@ -281,7 +290,7 @@ def run_sweep(
     ``history``: solutions to continue from (:func:`history_arrays`, updated in place; default
     none). The caller has checked everything."""
     m = loads.shape[0]
-    V, U = np.empty((m, n)), np.empty((m, n))
+    V, U, P = np.empty((m, n)), np.empty((m, n)), np.empty((m, n))
     stats, hist = np.zeros((m, len(STATS))), np.zeros((m, max_iter, 3))
     scal, cells, count = history_arrays(SWEEP_PREDICTOR_ORDER, n) if history is None else history
     predictor = (SWEEP_PREDICTOR_ORDER, PREDICTOR_MAX_STEP, CORE_DEPTH[0], CORE_DEPTH[1])
@@ -316,6 +325,7 @@ def run_sweep(
                 k1,
                 V,
                 U,
+                P,
                 stats,
                 hist,
                 ws,
@@ -324,4 +334,4 @@ def run_sweep(
                 progress()
     finally:
         _fftw.release(2 * n)
-    return SweepArrays(V, U, stats, hist)
+    return SweepArrays(V, U, P, stats, hist)

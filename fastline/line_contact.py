@@ -409,21 +409,22 @@ class LineContact(ContactModel):
         return out
 
     def _swept_result(self, grid: _LineGrid, arrays, k: int) -> LineContactResult:
-        """The result of load k of a compiled sweep (:func:`fastline._line_sweep.run_sweep`)."""
-        u1, res, status, steps, cg, kapps, circ, tol_eff, restarted = arrays.stats[k].tolist()
+        """The result of load k of a compiled sweep (:func:`fastline._line_sweep.run_sweep`);
+        its arrays are copies (a result does not keep the sweep's alive)."""
+        u1, res, status, steps, cg, kapps, circ, tol_eff, restarted, *measures = arrays.stats[
+            k
+        ].tolist()
         status, steps = int(status), int(steps)
         message = _core._message(
             status == 0, res, self.tol, tol_eff, f"{steps} Newton steps", status == 2
         )
         history = [(r, int(c), t) for r, c, t in arrays.hist[k, :steps].tolist()]
         info = {"cg_iterations": int(cg), "newton_history": history, "tol_effective": tol_eff}
-        v = arrays.v[k]
-        outcome = _core.Outcome(
-            v, u1, res, status == 0, steps, message, info, _core.pressure_of(v), arrays.u[k]
-        )
+        p, u = arrays.p[k].copy(), arrays.u[k].copy()
+        outcome = _core.Outcome(None, u1, res, status == 0, steps, message, info, p, u)
         op = grid.disc.op
         op.convolutions, op.circulant_solves = int(kapps + circ), int(circ)
-        result = self._result(grid, outcome)
+        result = self._result(grid, outcome, tuple(measures))
         if restarted:
             result.diagnostics["restarted_cold"] = True
         self._defer_diagnostics(result)
@@ -461,11 +462,18 @@ class LineContact(ContactModel):
     def _rescaled_start(self, grid: _LineGrid, initial: LineContactResult) -> np.ndarray:
         return _rescaled_start(grid, initial)
 
-    def _result(self, grid: _LineGrid, out: _core.Outcome) -> LineContactResult:
+    def _result(
+        self,
+        grid: _LineGrid,
+        out: _core.Outcome,
+        measures: tuple[float, float, float, float] | None = None,
+    ) -> LineContactResult:
+        """The result of ``out`` on ``grid``; ``measures``: ``(p0, s, fwhm, sum p)`` of the
+        profile if the caller has them (:func:`_measures`)."""
         x, dx, hz = grid.x, grid.dx, grid.hertz
         p = out.pressure
         separation, real = self._separation_and_area(out)
-        p0, s, w, total = _measures(x, p, dx)
+        p0, s, w, total = _measures(x, p, dx) if measures is None else measures
         op = grid.disc.op
         return LineContactResult(
             x=x,

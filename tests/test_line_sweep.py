@@ -76,9 +76,8 @@ def _history(lc, loads):
         res = lc.solve(f)
         solved.append(lc._solved(grid, res))
         v = np.log(np.maximum(res.pressure, 1e-300))
-        p = np.empty(lc.n)
         count[0] = _line_sweep._remember(
-            math.log(f), grid.x, v, grid.dx, grid.half_width, p, scal, cells, count[0]
+            math.log(f), grid.x, v, grid.dx, res.s, scal, cells, count[0]
         )
     return solved[-4:], arrays
 
