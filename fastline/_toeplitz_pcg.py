@@ -145,6 +145,99 @@ def _jacobi_norm(res, jac, s_jac, ones, tmp, acc):
     return math.sqrt(_wdot(jac, tmp, tmp, acc))
 
 
+# The coarse level's products with ``H P`` (:func:`_precondition`) take one shifted window
+# ``Tc[n - e_j : 2n - e_j]`` of the prefix sums per aggregate edge: nc + 1 = 17 passes over n
+# cells, as many multiply-adds as 8-17 FFT convolutions of size 2n. Both run four edges per
+# pass (one load of x or r for four windows). The correlations keep four chains per edge in
+# registers: Numba runs LLVM without its SLP vectoriser, so they stay scalar, but they beat the
+# strip sums of :func:`_wdot` (an in-memory accumulator per edge, a 64-value reduction, slices
+# per strip): 0.18-0.19 against 0.27-0.69 ns per cell and edge at n = 256-4096, 17 edges.
+@numba.njit(**JIT)
+def _segment_sum(a, b, lo, hi):
+    """``sum_{lo <= i < hi} a_i b_i`` in four chains (aggregate sums, a few to n cells)."""
+    sa, sb = a[lo:hi], b[lo:hi]
+    m = hi - lo
+    m4 = m - m % 4
+    s0 = s1 = s2 = s3 = 0.0
+    for i in range(0, m4, 4):
+        s0 += sa[i] * sb[i]
+        s1 += sa[i + 1] * sb[i + 1]
+        s2 += sa[i + 2] * sb[i + 2]
+        s3 += sa[i + 3] * sb[i + 3]
+    for i in range(m4, m):
+        s0 += sa[i] * sb[i]
+    return (s0 + s1) + (s2 + s3)
+
+
+@numba.njit(**JIT)
+def _edge_correlations(x, Tc, e, nc, g):
+    """``g[j] = sum_i x_i Tc[n - e_j + i]`` for the edges ``j = 0..nc``: ``(H P)^T x`` before
+    differencing (:func:`_precondition`). Four edges per pass, four chains each."""
+    n = x.shape[0]
+    m4 = n - n % 4
+    j = 0
+    while j + 4 <= nc + 1:
+        t0 = Tc[n - e[j] : 2 * n - e[j]]
+        t1 = Tc[n - e[j + 1] : 2 * n - e[j + 1]]
+        t2 = Tc[n - e[j + 2] : 2 * n - e[j + 2]]
+        t3 = Tc[n - e[j + 3] : 2 * n - e[j + 3]]
+        a0 = a1 = a2 = a3 = b0 = b1 = b2 = b3 = 0.0
+        c0 = c1 = c2 = c3 = d0 = d1 = d2 = d3 = 0.0
+        for i in range(0, m4, 4):
+            x0, x1, x2, x3 = x[i], x[i + 1], x[i + 2], x[i + 3]
+            a0 += x0 * t0[i]
+            a1 += x1 * t0[i + 1]
+            a2 += x2 * t0[i + 2]
+            a3 += x3 * t0[i + 3]
+            b0 += x0 * t1[i]
+            b1 += x1 * t1[i + 1]
+            b2 += x2 * t1[i + 2]
+            b3 += x3 * t1[i + 3]
+            c0 += x0 * t2[i]
+            c1 += x1 * t2[i + 1]
+            c2 += x2 * t2[i + 2]
+            c3 += x3 * t2[i + 3]
+            d0 += x0 * t3[i]
+            d1 += x1 * t3[i + 1]
+            d2 += x2 * t3[i + 2]
+            d3 += x3 * t3[i + 3]
+        for i in range(m4, n):
+            a0 += x[i] * t0[i]
+            b0 += x[i] * t1[i]
+            c0 += x[i] * t2[i]
+            d0 += x[i] * t3[i]
+        g[j] = (a0 + a1) + (a2 + a3)
+        g[j + 1] = (b0 + b1) + (b2 + b3)
+        g[j + 2] = (c0 + c1) + (c2 + c3)
+        g[j + 3] = (d0 + d1) + (d2 + d3)
+        j += 4
+    for k in range(j, nc + 1):
+        g[k] = _segment_sum(x, Tc[n - e[k] : 2 * n - e[k]], 0, n)
+
+
+@numba.njit(**JIT)
+def _subtract_edge_combination(r, Tc, e, nc, c):
+    """``r -= sum_j c_j Tc[n - e_j : 2n - e_j]`` over the edges ``j = 0..nc``: ``H P`` times a
+    coarse vector (:func:`_precondition`). Four edges per pass (vectorised: one store per cell
+    for four windows instead of four)."""
+    n = r.shape[0]
+    j = 0
+    while j + 4 <= nc + 1:
+        c0, c1, c2, c3 = c[j], c[j + 1], c[j + 2], c[j + 3]
+        t0 = Tc[n - e[j] : 2 * n - e[j]]
+        t1 = Tc[n - e[j + 1] : 2 * n - e[j + 1]]
+        t2 = Tc[n - e[j + 2] : 2 * n - e[j + 2]]
+        t3 = Tc[n - e[j + 3] : 2 * n - e[j + 3]]
+        for i in range(n):
+            r[i] -= (c0 * t0[i] + c1 * t1[i]) + (c2 * t2[i] + c3 * t3[i])
+        j += 4
+    for k in range(j, nc + 1):
+        ck = c[k]
+        t = Tc[n - e[k] : 2 * n - e[k]]
+        for i in range(n):
+            r[i] -= ck * t[i]
+
+
 # ----------------------------------------------------------------------------------------------
 # preconditioner set-up
 # ----------------------------------------------------------------------------------------------
@@ -289,27 +382,22 @@ def _precondition(
 ):
     """``out = R B R y`` (two-level, module docstring; R zeroes the frozen cells); returns the
     number of FFT convolutions. ``a, c``: FFT buffers; ``g`` (2 nc + 2) and ``work``
-    (3n + _STRIP): work arrays, ``work[2n:3n]`` holding ones (for :func:`_wdot`)."""
+    (3n + _STRIP): work arrays, ``work[2n:3n]`` holding ones."""
     n = y.shape[0]
-    tmp, r1, ones, acc = work[:n], work[n : 2 * n], work[2 * n : 3 * n], work[3 * n :]
+    tmp, r1, ones = work[:n], work[n : 2 * n], work[2 * n : 3 * n]
     g1, g2 = g[: nc + 1], g[nc + 1 :]
     for i in range(n):  # R y, and the coarse right-hand side P^T R y
         r1[i] = y[i] if minv[i] > 0.0 else 0.0
     for k in range(nc):
-        tot = 0.0
-        for i in range(e[k], e[k + 1]):
-            tot += r1[i]
-        g1[k] = tot
-    if nc > 0:  # r1 = R y - H P c1: one AXPY per aggregate edge, then the diagonal
+        g1[k] = _segment_sum(r1, ones, e[k], e[k + 1])
+    if nc > 0:  # r1 = R y - H P c1: the edge windows of Tc, then the diagonal
         _chol_solve(L, nc, g1)
         prev = 0.0
-        for j in range(nc + 1):
+        for j in range(nc + 1):  # jumps of scale * c1 across the edges
             cj = g1[j] if j < nc else 0.0
-            jump = scale * (cj - prev)
+            g2[j] = scale * (cj - prev)
             prev = cj
-            t = Tc[n - e[j] : 2 * n - e[j]]
-            for i in range(n):
-                r1[i] -= jump * t[i]
+        _subtract_edge_combination(r1, Tc, e, nc, g2)
         for k in range(nc):
             for i in range(e[k], e[k + 1]):
                 r1[i] -= D[i] * g1[k]
@@ -326,13 +414,9 @@ def _precondition(
                 out[i0 + i] = S[i] * tmp[i]
         ffts = 1
     if nc > 0:  # c2 = (P^T H P)^-1 (H P)^T z1, out = z1 + P (c1 - c2)
-        for j in range(nc + 1):  # g2 = (H P)^T z1: edge correlations, then the diagonal
-            g2[j] = _wdot(out, Tc[n - e[j] : 2 * n - e[j]], ones, acc)
+        _edge_correlations(out, Tc, e, nc, g2)  # g2 = (H P)^T z1, then the diagonal
         for k in range(nc):
-            dz = 0.0
-            for i in range(e[k], e[k + 1]):
-                dz += D[i] * out[i]
-            g2[k] = scale * (g2[k] - g2[k + 1]) + dz
+            g2[k] = scale * (g2[k] - g2[k + 1]) + _segment_sum(D, out, e[k], e[k + 1])
         _chol_solve(L, nc, g2)
         for k in range(nc):
             d = g1[k] - g2[k]

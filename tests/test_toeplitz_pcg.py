@@ -16,8 +16,11 @@ from fastline._toeplitz_pcg import (
     _STRIP,
     _aggregate_edges,
     _coarse_matrices,
+    _edge_correlations,
     _jacobi_norm,
     _precondition,
+    _segment_sum,
+    _subtract_edge_combination,
     _wdot,
     prefix_sums,
 )
@@ -129,3 +132,24 @@ def test_strip_reductions_equal_numpy(n):
     want = math.sqrt(np.sum(w * (res - mean) ** 2))
     got = _jacobi_norm(res, w, w.sum(), ones, np.empty(n), acc)
     assert got == pytest.approx(want, rel=RTOL_ROUNDOFF)
+
+
+@pytest.mark.parametrize(("n", "nc"), [(9, 3), (10, 4), (63, 7), (150, 16)])
+def test_edge_window_products_equal_numpy(n, nc):
+    """The coarse level's products with the shifted windows ``Tc[n - e_j : 2n - e_j]``, four
+    edges per pass and a remainder (nc + 1 = 4, 5, 8, 17; n not a multiple of 4 too)."""
+    rng = np.random.default_rng(n + nc)
+    Tc, x = rng.standard_normal(2 * n), rng.standard_normal(n)
+    e = np.sort(rng.choice(np.arange(1, n), nc + 1, replace=False)).astype(np.int64)
+    windows = np.array([Tc[n - ej : 2 * n - ej] for ej in e])  # (nc + 1) x n
+    scale = np.abs(windows).sum(axis=1).max() * np.abs(x).max()
+    g = np.full(nc + 1, np.nan)
+    _edge_correlations(x, Tc, e, nc, g)
+    np.testing.assert_allclose(g, windows @ x, rtol=0.0, atol=RTOL_ROUNDOFF * scale)
+    c = rng.standard_normal(nc + 1)
+    r = x.copy()
+    _subtract_edge_combination(r, Tc, e, nc, c)
+    np.testing.assert_allclose(r, x - c @ windows, rtol=0.0, atol=RTOL_ROUNDOFF * scale)
+    lo, hi = int(e[0]), int(e[-1])
+    got = _segment_sum(x, Tc, lo, hi)
+    assert got == pytest.approx(x[lo:hi] @ Tc[lo:hi], abs=RTOL_ROUNDOFF * scale)
