@@ -272,7 +272,7 @@ def _chol_solve(L, nc, b):
 
 
 @numba.njit(**JIT)
-def _aggregate_edges(D, K00, j0, j1, nc, e):
+def _aggregate_edges(D, K00, j0, j1, nc, e, steps):
     """Edges ``e[0] = j0 < e[1] < ... < e[nc] = j1`` of the coarse aggregates: equal shares of
     the density ``(1 - EDGE_SHARE) / (j1 - j0) + EDGE_SHARE |d ln(D + K00)| / total`` per cell,
     i.e. by width in the core (where D << K00 and ln(D + K00) is flat) and by decades of D
@@ -283,11 +283,19 @@ def _aggregate_edges(D, K00, j0, j1, nc, e):
 
     Mirror-symmetric: the left half of the edges counts the share from ``j0``, the right half
     from ``j1``, an even ``nc`` puts the middle edge at the centre, so a symmetric D gives a
-    symmetric preconditioner (and p(x) = p(-x) to round-off). Needs ``j1 - j0 >= 4 nc``."""
+    symmetric preconditioner (and p(x) = p(-x) to round-off). Needs ``j1 - j0 >= 4 nc``.
+    ``steps``: work array of ``j1 - j0`` elements or more (``|d ln(D + K00)|`` between cells: one
+    logarithm per cell, where the three passes took two or three per cell)."""
+    width = j1 - j0
+    Db = D[j0:j1]
+    for i in range(width):
+        steps[i] = math.log(Db[i] + K00)
+    for i in range(width - 1):  # in place: the step of ln(D + K00) from cell j0 + i to the next
+        steps[i] = abs(steps[i + 1] - steps[i])
     total = 0.0
-    for i in range(j0 + 1, j1):
-        total += abs(math.log((D[i] + K00) / (D[i - 1] + K00)))
-    flat = (1.0 - EDGE_SHARE) / (j1 - j0) if total > 0.0 else 1.0 / (j1 - j0)
+    for i in range(width - 1):
+        total += steps[i]
+    flat = (1.0 - EDGE_SHARE) / width if total > 0.0 else 1.0 / width
     steep = EDGE_SHARE / total if total > 0.0 else 0.0
     half = nc // 2
     e[0] = j0
@@ -302,7 +310,7 @@ def _aggregate_edges(D, K00, j0, j1, nc, e):
         if acc * nc >= k - 1e-9:
             e[k] = b
             k += 1
-        acc += flat + steep * abs(math.log((D[b] + K00) / (D[b - 1] + K00)))
+        acc += flat + steep * steps[b - j0 - 1]
     k = 1  # the same from the right: edge b with the share right of b reaching k / nc
     acc = flat
     for b in range(j1 - 1, j0, -1):
@@ -311,7 +319,7 @@ def _aggregate_edges(D, K00, j0, j1, nc, e):
         if acc * nc >= k - 1e-9:
             e[nc - k] = b
             k += 1
-        acc += flat + steep * abs(math.log((D[b - 1] + K00) / (D[b] + K00)))
+        acc += flat + steep * steps[b - j0 - 1]
     for m in range(nc - 1, 0, -1):  # at least one cell each
         e[m] = min(e[m], e[m + 1] - 1)
     for m in range(1, nc):
@@ -482,8 +490,8 @@ def solve_newton_system(
         nc = 0
     Tc, U, L = ws[o : o + 2 * n], ws[o + 2 * n : o + 4 * n + 1], np.empty((nc_max, nc_max))
     o += 4 * n + 1
-    if nc > 0:
-        _aggregate_edges(D, K00, j0, j1, nc, e)
+    if nc > 0:  # (m1's space below, free until PCG, takes the steps of ln(D + K00))
+        _aggregate_edges(D, K00, j0, j1, nc, e, ws[o : o + n])
         _coarse_matrices(D, scale, prefix, j0, j1, nc, e, Tc, U, L)
     # -- projected PCG ----------------------------------------------------------------------
     m1, z, d, Hd = (

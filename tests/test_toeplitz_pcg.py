@@ -38,7 +38,7 @@ def _scene():
     D = np.random.default_rng(7).uniform(0.1, 3.0, N) * K[0, 0]
     e = np.empty(NC + 1, np.int64)
     Tc, U, L = np.empty(2 * N), np.empty(2 * N + 1), np.empty((NC, NC))
-    _aggregate_edges(D, K[0, 0], J0, J1, NC, e)
+    _aggregate_edges(D, K[0, 0], J0, J1, NC, e, np.empty(N))
     _coarse_matrices(D, SCALE, prefix_sums(khat), J0, J1, NC, e, Tc, U, L)
     return K, D, e, Tc, L
 
@@ -55,7 +55,7 @@ S0, S1 = 30, N - 30
 
 def _edges(D, nc=NC):
     e = np.empty(nc + 1, np.int64)
-    _aggregate_edges(D, 1.0, S0, S1, nc, e)
+    _aggregate_edges(D, 1.0, S0, S1, nc, e, np.empty(N))
     return e
 
 
