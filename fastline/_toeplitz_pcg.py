@@ -170,21 +170,24 @@ def _segment_sum(a, b, lo, hi):
 
 
 @numba.njit(**JIT)
-def _edge_correlations(x, Tc, e, nc, g):
-    """``g[j] = sum_i x_i Tc[n - e_j + i]`` for the edges ``j = 0..nc``: ``(H P)^T x`` before
-    differencing (:func:`_precondition`). Four edges per pass, four chains each."""
+def _edge_correlations(x, Tc, e, nc, g, lo, hi):
+    """``g[j] = sum_{lo <= i < hi} x_i Tc[n - e_j + i]`` for the edges ``j = 0..nc`` (n the
+    length of x): ``(H P)^T x`` before differencing, x zero outside ``[lo, hi)``
+    (:func:`_precondition`). Four edges per pass, four chains each."""
     n = x.shape[0]
-    m4 = n - n % 4
+    xs = x[lo:hi]
+    m = hi - lo
+    m4 = m - m % 4
     j = 0
     while j + 4 <= nc + 1:
-        t0 = Tc[n - e[j] : 2 * n - e[j]]
-        t1 = Tc[n - e[j + 1] : 2 * n - e[j + 1]]
-        t2 = Tc[n - e[j + 2] : 2 * n - e[j + 2]]
-        t3 = Tc[n - e[j + 3] : 2 * n - e[j + 3]]
+        t0 = Tc[n - e[j] + lo : n - e[j] + hi]
+        t1 = Tc[n - e[j + 1] + lo : n - e[j + 1] + hi]
+        t2 = Tc[n - e[j + 2] + lo : n - e[j + 2] + hi]
+        t3 = Tc[n - e[j + 3] + lo : n - e[j + 3] + hi]
         a0 = a1 = a2 = a3 = b0 = b1 = b2 = b3 = 0.0
         c0 = c1 = c2 = c3 = d0 = d1 = d2 = d3 = 0.0
         for i in range(0, m4, 4):
-            x0, x1, x2, x3 = x[i], x[i + 1], x[i + 2], x[i + 3]
+            x0, x1, x2, x3 = xs[i], xs[i + 1], xs[i + 2], xs[i + 3]
             a0 += x0 * t0[i]
             a1 += x1 * t0[i + 1]
             a2 += x2 * t0[i + 2]
@@ -201,41 +204,44 @@ def _edge_correlations(x, Tc, e, nc, g):
             d1 += x1 * t3[i + 1]
             d2 += x2 * t3[i + 2]
             d3 += x3 * t3[i + 3]
-        for i in range(m4, n):
-            a0 += x[i] * t0[i]
-            b0 += x[i] * t1[i]
-            c0 += x[i] * t2[i]
-            d0 += x[i] * t3[i]
+        for i in range(m4, m):
+            a0 += xs[i] * t0[i]
+            b0 += xs[i] * t1[i]
+            c0 += xs[i] * t2[i]
+            d0 += xs[i] * t3[i]
         g[j] = (a0 + a1) + (a2 + a3)
         g[j + 1] = (b0 + b1) + (b2 + b3)
         g[j + 2] = (c0 + c1) + (c2 + c3)
         g[j + 3] = (d0 + d1) + (d2 + d3)
         j += 4
     for k in range(j, nc + 1):
-        g[k] = _segment_sum(x, Tc[n - e[k] : 2 * n - e[k]], 0, n)
+        g[k] = _segment_sum(xs, Tc[n - e[k] + lo : n - e[k] + hi], 0, m)
 
 
 @numba.njit(**JIT)
-def _subtract_edge_combination(r, Tc, e, nc, c):
-    """``r -= sum_j c_j Tc[n - e_j : 2n - e_j]`` over the edges ``j = 0..nc``: ``H P`` times a
-    coarse vector (:func:`_precondition`). Four edges per pass (vectorised: one store per cell
-    for four windows instead of four)."""
+def _subtract_edge_combination(r, Tc, e, nc, c, lo, hi):
+    """``r_i -= sum_j c_j Tc[n - e_j + i]`` over the edges ``j = 0..nc``, for ``lo <= i < hi``
+    (n the length of r): ``H P`` times a coarse vector where it is needed
+    (:func:`_precondition`). Four edges per pass (vectorised: one store per cell for four
+    windows instead of four)."""
     n = r.shape[0]
+    rs = r[lo:hi]
+    m = hi - lo
     j = 0
     while j + 4 <= nc + 1:
         c0, c1, c2, c3 = c[j], c[j + 1], c[j + 2], c[j + 3]
-        t0 = Tc[n - e[j] : 2 * n - e[j]]
-        t1 = Tc[n - e[j + 1] : 2 * n - e[j + 1]]
-        t2 = Tc[n - e[j + 2] : 2 * n - e[j + 2]]
-        t3 = Tc[n - e[j + 3] : 2 * n - e[j + 3]]
-        for i in range(n):
-            r[i] -= (c0 * t0[i] + c1 * t1[i]) + (c2 * t2[i] + c3 * t3[i])
+        t0 = Tc[n - e[j] + lo : n - e[j] + hi]
+        t1 = Tc[n - e[j + 1] + lo : n - e[j + 1] + hi]
+        t2 = Tc[n - e[j + 2] + lo : n - e[j + 2] + hi]
+        t3 = Tc[n - e[j + 3] + lo : n - e[j + 3] + hi]
+        for i in range(m):
+            rs[i] -= (c0 * t0[i] + c1 * t1[i]) + (c2 * t2[i] + c3 * t3[i])
         j += 4
     for k in range(j, nc + 1):
         ck = c[k]
-        t = Tc[n - e[k] : 2 * n - e[k]]
-        for i in range(n):
-            r[i] -= ck * t[i]
+        t = Tc[n - e[k] + lo : n - e[k] + hi]
+        for i in range(m):
+            rs[i] -= ck * t[i]
 
 
 # ----------------------------------------------------------------------------------------------
@@ -254,6 +260,19 @@ def _first_last(D, limit):
     if i0 < 0:
         return 0, 0
     return i0, i1
+
+
+@numba.njit(**JIT)
+def _live_span(minv):
+    """First and one-past-last cell that is not frozen (``minv > 0``; 0, 0 if none)."""
+    n = minv.shape[0]
+    f0 = 0
+    while f0 < n and not minv[f0] > 0.0:
+        f0 += 1
+    f1 = n
+    while f1 > f0 and not minv[f1 - 1] > 0.0:
+        f1 -= 1
+    return (f0, f1) if f0 < f1 else (0, 0)
 
 
 @numba.njit(**JIT)
@@ -386,11 +405,13 @@ def _coarse_matrices(D, scale, prefix, j0, j1, nc, e, Tc, U, L):
 
 @numba.njit(**JIT)
 def _precondition(
-    y, out, D, scale, minv, i0, i1, S, cinv, nc, e, Tc, L, fr2c, fc2r, pf, pb, a, c, work, g
+    y, out, D, scale, minv, f0, f1, i0, i1, S, cinv, nc, e, Tc, L, fr2c, fc2r, pf, pb, a, c, work, g
 ):
     """``out = R B R y`` (two-level, module docstring; R zeroes the frozen cells); returns the
-    number of FFT convolutions. ``a, c``: FFT buffers; ``g`` (2 nc + 2) and ``work``
-    (3n + _STRIP): work arrays, ``work[2n:3n]`` holding ones."""
+    number of FFT convolutions. ``[f0, f1)``: the span of the cells that are not frozen
+    (:func:`_live_span`), the only cells where the coarse products are needed (a third of the
+    grid is frozen in the scenes of the count test). ``a, c``: FFT buffers; ``g``
+    (2 nc + 2) and ``work`` (3n + _STRIP): work arrays, ``work[2n:3n]`` holding ones."""
     n = y.shape[0]
     tmp, r1, ones = work[:n], work[n : 2 * n], work[2 * n : 3 * n]
     g1, g2 = g[: nc + 1], g[nc + 1 :]
@@ -405,7 +426,7 @@ def _precondition(
             cj = g1[j] if j < nc else 0.0
             g2[j] = scale * (cj - prev)
             prev = cj
-        _subtract_edge_combination(r1, Tc, e, nc, g2)
+        _subtract_edge_combination(r1, Tc, e, nc, g2, f0, f1)  # (R drops the rest)
         for k in range(nc):
             for i in range(e[k], e[k + 1]):
                 r1[i] -= D[i] * g1[k]
@@ -422,7 +443,7 @@ def _precondition(
                 out[i0 + i] = S[i] * tmp[i]
         ffts = 1
     if nc > 0:  # c2 = (P^T H P)^-1 (H P)^T z1, out = z1 + P (c1 - c2)
-        _edge_correlations(out, Tc, e, nc, g2)  # g2 = (H P)^T z1, then the diagonal
+        _edge_correlations(out, Tc, e, nc, g2, f0, f1)  # g2 = (H P)^T z1, then the diagonal
         for k in range(nc):
             g2[k] = scale * (g2[k] - g2[k + 1]) + _segment_sum(D, out, e[k], e[k + 1])
         _chol_solve(L, nc, g2)
@@ -469,6 +490,7 @@ def solve_newton_system(
     o += 3 * n + 1
     for i in range(n):
         minv[i] = 0.0 if D[i] > FROZEN_THETA * K00 else 1.0 / (D[i] + K00)
+    f0, f1 = _live_span(minv)
     i0, i1 = _first_last(D, CORE_THETA * K00)
     if i1 - i0 < _CORE_MIN_CELLS:
         i0 = i1 = 0
@@ -510,7 +532,29 @@ def solve_newton_system(
     for i in range(n):
         tmp[i] = 1.0
     circ = _precondition(
-        tmp, m1, D, scale, minv, i0, i1, S, cinv, nc, e, Tc, L, fr2c, fc2r, pf, pb, a, c, work, g
+        tmp,
+        m1,
+        D,
+        scale,
+        minv,
+        f0,
+        f1,
+        i0,
+        i1,
+        S,
+        cinv,
+        nc,
+        e,
+        Tc,
+        L,
+        fr2c,
+        fc2r,
+        pf,
+        pb,
+        a,
+        c,
+        work,
+        g,
     )
     for i in range(n):
         jac[i] = w[i] * minv[i]  # 0 on frozen cells: their residual is theirs alone
@@ -518,7 +562,29 @@ def solve_newton_system(
     s_m1 = _wdot(w, m1, ones, acc)
     s_jac = _wdot(w, minv, ones, acc)
     circ += _precondition(
-        res, z, D, scale, minv, i0, i1, S, cinv, nc, e, Tc, L, fr2c, fc2r, pf, pb, a, c, work, g
+        res,
+        z,
+        D,
+        scale,
+        minv,
+        f0,
+        f1,
+        i0,
+        i1,
+        S,
+        cinv,
+        nc,
+        e,
+        Tc,
+        L,
+        fr2c,
+        fc2r,
+        pf,
+        pb,
+        a,
+        c,
+        work,
+        g,
     )
     lam = _wdot(w, z, ones, acc) / s_m1
     for i in range(n):
@@ -555,7 +621,29 @@ def solve_newton_system(
         if rn <= rtol * r0 or its - best_its >= _STAGNATION:
             break
         circ += _precondition(
-            res, z, D, scale, minv, i0, i1, S, cinv, nc, e, Tc, L, fr2c, fc2r, pf, pb, a, c, work, g
+            res,
+            z,
+            D,
+            scale,
+            minv,
+            f0,
+            f1,
+            i0,
+            i1,
+            S,
+            cinv,
+            nc,
+            e,
+            Tc,
+            L,
+            fr2c,
+            fc2r,
+            pf,
+            pb,
+            a,
+            c,
+            work,
+            g,
         )
         lam = _wdot(w, z, ones, acc) / s_m1
         for i in range(n):
