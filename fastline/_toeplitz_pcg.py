@@ -41,12 +41,19 @@ sorting): Numba compiles that in a fraction of the time, and first-call compilat
 cost to users (the first version, with ``np.linalg.cholesky``, ``np.median`` and tuples of
 arrays, took 18 s to compile cold).
 
-Where the time goes (n = 4096, alpha = 1e-2, CPU time of the 5 Newton systems of one solve, 59
-FFT convolutions, one run on a loaded 2-core machine): FFTs 54%, coarse products 28%, CG vector
-work 7%, set-ups 4%; before the prefix-sum coarse level and the strip sums (an n x nc matrix
-``H P`` built per system, serial sums): FFTs 43%, coarse level 33%, CG vector work 13%. Loops
-are written so that LLVM vectorises them: sums in strips of partial sums (:func:`_wdot`), slices
-instead of offset indices (``x[i + o]`` with ``o`` unknown keeps a wrap-around test in the loop).
+Where the time goes (surface 1, alpha = 1e-2, per solve; a C clock around the stages, same
+run as the version before, issue 13). n = 4096 (6 Newton systems, 57 FFT convolutions, 22 CG
+iterations, 4.3 ms): the systems take 3.2 ms, of which FFT convolutions 1.75 ms (54%), the
+coarse products 0.54 ms (17%; 1.19 ms when each aggregate edge was a pass of strip sums of its
+own), set-ups 0.27 ms (9%, mostly logarithms, ~5 ns each, one or two per cell), the rest CG
+vector work and reductions. n = 256 (29 convolutions of ~1.5 us, 0.19 ms): a quarter in FFTs;
+the rest is spread over per-call work (the coarse products 33 us, two 16 x 16 triangular
+solves per preconditioner application at 0.28 us, set-ups ~4 us per system) and the Python
+around the compiled solve (30-50 us). Loops are written so that LLVM vectorises them: sums in
+strips of partial sums (:func:`_wdot`), slices instead of offset indices (``x[i + o]`` with
+``o`` unknown keeps a wrap-around test in the loop); reductions it cannot vectorise (Numba
+runs LLVM without its SLP vectoriser, and the JIT options allow no reassociation) run in four
+independent chains (:func:`_segment_sum`, :func:`_edge_correlations`).
 """
 
 from __future__ import annotations
