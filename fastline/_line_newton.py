@@ -40,7 +40,7 @@ from fastline._core import (
 )
 from fastline._fftw import ALIGN_PAD, aligned_size, aligned_views
 from fastline._jit import JIT
-from fastline._solve_kernels import normalise_into as _normalise
+from fastline._solve_kernels import largest, largest_abs, normalise_pressure_into
 from fastline._toeplitz_pcg import _convolve, solve_newton_system
 from fastline._toeplitz_pcg import workspace_size as _system_workspace
 from fastline.laws import _hermite
@@ -95,14 +95,20 @@ def _evaluate(v, u1_in, fft, kspec, scale, gap, w, kind, prm, A, B, C, E, a, c, 
     """Pressure, law, g + K p and the residual at v (one FFT convolution). ``u1_in`` NaN: the
     load-weighted least-squares rigid approach. Returns ``(u1, ||r||_2, size)``, size the
     largest term the residual subtracts (for the round-off floor)."""
-    fr2c, fc2r, pf, pb = fft
     n = v.shape[0]
-    floor = -math.inf
-    for i in range(n):
-        floor = max(floor, v[i])
-    floor = max(floor - LN_FLOOR, _LN_TINY)  # see fastline._core.LN_FLOOR
+    floor = max(largest(v, -math.inf) - LN_FLOOR, _LN_TINY)  # see fastline._core.LN_FLOOR
     for i in range(n):
         p[i] = math.exp(v[i]) if v[i] > floor else 0.0
+    return _residual(
+        v, u1_in, fft, kspec, scale, gap, w, kind, prm, A, B, C, E, a, c, p, U, dU, gk, r
+    )
+
+
+@numba.njit(**JIT)
+def _residual(v, u1_in, fft, kspec, scale, gap, w, kind, prm, A, B, C, E, a, c, p, U, dU, gk, r):
+    """:func:`_evaluate` with the pressure ``p`` of v given."""
+    fr2c, fc2r, pf, pb = fft
+    n = v.shape[0]
     _law(kind, v, prm, A, B, C, E, U, dU)
     _convolve(p, n, kspec, fr2c, fc2r, pf, pb, a, c, gk)
     u1 = u1_in
@@ -117,13 +123,18 @@ def _evaluate(v, u1_in, fft, kspec, scale, gap, w, kind, prm, A, B, C, E, a, c, 
     else:
         for i in range(n):
             gk[i] = gap[i] + scale * gk[i]
-    phi = 0.0
-    size = abs(u1)
     for i in range(n):
         r[i] = U[i] - u1 - gk[i]
-        phi += r[i] * r[i]
-        size = max(size, abs(gk[i]))
-    return u1, math.sqrt(phi), size
+    n4 = n - n % 4
+    s0 = s1 = s2 = s3 = 0.0  # ||r||^2 in four chains
+    for i in range(0, n4, 4):
+        s0 += r[i] * r[i]
+        s1 += r[i + 1] * r[i + 1]
+        s2 += r[i + 2] * r[i + 2]
+        s3 += r[i + 3] * r[i + 3]
+    for i in range(n4, n):
+        s0 += r[i] * r[i]
+    return u1, math.sqrt((s0 + s1) + (s2 + s3)), largest_abs(gk, abs(u1))
 
 
 @numba.njit(**JIT)
@@ -184,10 +195,7 @@ def newton_line(
     res_prev = eta = math.nan
     eta_cap = ETA_MAX
     while True:
-        res = 0.0
-        for i in range(n):
-            res = max(res, abs(r[i]))
-        res /= u_ref
+        res = largest_abs(r, 0.0) / u_ref
         tol_eff = max(tol, ROUNDOFF_FACTOR * _EPS * size / u_ref)
         stalled = eta_cap < ETA_RETRY_MIN
         if stalled and tol_eff > tol and res < FLOOR_STALL * tol_eff:
@@ -226,9 +234,7 @@ def newton_line(
         kapps += ka
         circ += ci
         # step guard on ln p where it matters, then Armijo backtracking on ||r||
-        pmax = 0.0
-        for i in range(n):
-            pmax = max(pmax, p[i])
+        pmax = largest(p, 0.0)
         gmax = 0.0
         for i in range(n):
             dp[i] /= max(p[i], 1e-300)  # dp -> dv
@@ -239,8 +245,8 @@ def newton_line(
         for _ in range(LINE_SEARCH_HALVINGS + 1):
             for i in range(n):
                 v2[i] = v[i] + t * dp[i]
-            _normalise(v2, load, w)
-            u1n, phin, sizen = _evaluate(
+            normalise_pressure_into(v2, load, w, p2)
+            u1n, phin, sizen = _residual(
                 v2,
                 u1 + t * du1,
                 fft,

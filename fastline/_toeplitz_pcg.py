@@ -41,12 +41,19 @@ sorting): Numba compiles that in a fraction of the time, and first-call compilat
 cost to users (the first version, with ``np.linalg.cholesky``, ``np.median`` and tuples of
 arrays, took 18 s to compile cold).
 
-Where the time goes (n = 4096, alpha = 1e-2, CPU time of the 5 Newton systems of one solve, 59
-FFT convolutions, one run on a loaded 2-core machine): FFTs 54%, coarse products 28%, CG vector
-work 7%, set-ups 4%; before the prefix-sum coarse level and the strip sums (an n x nc matrix
-``H P`` built per system, serial sums): FFTs 43%, coarse level 33%, CG vector work 13%. Loops
-are written so that LLVM vectorises them: sums in strips of partial sums (:func:`_wdot`), slices
-instead of offset indices (``x[i + o]`` with ``o`` unknown keeps a wrap-around test in the loop).
+Where the time goes (surface 1, alpha = 1e-2, per solve; a C clock around the stages, same
+run as the version before, issue 13). n = 4096 (6 Newton systems, 57 FFT convolutions, 22 CG
+iterations, 4.3 ms): the systems take 3.2 ms, of which FFT convolutions 1.75 ms (54%), the
+coarse products 0.54 ms (17%; 1.19 ms when each aggregate edge was a pass of strip sums of its
+own), set-ups 0.27 ms (9%, mostly logarithms, ~5 ns each, one or two per cell), the rest CG
+vector work and reductions. n = 256 (29 convolutions of ~1.5 us, 0.19 ms): a quarter in FFTs;
+the rest is spread over per-call work (the coarse products 33 us, two 16 x 16 triangular
+solves per preconditioner application at 0.28 us, set-ups ~4 us per system) and the Python
+around the compiled solve (30-50 us). Loops are written so that LLVM vectorises them: sums in
+strips of partial sums (:func:`_wdot`), slices instead of offset indices (``x[i + o]`` with
+``o`` unknown keeps a wrap-around test in the loop); reductions it cannot vectorise (Numba
+runs LLVM without its SLP vectoriser, and the JIT options allow no reassociation) run in four
+independent chains (:func:`_segment_sum`, :func:`_edge_correlations`).
 """
 
 from __future__ import annotations
@@ -145,6 +152,105 @@ def _jacobi_norm(res, jac, s_jac, ones, tmp, acc):
     return math.sqrt(_wdot(jac, tmp, tmp, acc))
 
 
+# The coarse level's products with ``H P`` (:func:`_precondition`) take one shifted window
+# ``Tc[n - e_j : 2n - e_j]`` of the prefix sums per aggregate edge: nc + 1 = 17 passes over n
+# cells, as many multiply-adds as 8-17 FFT convolutions of size 2n. Both run four edges per
+# pass (one load of x or r for four windows). The correlations keep four chains per edge in
+# registers: Numba runs LLVM without its SLP vectoriser, so they stay scalar, but they beat the
+# strip sums of :func:`_wdot` (an in-memory accumulator per edge, a 64-value reduction, slices
+# per strip): 0.18-0.19 against 0.27-0.69 ns per cell and edge at n = 256-4096, 17 edges.
+@numba.njit(**JIT)
+def _segment_sum(a, b, lo, hi):
+    """``sum_{lo <= i < hi} a_i b_i`` in four chains (aggregate sums, a few to n cells)."""
+    sa, sb = a[lo:hi], b[lo:hi]
+    m = hi - lo
+    m4 = m - m % 4
+    s0 = s1 = s2 = s3 = 0.0
+    for i in range(0, m4, 4):
+        s0 += sa[i] * sb[i]
+        s1 += sa[i + 1] * sb[i + 1]
+        s2 += sa[i + 2] * sb[i + 2]
+        s3 += sa[i + 3] * sb[i + 3]
+    for i in range(m4, m):
+        s0 += sa[i] * sb[i]
+    return (s0 + s1) + (s2 + s3)
+
+
+@numba.njit(**JIT)
+def _edge_correlations(x, Tc, e, nc, g, lo, hi):
+    """``g[j] = sum_{lo <= i < hi} x_i Tc[n - e_j + i]`` for the edges ``j = 0..nc`` (n the
+    length of x): ``(H P)^T x`` before differencing, x zero outside ``[lo, hi)``
+    (:func:`_precondition`). Four edges per pass, four chains each."""
+    n = x.shape[0]
+    xs = x[lo:hi]
+    m = hi - lo
+    m4 = m - m % 4
+    j = 0
+    while j + 4 <= nc + 1:
+        t0 = Tc[n - e[j] + lo : n - e[j] + hi]
+        t1 = Tc[n - e[j + 1] + lo : n - e[j + 1] + hi]
+        t2 = Tc[n - e[j + 2] + lo : n - e[j + 2] + hi]
+        t3 = Tc[n - e[j + 3] + lo : n - e[j + 3] + hi]
+        a0 = a1 = a2 = a3 = b0 = b1 = b2 = b3 = 0.0
+        c0 = c1 = c2 = c3 = d0 = d1 = d2 = d3 = 0.0
+        for i in range(0, m4, 4):
+            x0, x1, x2, x3 = xs[i], xs[i + 1], xs[i + 2], xs[i + 3]
+            a0 += x0 * t0[i]
+            a1 += x1 * t0[i + 1]
+            a2 += x2 * t0[i + 2]
+            a3 += x3 * t0[i + 3]
+            b0 += x0 * t1[i]
+            b1 += x1 * t1[i + 1]
+            b2 += x2 * t1[i + 2]
+            b3 += x3 * t1[i + 3]
+            c0 += x0 * t2[i]
+            c1 += x1 * t2[i + 1]
+            c2 += x2 * t2[i + 2]
+            c3 += x3 * t2[i + 3]
+            d0 += x0 * t3[i]
+            d1 += x1 * t3[i + 1]
+            d2 += x2 * t3[i + 2]
+            d3 += x3 * t3[i + 3]
+        for i in range(m4, m):
+            a0 += xs[i] * t0[i]
+            b0 += xs[i] * t1[i]
+            c0 += xs[i] * t2[i]
+            d0 += xs[i] * t3[i]
+        g[j] = (a0 + a1) + (a2 + a3)
+        g[j + 1] = (b0 + b1) + (b2 + b3)
+        g[j + 2] = (c0 + c1) + (c2 + c3)
+        g[j + 3] = (d0 + d1) + (d2 + d3)
+        j += 4
+    for k in range(j, nc + 1):
+        g[k] = _segment_sum(xs, Tc[n - e[k] + lo : n - e[k] + hi], 0, m)
+
+
+@numba.njit(**JIT)
+def _subtract_edge_combination(r, Tc, e, nc, c, lo, hi):
+    """``r_i -= sum_j c_j Tc[n - e_j + i]`` over the edges ``j = 0..nc``, for ``lo <= i < hi``
+    (n the length of r): ``H P`` times a coarse vector where it is needed
+    (:func:`_precondition`). Four edges per pass (vectorised: one store per cell for four
+    windows instead of four)."""
+    n = r.shape[0]
+    rs = r[lo:hi]
+    m = hi - lo
+    j = 0
+    while j + 4 <= nc + 1:
+        c0, c1, c2, c3 = c[j], c[j + 1], c[j + 2], c[j + 3]
+        t0 = Tc[n - e[j] + lo : n - e[j] + hi]
+        t1 = Tc[n - e[j + 1] + lo : n - e[j + 1] + hi]
+        t2 = Tc[n - e[j + 2] + lo : n - e[j + 2] + hi]
+        t3 = Tc[n - e[j + 3] + lo : n - e[j + 3] + hi]
+        for i in range(m):
+            rs[i] -= (c0 * t0[i] + c1 * t1[i]) + (c2 * t2[i] + c3 * t3[i])
+        j += 4
+    for k in range(j, nc + 1):
+        ck = c[k]
+        t = Tc[n - e[k] + lo : n - e[k] + hi]
+        for i in range(m):
+            rs[i] -= ck * t[i]
+
+
 # ----------------------------------------------------------------------------------------------
 # preconditioner set-up
 # ----------------------------------------------------------------------------------------------
@@ -164,22 +270,45 @@ def _first_last(D, limit):
 
 
 @numba.njit(**JIT)
-def _chol_solve(L, nc, b):
-    """``b <- (L L^T)^-1 b`` for the leading nc x nc block, in place."""
-    for i in range(nc):
-        acc = b[i]
-        for j in range(i):
-            acc -= L[i, j] * b[j]
-        b[i] = acc / L[i, i]
-    for i in range(nc - 1, -1, -1):
-        acc = b[i]
-        for j in range(i + 1, nc):
-            acc -= L[j, i] * b[j]
-        b[i] = acc / L[i, i]
+def _live_span(minv):
+    """First and one-past-last cell that is not frozen (``minv > 0``; 0, 0 if none)."""
+    n = minv.shape[0]
+    f0 = 0
+    while f0 < n and not minv[f0] > 0.0:
+        f0 += 1
+    f1 = n
+    while f1 > f0 and not minv[f1 - 1] > 0.0:
+        f1 -= 1
+    return (f0, f1) if f0 < f1 else (0, 0)
 
 
 @numba.njit(**JIT)
-def _aggregate_edges(D, K00, j0, j1, nc, e):
+def _chol_solve(L, nc, b):
+    """``b <- (L L^T)^-1 b`` for the leading nc x nc block, in place. Forward by rows, each
+    dot product in four chains; backward by columns (independent updates): 0.29 against
+    0.36 us at nc = 16 for the two solves as serial dot products."""
+    for i in range(nc):
+        Li = L[i]
+        i4 = i - i % 4
+        s0 = s1 = s2 = s3 = 0.0
+        for j in range(0, i4, 4):
+            s0 += Li[j] * b[j]
+            s1 += Li[j + 1] * b[j + 1]
+            s2 += Li[j + 2] * b[j + 2]
+            s3 += Li[j + 3] * b[j + 3]
+        for j in range(i4, i):
+            s0 += Li[j] * b[j]
+        b[i] = (b[i] - ((s0 + s1) + (s2 + s3))) / L[i, i]
+    for i in range(nc - 1, -1, -1):
+        bi = b[i] / L[i, i]
+        b[i] = bi
+        Li = L[i]
+        for j in range(i):
+            b[j] -= Li[j] * bi
+
+
+@numba.njit(**JIT)
+def _aggregate_edges(D, K00, j0, j1, nc, e, steps):
     """Edges ``e[0] = j0 < e[1] < ... < e[nc] = j1`` of the coarse aggregates: equal shares of
     the density ``(1 - EDGE_SHARE) / (j1 - j0) + EDGE_SHARE |d ln(D + K00)| / total`` per cell,
     i.e. by width in the core (where D << K00 and ln(D + K00) is flat) and by decades of D
@@ -190,11 +319,19 @@ def _aggregate_edges(D, K00, j0, j1, nc, e):
 
     Mirror-symmetric: the left half of the edges counts the share from ``j0``, the right half
     from ``j1``, an even ``nc`` puts the middle edge at the centre, so a symmetric D gives a
-    symmetric preconditioner (and p(x) = p(-x) to round-off). Needs ``j1 - j0 >= 4 nc``."""
+    symmetric preconditioner (and p(x) = p(-x) to round-off). Needs ``j1 - j0 >= 4 nc``.
+    ``steps``: work array of ``j1 - j0`` elements or more (``|d ln(D + K00)|`` between cells: one
+    logarithm per cell, where the three passes took two or three per cell)."""
+    width = j1 - j0
+    Db = D[j0:j1]
+    for i in range(width):
+        steps[i] = math.log(Db[i] + K00)
+    for i in range(width - 1):  # in place: the step of ln(D + K00) from cell j0 + i to the next
+        steps[i] = abs(steps[i + 1] - steps[i])
     total = 0.0
-    for i in range(j0 + 1, j1):
-        total += abs(math.log((D[i] + K00) / (D[i - 1] + K00)))
-    flat = (1.0 - EDGE_SHARE) / (j1 - j0) if total > 0.0 else 1.0 / (j1 - j0)
+    for i in range(width - 1):
+        total += steps[i]
+    flat = (1.0 - EDGE_SHARE) / width if total > 0.0 else 1.0 / width
     steep = EDGE_SHARE / total if total > 0.0 else 0.0
     half = nc // 2
     e[0] = j0
@@ -209,7 +346,7 @@ def _aggregate_edges(D, K00, j0, j1, nc, e):
         if acc * nc >= k - 1e-9:
             e[k] = b
             k += 1
-        acc += flat + steep * abs(math.log((D[b] + K00) / (D[b - 1] + K00)))
+        acc += flat + steep * steps[b - j0 - 1]
     k = 1  # the same from the right: edge b with the share right of b reaching k / nc
     acc = flat
     for b in range(j1 - 1, j0, -1):
@@ -218,7 +355,7 @@ def _aggregate_edges(D, K00, j0, j1, nc, e):
         if acc * nc >= k - 1e-9:
             e[nc - k] = b
             k += 1
-        acc += flat + steep * abs(math.log((D[b - 1] + K00) / (D[b] + K00)))
+        acc += flat + steep * steps[b - j0 - 1]
     for m in range(nc - 1, 0, -1):  # at least one cell each
         e[m] = min(e[m], e[m + 1] - 1)
     for m in range(1, nc):
@@ -285,31 +422,28 @@ def _coarse_matrices(D, scale, prefix, j0, j1, nc, e, Tc, U, L):
 
 @numba.njit(**JIT)
 def _precondition(
-    y, out, D, scale, minv, i0, i1, S, cinv, nc, e, Tc, L, fr2c, fc2r, pf, pb, a, c, work, g
+    y, out, D, scale, minv, f0, f1, i0, i1, S, cinv, nc, e, Tc, L, fr2c, fc2r, pf, pb, a, c, work, g
 ):
     """``out = R B R y`` (two-level, module docstring; R zeroes the frozen cells); returns the
-    number of FFT convolutions. ``a, c``: FFT buffers; ``g`` (2 nc + 2) and ``work``
-    (3n + _STRIP): work arrays, ``work[2n:3n]`` holding ones (for :func:`_wdot`)."""
+    number of FFT convolutions. ``[f0, f1)``: the span of the cells that are not frozen
+    (:func:`_live_span`), the only cells where the coarse products are needed (a third of the
+    grid is frozen in the scenes of the count test). ``a, c``: FFT buffers; ``g``
+    (2 nc + 2) and ``work`` (3n + _STRIP): work arrays, ``work[2n:3n]`` holding ones."""
     n = y.shape[0]
-    tmp, r1, ones, acc = work[:n], work[n : 2 * n], work[2 * n : 3 * n], work[3 * n :]
+    tmp, r1, ones = work[:n], work[n : 2 * n], work[2 * n : 3 * n]
     g1, g2 = g[: nc + 1], g[nc + 1 :]
     for i in range(n):  # R y, and the coarse right-hand side P^T R y
         r1[i] = y[i] if minv[i] > 0.0 else 0.0
     for k in range(nc):
-        tot = 0.0
-        for i in range(e[k], e[k + 1]):
-            tot += r1[i]
-        g1[k] = tot
-    if nc > 0:  # r1 = R y - H P c1: one AXPY per aggregate edge, then the diagonal
+        g1[k] = _segment_sum(r1, ones, e[k], e[k + 1])
+    if nc > 0:  # r1 = R y - H P c1: the edge windows of Tc, then the diagonal
         _chol_solve(L, nc, g1)
         prev = 0.0
-        for j in range(nc + 1):
+        for j in range(nc + 1):  # jumps of scale * c1 across the edges
             cj = g1[j] if j < nc else 0.0
-            jump = scale * (cj - prev)
+            g2[j] = scale * (cj - prev)
             prev = cj
-            t = Tc[n - e[j] : 2 * n - e[j]]
-            for i in range(n):
-                r1[i] -= jump * t[i]
+        _subtract_edge_combination(r1, Tc, e, nc, g2, f0, f1)  # (R drops the rest)
         for k in range(nc):
             for i in range(e[k], e[k + 1]):
                 r1[i] -= D[i] * g1[k]
@@ -326,13 +460,9 @@ def _precondition(
                 out[i0 + i] = S[i] * tmp[i]
         ffts = 1
     if nc > 0:  # c2 = (P^T H P)^-1 (H P)^T z1, out = z1 + P (c1 - c2)
-        for j in range(nc + 1):  # g2 = (H P)^T z1: edge correlations, then the diagonal
-            g2[j] = _wdot(out, Tc[n - e[j] : 2 * n - e[j]], ones, acc)
+        _edge_correlations(out, Tc, e, nc, g2, f0, f1)  # g2 = (H P)^T z1, then the diagonal
         for k in range(nc):
-            dz = 0.0
-            for i in range(e[k], e[k + 1]):
-                dz += D[i] * out[i]
-            g2[k] = scale * (g2[k] - g2[k + 1]) + dz
+            g2[k] = scale * (g2[k] - g2[k + 1]) + _segment_sum(D, out, e[k], e[k + 1])
         _chol_solve(L, nc, g2)
         for k in range(nc):
             d = g1[k] - g2[k]
@@ -377,6 +507,7 @@ def solve_newton_system(
     o += 3 * n + 1
     for i in range(n):
         minv[i] = 0.0 if D[i] > FROZEN_THETA * K00 else 1.0 / (D[i] + K00)
+    f0, f1 = _live_span(minv)
     i0, i1 = _first_last(D, CORE_THETA * K00)
     if i1 - i0 < _CORE_MIN_CELLS:
         i0 = i1 = 0
@@ -398,8 +529,8 @@ def solve_newton_system(
         nc = 0
     Tc, U, L = ws[o : o + 2 * n], ws[o + 2 * n : o + 4 * n + 1], np.empty((nc_max, nc_max))
     o += 4 * n + 1
-    if nc > 0:
-        _aggregate_edges(D, K00, j0, j1, nc, e)
+    if nc > 0:  # (m1's space below, free until PCG, takes the steps of ln(D + K00))
+        _aggregate_edges(D, K00, j0, j1, nc, e, ws[o : o + n])
         _coarse_matrices(D, scale, prefix, j0, j1, nc, e, Tc, U, L)
     # -- projected PCG ----------------------------------------------------------------------
     m1, z, d, Hd = (
@@ -418,7 +549,29 @@ def solve_newton_system(
     for i in range(n):
         tmp[i] = 1.0
     circ = _precondition(
-        tmp, m1, D, scale, minv, i0, i1, S, cinv, nc, e, Tc, L, fr2c, fc2r, pf, pb, a, c, work, g
+        tmp,
+        m1,
+        D,
+        scale,
+        minv,
+        f0,
+        f1,
+        i0,
+        i1,
+        S,
+        cinv,
+        nc,
+        e,
+        Tc,
+        L,
+        fr2c,
+        fc2r,
+        pf,
+        pb,
+        a,
+        c,
+        work,
+        g,
     )
     for i in range(n):
         jac[i] = w[i] * minv[i]  # 0 on frozen cells: their residual is theirs alone
@@ -426,7 +579,29 @@ def solve_newton_system(
     s_m1 = _wdot(w, m1, ones, acc)
     s_jac = _wdot(w, minv, ones, acc)
     circ += _precondition(
-        res, z, D, scale, minv, i0, i1, S, cinv, nc, e, Tc, L, fr2c, fc2r, pf, pb, a, c, work, g
+        res,
+        z,
+        D,
+        scale,
+        minv,
+        f0,
+        f1,
+        i0,
+        i1,
+        S,
+        cinv,
+        nc,
+        e,
+        Tc,
+        L,
+        fr2c,
+        fc2r,
+        pf,
+        pb,
+        a,
+        c,
+        work,
+        g,
     )
     lam = _wdot(w, z, ones, acc) / s_m1
     for i in range(n):
@@ -463,7 +638,29 @@ def solve_newton_system(
         if rn <= rtol * r0 or its - best_its >= _STAGNATION:
             break
         circ += _precondition(
-            res, z, D, scale, minv, i0, i1, S, cinv, nc, e, Tc, L, fr2c, fc2r, pf, pb, a, c, work, g
+            res,
+            z,
+            D,
+            scale,
+            minv,
+            f0,
+            f1,
+            i0,
+            i1,
+            S,
+            cinv,
+            nc,
+            e,
+            Tc,
+            L,
+            fr2c,
+            fc2r,
+            pf,
+            pb,
+            a,
+            c,
+            work,
+            g,
         )
         lam = _wdot(w, z, ones, acc) / s_m1
         for i in range(n):

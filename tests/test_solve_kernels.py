@@ -12,9 +12,12 @@ from fastline._core import LN_FLOOR
 from fastline._solve_kernels import (
     cold_start_into,
     cold_start_normalised,
+    largest,
+    largest_abs,
     line_cells,
     line_measures,
     normalise_into,
+    normalise_pressure_into,
     pressure_into,
 )
 from fastline.line_contact import _std
@@ -57,6 +60,42 @@ def test_cold_start_normalised_is_the_two_stages_bit_for_bit():
     cold_start_normalised(X, a, ln_h, 0.0, ln_g, 2.0 * s * s, load, w, one)
     np.testing.assert_array_equal(one, two)
     assert np.sum(w * np.exp(one)) == pytest.approx(load, rel=RTOL_ROUNDOFF)
+
+
+RTOL_EXP_PRODUCT = 1e-13  # exp(a) exp(b) against exp(a + b), |a + b| < 30: a few ulp
+
+
+def test_normalise_pressure_is_the_two_stages():
+    """The shift of :func:`normalise_into` bit for bit, the pressure of :func:`pressure_into`
+    to a few ulp with the same flushed cells; a NaN gives NaN v and zero p as they do."""
+    v = -0.5 * (X / 5e-5) ** 2 * 300.0 + 3.0  # below LN_FLOOR of the peak at the edges
+    v[:3] = v.max() - LN_FLOOR + np.array([0.01, -0.01, 0.5])  # cells at the flush floor
+    w = np.full(X.size, X[1] - X[0])
+    two, p_two = v.copy(), np.empty_like(v)
+    normalise_into(two, 2.5e3, w)
+    pressure_into(two, p_two)
+    one, p_one = v.copy(), np.full_like(v, np.nan)
+    normalise_pressure_into(one, 2.5e3, w, p_one)
+    np.testing.assert_array_equal(one, two)
+    assert np.any(p_two == 0.0) and np.any(p_two > 0.0)
+    np.testing.assert_array_equal(p_one == 0.0, p_two == 0.0)
+    assert p_two[1] == 0.0 and p_two[0] > 0.0 and p_two[2] > 0.0
+    np.testing.assert_allclose(p_one, p_two, rtol=RTOL_EXP_PRODUCT, atol=0.0)
+    v[7] = np.nan
+    normalise_pressure_into(v, 2.5e3, w, p_one)
+    assert np.all(np.isnan(v)) and np.all(p_one == 0.0)
+
+
+@pytest.mark.parametrize("n", [0, 1, 3, 4, 5, 9])
+def test_largest_is_the_serial_maximum_bit_for_bit(n):
+    """Four chains of max give the serial loop's value, NaN skipped, ``start`` included."""
+    x = np.random.default_rng(n).standard_normal(n) * 10.0
+    if n > 2:
+        x[2] = np.nan
+    finite = x[~np.isnan(x)]
+    for start in (-np.inf, 0.0, 100.0):
+        assert largest(x, start) == max([start, *finite])
+        assert largest_abs(x, start) == max([start, *np.abs(finite)])
 
 
 def test_pressure_flushes_below_the_floor_and_on_nan():

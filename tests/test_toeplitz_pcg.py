@@ -16,8 +16,12 @@ from fastline._toeplitz_pcg import (
     _STRIP,
     _aggregate_edges,
     _coarse_matrices,
+    _edge_correlations,
     _jacobi_norm,
+    _live_span,
     _precondition,
+    _segment_sum,
+    _subtract_edge_combination,
     _wdot,
     prefix_sums,
 )
@@ -35,7 +39,7 @@ def _scene():
     D = np.random.default_rng(7).uniform(0.1, 3.0, N) * K[0, 0]
     e = np.empty(NC + 1, np.int64)
     Tc, U, L = np.empty(2 * N), np.empty(2 * N + 1), np.empty((NC, NC))
-    _aggregate_edges(D, K[0, 0], J0, J1, NC, e)
+    _aggregate_edges(D, K[0, 0], J0, J1, NC, e, np.empty(N))
     _coarse_matrices(D, SCALE, prefix_sums(khat), J0, J1, NC, e, Tc, U, L)
     return K, D, e, Tc, L
 
@@ -52,7 +56,7 @@ S0, S1 = 30, N - 30
 
 def _edges(D, nc=NC):
     e = np.empty(nc + 1, np.int64)
-    _aggregate_edges(D, 1.0, S0, S1, nc, e)
+    _aggregate_edges(D, 1.0, S0, S1, nc, e, np.empty(N))
     return e
 
 
@@ -74,18 +78,26 @@ def test_aggregates_are_mirror_symmetric_and_dense_where_d_changes(nc):
     assert widths[0] < widths[nc // 2] and widths[-1] < widths[nc // 2]
 
 
-def test_two_level_preconditioner_is_the_dense_product():
+@pytest.mark.parametrize("frozen", [0, 7])
+def test_two_level_preconditioner_is_the_dense_product(frozen):
     """Jacobi smoother (no core) and the coarse correction, ``H P c`` and ``(H P)^T z`` from the
     prefix sums, against the dense two-level operator
-    ``B = C + (I - C H) M (I - H C)``, ``C = P (L L^T)^-1 P^T``, ``M = diag(1/(D + K00))``."""
+    ``B = C + (I - C H) M (I - H C)``, ``C = P (L L^T)^-1 P^T``, ``M = diag(1/(D + K00))``,
+    with ``frozen`` cells at each end (M and R zero there; the coarse products then run over
+    the span between them only)."""
     K, D, e, Tc, L = _scene()
     HP, P = naive.coarse_operator(D, K, e)
     Lf = np.tril(L)
     A = Lf @ Lf.T
     minv = 1.0 / (D + K[0, 0])
+    minv[:frozen] = 0.0
+    minv[N - frozen :] = 0.0
+    f0, f1 = _live_span(minv)
+    assert (f0, f1) == (frozen, N - frozen)
     y = np.random.default_rng(3).standard_normal(N)
-    c1 = np.linalg.solve(A, P.T @ y)
-    z1 = minv * (y - HP @ c1)
+    Ry = np.where(minv > 0.0, y, 0.0)
+    c1 = np.linalg.solve(A, P.T @ Ry)
+    z1 = minv * (Ry - HP @ c1)
     want = z1 + P @ (c1 - np.linalg.solve(A, HP.T @ z1))
     out = np.empty(N)
     work, g = np.empty(3 * N + _STRIP), np.empty(2 * NC + 2)
@@ -93,9 +105,10 @@ def test_two_level_preconditioner_is_the_dense_product():
     a, c = np.empty(2 * N), np.empty(2 * N + 2)  # FFT buffers: unused without a core
     none = np.empty(0)
     ffts = _precondition(
-        y, out, D, SCALE, minv, 0, 0, none, none, NC, e, Tc, L, 0, 0, 0, 0, a, c, work, g
+        y, out, D, SCALE, minv, f0, f1, 0, 0, none, none, NC, e, Tc, L, 0, 0, 0, 0, a, c, work, g
     )
     assert ffts == 0
+    assert np.all(out[minv == 0.0] == 0.0)
     np.testing.assert_allclose(out, want, rtol=0.0, atol=RTOL_COARSE * np.abs(want).max())
 
 
@@ -129,3 +142,35 @@ def test_strip_reductions_equal_numpy(n):
     want = math.sqrt(np.sum(w * (res - mean) ** 2))
     got = _jacobi_norm(res, w, w.sum(), ones, np.empty(n), acc)
     assert got == pytest.approx(want, rel=RTOL_ROUNDOFF)
+
+
+@pytest.mark.parametrize(("n", "nc"), [(9, 3), (10, 4), (63, 7), (150, 16)])
+def test_edge_window_products_equal_numpy(n, nc):
+    """The coarse level's products with the shifted windows ``Tc[n - e_j : 2n - e_j]``, four
+    edges per pass and a remainder (nc + 1 = 4, 5, 8, 17; n not a multiple of 4 too), over
+    the whole grid and over a span ``[lo, hi)`` of it (the rest of r untouched)."""
+    rng = np.random.default_rng(n + nc)
+    Tc, x = rng.standard_normal(2 * n), rng.standard_normal(n)
+    e = np.sort(rng.choice(np.arange(1, n), nc + 1, replace=False)).astype(np.int64)
+    windows = np.array([Tc[n - ej : 2 * n - ej] for ej in e])  # (nc + 1) x n
+    scale = np.abs(windows).sum(axis=1).max() * np.abs(x).max()
+    c = rng.standard_normal(nc + 1)
+    for lo, hi in ((0, n), (1, n - 2), (3, 3)):
+        inside = (np.arange(n) >= lo) & (np.arange(n) < hi)
+        g = np.full(nc + 1, np.nan)
+        _edge_correlations(x, Tc, e, nc, g, lo, hi)
+        want = windows @ np.where(inside, x, 0.0)
+        np.testing.assert_allclose(g, want, rtol=0.0, atol=RTOL_ROUNDOFF * scale)
+        r = x.copy()
+        _subtract_edge_combination(r, Tc, e, nc, c, lo, hi)
+        want = np.where(inside, x - c @ windows, x)
+        np.testing.assert_allclose(r, want, rtol=0.0, atol=RTOL_ROUNDOFF * scale)
+    lo, hi = int(e[0]), int(e[-1])
+    got = _segment_sum(x, Tc, lo, hi)
+    assert got == pytest.approx(x[lo:hi] @ Tc[lo:hi], abs=RTOL_ROUNDOFF * scale)
+
+
+def test_live_span_of_frozen_cells():
+    assert _live_span(np.array([0.0, 0.0, 1.0, 0.0, 2.0, 0.0])) == (2, 5)
+    assert _live_span(np.zeros(4)) == (0, 0)
+    assert _live_span(np.ones(3)) == (0, 3)
