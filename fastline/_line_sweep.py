@@ -316,7 +316,7 @@ def run_sweep(
                 u_ref,
                 tol,
                 max_iter,
-                elastic.COARSE_AGGREGATES,
+                elastic.coarse_aggregates(n),
                 predictor,
                 scal,
                 cells,

@@ -451,7 +451,7 @@ class LogKernelOperator:
                 rhs,
                 rtol,
                 maxit,
-                COARSE_AGGREGATES,
+                coarse_aggregates(self.n),
                 dp,
                 _compiled_workspace(workspace_size(self.n)),
             )
@@ -501,7 +501,7 @@ class LogKernelOperator:
                 v,
                 tol,
                 max_iter,
-                COARSE_AGGREGATES,
+                coarse_aggregates(self.n),
                 hist,
                 u,
                 _compiled_workspace(size(self.n)),
@@ -549,8 +549,32 @@ def _newton_kernel():
 #: convolutions; at n = 8192, 10 did better (1738 vs 1873). 0.1 and 0.3 lost up to 2x at 1e-2.
 CORE_THETA = 3.0
 _CORE_MIN_CELLS = 8
-#: aggregates of the compiled solver's coarse space (:mod:`fastline._toeplitz_pcg`)
-COARSE_AGGREGATES = 16
+
+
+def coarse_aggregates(n: int) -> int:
+    """Aggregates of the compiled solver's coarse space (:mod:`fastline._toeplitz_pcg`) on n
+    cells: 32 below n = 8192, 64 from there (at most a quarter of the wide block's cells).
+
+    The slowest modes of the preconditioned system sit at the rim of the loaded core, which
+    widens in cells with n, so a finer coarse space pays more at larger n; its cost per
+    application is O(nc n). Convolutions over the 40 count scenes per n (5 hard surfaces x 8
+    alphas 1e-4..1e3) and CPU time of their warm solves, same run, two rounds:
+
+    ======  ===================  ===================  ===================  ==================
+    n       nc = 16              nc = 32              nc = 64              nc = 128
+    ======  ===================  ===================  ===================  ==================
+    256     664 (31), 8-9 ms     642 (29), 9 ms
+    1024    800 (45), 17 ms      750 (39), 17 ms
+    2048                         756 (41), 44 ms      716 (39), 42-57 ms
+    4096    956 (59), 85-93 ms   864 (51), 85-90 ms   783 (45), 93 ms
+    8192                         993 (71), 204-215    869 (55), 218-227    832 (51) [nc 96]
+    16384   1290 (99), 598-642   1138 (81), 512-594   1041 (65), 514-527   920 (55), 576-579
+    ======  ===================  ===================  ===================  ==================
+
+    (worst scene in brackets; times in ms.) Measured after the coarse products were fused
+    (four aggregate edges per pass); before, 32 aggregates cost more time than they saved.
+    """
+    return 32 if n < 8192 else 64
 
 
 class BlockPreconditioner:
