@@ -39,6 +39,23 @@ def test_cold_start_is_the_logaddexp_blend():
         np.testing.assert_allclose(out, ref, rtol=RTOL_ROUNDOFF, atol=0.0)
 
 
+def test_logaddexp_like_numpy_and_exact_where_a_term_is_dropped():
+    from fastline._solve_kernels import _LOGADDEXP_CUT, _logaddexp
+
+    rng = np.random.default_rng(3)
+    for a, b in zip(rng.uniform(-60, 60, 400), rng.uniform(-60, 60, 400), strict=True):
+        b = a + (b - a) * 1.5  # differences on both sides of the cut
+        ref = np.logaddexp(a, b)
+        got = _logaddexp(a, b)
+        if abs(a - b) > _LOGADDEXP_CUT:
+            assert got == max(a, b)
+        assert got == pytest.approx(ref, rel=RTOL_ROUNDOFF, abs=1e-17)
+    inf = math.inf
+    for a, b in [(-inf, -inf), (-inf, 3.0), (3.0, -inf), (inf, 2.0), (inf, inf), (1.0, 1.0)]:
+        assert _logaddexp(a, b) == np.logaddexp(a, b)
+    assert math.isnan(_logaddexp(math.nan, 1.0)) and math.isnan(_logaddexp(1.0, math.nan))
+
+
 def test_normalise_restores_the_load_and_flushes_like_numpy():
     v = -0.5 * (X / 5e-5) ** 2 * 300.0  # 1e-300 of the peak at the edges: below LN_FLOOR
     w = np.full(X.size, X[1] - X[0])
