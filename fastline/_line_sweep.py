@@ -291,7 +291,8 @@ def run_sweep(
     none). The caller has checked everything."""
     m = loads.shape[0]
     V, U, P = np.empty((m, n)), np.empty((m, n)), np.empty((m, n))
-    stats, hist = np.zeros((m, len(STATS))), np.zeros((m, max_iter, 3))
+    # every stats column is written; of hist only the rows of the steps taken are read
+    stats, hist = np.empty((m, len(STATS))), np.empty((m, max_iter, 3))
     scal, cells, count = history_arrays(SWEEP_PREDICTOR_ORDER, n) if history is None else history
     predictor = (SWEEP_PREDICTOR_ORDER, PREDICTOR_MAX_STEP, CORE_DEPTH[0], CORE_DEPTH[1])
     kspec, strang, prefix = elastic._compiled_tables(n)
