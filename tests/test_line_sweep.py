@@ -52,6 +52,24 @@ def test_compiled_sweep_equals_the_python_loop(psd):
     assert abs(total_fast - total_ref) <= COUNT_SLACK * total_ref
 
 
+@pytest.mark.parametrize("model", ["exponential", "tabulated"])
+def test_compiled_sweep_of_other_shipped_laws(model):
+    """The exponential and a tabulated law run the same compiled loop (their own law kinds)."""
+    theory = fl.PerssonTheory(SURFACES[0], E_STAR)
+    if model == "tabulated":
+        p = np.geomspace(1e-2, 1e8, 200)  # Pa
+        law = fl.laws.TabulatedLaw(theory.separation(p), p)
+    else:
+        law = fl.laws.ExponentialLaw.from_theory(theory)
+    lc = fl.LineContact(SURFACES[0], E_STAR, RADIUS, model=law, n=128, warn=False)
+    assert lc._law_form() is not None  # the compiled path is taken
+    fast, ref = lc.sweep(LOADS[10:40:3]), python_sweep(lc, LOADS[10:40:3])
+    for a, b in zip(fast, ref, strict=True):
+        assert a.converged and b.converged
+        assert a.p0 == pytest.approx(b.p0, rel=RTOL_SAME_START)
+        assert a.w_over_s == pytest.approx(b.w_over_s, rel=RTOL_SAME_START)
+
+
 def test_compiled_sweep_equals_independent_solves_in_any_order():
     lc = fl.LineContact(SURFACES[2], E_STAR, RADIUS, n=256, warn=False)
     loads = np.random.default_rng(7).permutation(LOADS[8:40])  # steps of ln 1.25
