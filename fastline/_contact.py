@@ -504,9 +504,9 @@ class ContactModel:
         ln_wh = math.log(0.3) - math.log(alpha + 0.3)
         ln_wg = math.log(alpha) - math.log(alpha + 0.3)
         ln_h, ln_g = ln_wh + math.log(hz.p0), ln_wg + math.log(gs.p0)
-        return (hz.a, ln_h, self.COLD_FLOOR, ln_g, 2.0 * gs.s**2, *self._cold_tail(hz, ln_h))
+        return (hz.a, ln_h, self.COLD_FLOOR, ln_g, 2.0 * gs.s**2, *self._cold_tail(hz, ln_h, ln_g))
 
-    def _cold_tail(self, hz, ln_h: float) -> tuple[float, float]:
+    def _cold_tail(self, hz, ln_h: float, ln_g: float) -> tuple[float, float]:
         """``(ln_t, k_t)`` of the cold start's tail outside the Hertz contact; none here
         (``ln_t = -inf``): a geometry that knows its Hertz gap overrides this."""
         return -math.inf, 0.0

@@ -167,7 +167,7 @@ def test_cold_start_tail_starts_closer(alpha, monkeypatch):
     Gaussian tail alone, and the solve needs no more convolutions."""
     psd, f = SURFACES["surface1"], load_for(SURFACES["surface1"], alpha)
     with_tail = fl.LineContact(psd, E_STAR, RADIUS, n=256).solve(f)
-    monkeypatch.setattr(fl.LineContact, "_cold_tail", lambda self, hz, ln_h: (-math.inf, 0.0))
+    monkeypatch.setattr(fl.LineContact, "_cold_tail", lambda self, hz, ln_h, ln_g: (-math.inf, 0.0))
     without = fl.LineContact(psd, E_STAR, RADIUS, n=256).solve(f)
     first = [r.diagnostics["newton_history"][0][0] for r in (with_tail, without)]
     assert with_tail.converged and without.converged
