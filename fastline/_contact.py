@@ -491,9 +491,11 @@ class ContactModel:
         cold_start_into(x, *self._cold_profiles(grid.hertz), v)  # compiled, nogil
         return v  # normalised to the load by _run, as every start is
 
-    def _cold_profiles(self, hz) -> tuple[float, float, float, float, float]:
-        """``(a, ln_h, floor, ln_g, 2 s^2)`` of :func:`fastline._solve_kernels.cold_start_into`:
-        the Hertz and Gaussian profiles of the cold start and their weights."""
+    def _cold_profiles(self, hz) -> tuple[float, float, float, float, float, float, float]:
+        """``(a, ln_h, floor, ln_g, 2 s^2, ln_t, k_t)`` of
+        :func:`fastline._solve_kernels.cold_start_into`: the Hertz and Gaussian profiles of the
+        cold start and their weights, and the tail outside the Hertz contact
+        (:meth:`_cold_tail`)."""
         alpha = self._alpha(hz.delta)
         if not math.isfinite(alpha):
             alpha = 2.0 * self._u0() / hz.delta
@@ -502,7 +504,12 @@ class ContactModel:
         ln_wh = math.log(0.3) - math.log(alpha + 0.3)
         ln_wg = math.log(alpha) - math.log(alpha + 0.3)
         ln_h, ln_g = ln_wh + math.log(hz.p0), ln_wg + math.log(gs.p0)
-        return hz.a, ln_h, self.COLD_FLOOR, ln_g, 2.0 * gs.s**2
+        return (hz.a, ln_h, self.COLD_FLOOR, ln_g, 2.0 * gs.s**2, *self._cold_tail(hz, ln_h, ln_g))
+
+    def _cold_tail(self, hz, ln_h: float, ln_g: float) -> tuple[float, float]:
+        """``(ln_t, k_t)`` of the cold start's tail outside the Hertz contact; none here
+        (``ln_t = -inf``): a geometry that knows its Hertz gap overrides this."""
+        return -math.inf, 0.0
 
     def _solved(self, grid, result) -> _Solved:
         """What a sweep keeps of a solution for the next predictions. ln p comes from the

@@ -188,15 +188,14 @@ def sweep_line(
     """Solve loads ``k0 <= k < k1`` of a sweep (``loads`` increasing, N/m) by continuation
     (module docstring).
 
-    ``halves``: the domain half-width of each load (m); ``cold[k]``: the cold-start profiles
-    ``(a, ln_h, floor, ln_g, 2 s^2)`` of load k; ``law``, ``u_ref``, ``tol``, ``max_iter``,
-    ``nc`` as in :func:`fastline._line_newton.newton_line`; ``predictor = (order, max_step,
-    core_lo, core_hi)``. ``scal, cells, count``: the history (:func:`history_arrays`), updated
-    in place. Out, row k: ``V`` ln p, ``U`` the law's separation (m), ``P`` the pressure (Pa,
-    :func:`fastline._core.pressure_of` of ln p), ``stats`` the columns of ``STATS`` (the
-    profile's measures of :func:`fastline._solve_kernels.line_measures` among them), ``hist``
-    (max_iter x 3) the Newton history. ``ws``: work space of :func:`workspace_size` ``(n)``
-    elements."""
+    ``halves``: the domain half-width of each load (m); ``cold[k]``: the cold-start profiles ``(a,
+    ln_h, floor, ln_g, 2 s^2, ln_t, k_t)`` of load k; ``law``, ``u_ref``, ``tol``, ``max_iter``,
+    ``nc`` as in :func:`fastline._line_newton.newton_line`; ``predictor = (order, max_step, core_lo,
+    core_hi)``. ``scal, cells, count``: the history (:func:`history_arrays`), updated in place. Out,
+    row k: ``V`` ln p, ``U`` the law's separation (m), ``P`` the pressure (Pa,
+    :func:`fastline._core.pressure_of` of ln p), ``stats`` the columns of ``STATS`` (the profile's
+    measures of :func:`fastline._solve_kernels.line_measures` among them), ``hist`` (max_iter x 3)
+    the Newton history. ``ws``: work space of :func:`workspace_size` ``(n)`` elements."""
     n = V.shape[1]
     order, max_step, core_lo, core_hi = predictor
     x, gap, w = ws[:n], ws[n : 2 * n], ws[2 * n : 3 * n]
@@ -212,14 +211,16 @@ def sweep_line(
         kapps = circ = 0
         for attempt in range(2):
             if nh == 0 or attempt == 1 or t - scal[nh - 1, 0] > max_step:
-                a, ln_h, floor, ln_g, two_s2 = (
+                a, ln_h, floor, ln_g, two_s2, ln_t, k_t = (
                     cold[k, 0],
                     cold[k, 1],
                     cold[k, 2],
                     cold[k, 3],
                     cold[k, 4],
+                    cold[k, 5],
+                    cold[k, 6],
                 )
-                cold_start_normalised(x, a, ln_h, floor, ln_g, two_s2, load, w, v)
+                cold_start_normalised(x, a, ln_h, floor, ln_g, two_s2, ln_t, k_t, load, w, v)
             else:
                 predict_into(t, order, core_lo, core_hi, scal, cells, nh, x, work, v)
                 normalise_into(v, load, w)

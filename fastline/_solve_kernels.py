@@ -132,16 +132,31 @@ def _logaddexp(a, b):
 
 
 @numba.njit(**JIT)
-def cold_start_into(x, a, ln_h, floor, ln_g, two_s2, out):
+def hertz_line_gap(xi):
+    """The gap outside a smooth (Hertz) line contact in units of ``a^2 / (2R)``, at
+    ``xi = |x| / a >= 1``: ``xi sqrt(xi^2 - 1) - arccosh(xi)`` (the surface displacement of
+    the elliptic pressure, K. L. Johnson, Contact Mechanics, Cambridge University Press 1985,
+    section 5.6, taken from the parabola; ``(4 sqrt(2) / 3) (xi - 1)^(3/2)`` near the edge)."""
+    s = math.sqrt(xi * xi - 1.0)
+    return xi * s - math.log(xi + s)
+
+
+@numba.njit(**JIT)
+def cold_start_into(x, a, ln_h, floor, ln_g, two_s2, ln_t, k_t, out):
     """ln of the blend of a Hertz and a Gaussian profile on the cells ``x`` (m):
-    ``out = logaddexp(ln_h + ln(max(1 - (x/a)^2, floor)) / 2, ln_g - x^2 / (2 s^2))``, with
-    ``ln_h``, ``ln_g`` the logarithms of the weighted peaks and ``two_s2 = 2 s^2`` (m^2)."""
+    ``logaddexp(ln_h + ln(max(1 - (x/a)^2, floor)) / 2, ln_g - x^2 / (2 s^2))``, with
+    ``ln_h``, ``ln_g`` the logarithms of the weighted peaks and ``two_s2 = 2 s^2`` (m^2);
+    outside the Hertz half-width a, the exponential law's tail ``ln_t - k_t G(|x|/a)`` is
+    added in (G, :func:`hertz_line_gap`; ``k_t = a^2 / (2 R u0)``; ``ln_t = -inf``: none)."""
     for i in range(x.shape[0]):
         t = x[i] / a
         q = max(1.0 - t * t, floor)
         lh = ln_h + 0.5 * math.log(q) if q > 0.0 else -math.inf
         lg = ln_g - x[i] * x[i] / two_s2
-        out[i] = _logaddexp(lh, lg)
+        v = _logaddexp(lh, lg)
+        if ln_t > -math.inf and abs(t) >= 1.0:
+            v = _logaddexp(v, ln_t - k_t * hertz_line_gap(abs(t)))
+        out[i] = v
 
 
 @numba.njit(**JIT)
@@ -244,8 +259,8 @@ def hermite_accumulate(xq, x, y, m, weight, out):
 
 
 @numba.njit(**JIT)
-def cold_start_normalised(x, a, ln_h, floor, ln_g, two_s2, load, w, out):
+def cold_start_normalised(x, a, ln_h, floor, ln_g, two_s2, ln_t, k_t, load, w, out):
     """:func:`cold_start_into` then :func:`normalise_into` to ``load`` with the weights w: the
     start of a cold solve in one call (one hand-over of the GIL instead of two, and no copy)."""
-    cold_start_into(x, a, ln_h, floor, ln_g, two_s2, out)
+    cold_start_into(x, a, ln_h, floor, ln_g, two_s2, ln_t, k_t, out)
     normalise_into(out, load, w)

@@ -66,6 +66,24 @@ __all__ = [
 ]
 
 DEFAULT_N = 1024
+#: the cold start's tail outside the Hertz contact starts at the Hertz pressure this fraction of
+#: the edge layer inside the edge (the layer: the depth at which Hertz's gap outside reaches u0).
+#: Convolutions of the 160 count scenes of bench/core.py (5 surfaces, alpha 1e-4..1e3, n 256..
+#: 16384): 3297 without the tail, 2976 with it (worst per n 29/39/51/65 -> 25/33/47/61); at
+#: n = 1024, alpha <= 1: 650 without, 547 at 0.3, 553 at 0.1, 571 at 1.0
+COLD_TAIL_DEPTH = 0.3
+#: ... and no higher than the law's pressure at separation ``COLD_TAIL_CAP u0``: outside the
+#: contact the law is exponential. Without the cap, a campaign scene whose centre reaches full
+#: contact (tests/test_solver.py, alpha 0.13) started with an edge 40x the solution's and Newton
+#: stalled at n = 4096 (residual 5 after 100 steps); with it 35/104/51 convolutions at n = 1024/
+#: 4096/8192 (37/103/55 without the tail). Count scenes (no k_t gate): 2938 at 0.5, 2963 at 1,
+#: 3043 at 2
+COLD_TAIL_CAP = 1.0
+#: ... and only in a Hertz-like contact, ``k_t = a^2 / (2 R u0) = delta / (2 u0)`` at least this
+#: (the Hertz contact wider than the Gaussian, ``a >= sqrt(2 R u0)``; alpha below about 1 at
+#: gamma_u = 0.4): above, the tail (about ``e^-4`` of the Gaussian at alpha = 100) saved 13 of
+#: 666 convolutions of the 80 count scenes at alpha >= 1 and cost 20-30 ns a cell
+COLD_TAIL_MIN_K = 1.0
 #: largest grid (about 2 GB of working arrays)
 MAX_N = 2**22
 #: loads per unit length accepted, in units of E* R
@@ -458,6 +476,25 @@ class LineContact(ContactModel):
         if type(u0) is float and 0.0 < u0 < math.inf:  # what the checks would pass unchanged
             return _gaussian_line(u0, self.radius, load)
         return gaussian_line_contact(u0, self.radius, load)
+
+    def _cold_tail(self, hz, ln_h: float, ln_g: float) -> tuple[float, float]:
+        """The cold start outside the Hertz contact: ``ln p = ln_t - k_t G(|x|/a)``, the
+        exponential law ``p ~ exp(-u/u0)`` (paper eq. 5) at Hertz's gap ``(a^2/2R) G``
+        (:func:`fastline._solve_kernels.hertz_line_gap`), so ``k_t = a^2 / (2 R u0)``. It starts
+        at ``ln_t``, the (weighted) Hertz pressure ``COLD_TAIL_DEPTH`` edge layers inside the
+        edge, the layer being the depth ``e a`` at which the gap outside, ``(a^2/2R) (4 sqrt(2)
+        / 3) e^(3/2)``, reaches u0, capped at the law's pressure at ``COLD_TAIL_CAP u0``.
+        Without it the Gaussian alone is the tail, 1e2-1e4 u0 off below alpha = 0.01 (the
+        first Newton residual). None (``ln_t = -inf``) unless the contact is Hertz-like,
+        ``k_t >= COLD_TAIL_MIN_K``: ``ln_g`` (the Gaussian's) is not used."""
+        u0 = self._u0()
+        k_t = hz.a * hz.a / (2.0 * self.radius * u0)
+        if k_t < COLD_TAIL_MIN_K:
+            return -math.inf, 0.0
+        layer = (3.0 / (4.0 * math.sqrt(2.0) * k_t)) ** (2.0 / 3.0)
+        ln_t = ln_h + 0.5 * math.log(2.0 * COLD_TAIL_DEPTH * min(layer, 0.5))
+        cap = float(np.asarray(self._law.log_pressure(np.array([COLD_TAIL_CAP * u0])))[0])
+        return min(ln_t, cap), k_t
 
     def _rescaled_start(self, grid: _LineGrid, initial: LineContactResult) -> np.ndarray:
         return _rescaled_start(grid, initial)

@@ -12,6 +12,7 @@ from fastline._core import LN_FLOOR
 from fastline._solve_kernels import (
     cold_start_into,
     cold_start_normalised,
+    hertz_line_gap,
     largest,
     largest_abs,
     line_cells,
@@ -28,15 +29,44 @@ X = np.linspace(-3e-4, 3e-4, 257)
 
 
 def test_cold_start_is_the_logaddexp_blend():
-    """Hertz part vanishing outside |x| < a (floor 0, the line) and floored (the sphere)."""
+    """Hertz part vanishing outside |x| < a (floor 0, the line) and floored (the sphere); the
+    tail outside |x| < a added in (the line) or not (ln_t = -inf, the sphere)."""
     a, ln_h, ln_g, s = 2e-4, math.log(3e7), math.log(1e7), 8e-5
-    for floor in (0.0, 1e-100):
+    ln_t, k_t = math.log(2e6), 40.0
+    xi = np.abs(X) / a
+    with np.errstate(invalid="ignore"):
+        gap = xi * np.sqrt(xi * xi - 1.0) - np.arccosh(xi)
+    tail = np.where(xi >= 1.0, ln_t - k_t * gap, -np.inf)
+    for floor, with_tail in ((0.0, True), (0.0, False), (1e-100, False)):
         out = np.empty_like(X)
-        cold_start_into(X, a, ln_h, floor, ln_g, 2.0 * s * s, out)
+        lt, kt = (ln_t, k_t) if with_tail else (-math.inf, 0.0)
+        cold_start_into(X, a, ln_h, floor, ln_g, 2.0 * s * s, lt, kt, out)
         with np.errstate(divide="ignore"):
             lh = ln_h + 0.5 * np.log(np.maximum(1 - (X / a) ** 2, floor))
         ref = np.logaddexp(lh, ln_g - X * X / (2.0 * s * s))
+        if with_tail:
+            ref = np.logaddexp(ref, tail)
         np.testing.assert_allclose(out, ref, rtol=RTOL_ROUNDOFF, atol=0.0)
+
+
+RTOL_HERTZ_GAP = 1e-3  # the hard-contact solve at n = 256 (7e-5 at n = 1024)
+
+
+def test_hertz_line_gap_is_the_hard_contact_solution_gap():
+    """The closed form of the gap outside a Hertz line contact against fastline's own
+    hard-contact (model="hertz") solve, which knows nothing of it; and its edge asymptote."""
+    import fastline as fl
+    from fastline.limits import hertz_line_contact
+
+    E, R, f = 1e9, 0.01, 1e3
+    res = fl.LineContact(None, E, R, model="hertz", n=256).solve(f)
+    a = hertz_line_contact(E, R, f).a
+    out = np.abs(res.x) > 1.05 * a
+    ref = np.array([a * a / (2.0 * R) * hertz_line_gap(t) for t in np.abs(res.x[out]) / a])
+    np.testing.assert_allclose(res.separation[out], ref, rtol=RTOL_HERTZ_GAP)
+    assert hertz_line_gap(1.0) == 0.0
+    e = 1e-6
+    assert hertz_line_gap(1.0 + e) == pytest.approx(4.0 * math.sqrt(2.0) / 3.0 * e**1.5, rel=1e-5)
 
 
 def test_logaddexp_like_numpy_and_exact_where_a_term_is_dropped():
@@ -71,10 +101,10 @@ def test_cold_start_normalised_is_the_two_stages_bit_for_bit():
     a, ln_h, ln_g, s, load = 2e-4, math.log(3e7), math.log(1e7), 8e-5, 4e3
     w = np.full(X.size, X[1] - X[0])
     two = np.empty_like(X)
-    cold_start_into(X, a, ln_h, 0.0, ln_g, 2.0 * s * s, two)
+    cold_start_into(X, a, ln_h, 0.0, ln_g, 2.0 * s * s, math.log(1e6), 40.0, two)
     normalise_into(two, load, w)
     one = np.empty_like(X)
-    cold_start_normalised(X, a, ln_h, 0.0, ln_g, 2.0 * s * s, load, w, one)
+    cold_start_normalised(X, a, ln_h, 0.0, ln_g, 2.0 * s * s, math.log(1e6), 40.0, load, w, one)
     np.testing.assert_array_equal(one, two)
     assert np.sum(w * np.exp(one)) == pytest.approx(load, rel=RTOL_ROUNDOFF)
 
