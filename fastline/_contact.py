@@ -319,7 +319,7 @@ class ContactModel:
         self.psd = psd
         variant = _check_variant(variant)
         self._theory, self._law = self._resolve_model(model, psd, theory, gamma, variant, u0, beta)
-        self.model = "hertz" if self._law is None else self._law.name
+        self.model = "hertz" if self._law is None else getattr(self._law, "name", "custom")
         if variant is not None and self._theory is not None and self._theory.variant != variant:
             raise ValueError(
                 f"variant={variant!r} differs from the variant of the given theory "
@@ -519,7 +519,7 @@ class ContactModel:
         flushed = result.pressure == 0.0
         if self._law is not None and flushed.any():
             with np.errstate(all="ignore"):
-                exact = np.asarray(self._law.log_pressure(result.separation[flushed]), float)
+                exact = np.asarray(_core._log_pressure(self._law, result.separation[flushed]))
             v[flushed] = np.where(np.isfinite(exact), exact, v[flushed])
         width = result.s if result.s > 0.0 else grid.half_width
         xi = grid.x / width
@@ -565,7 +565,8 @@ class ContactModel:
             separation = self._law.separation_and_slope(out.v)[0]
         if type(self._law) in _SHIPPED_LAWS:
             return separation, Deferred(partial(_real_area, self._law.real_area, p))
-        return separation, self._law.real_area(p)
+        area = getattr(self._law, "real_area", None)  # optional in the protocol
+        return separation, None if area is None else area(p)
 
     def _run(self, grid, start: np.ndarray | None) -> _core.Outcome:
         disc, load = grid.disc, grid.hertz.load

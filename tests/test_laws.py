@@ -145,6 +145,33 @@ def test_user_law_reproduces_persson(theory, alpha):
     assert np.allclose(law.pressure(u), theory.pressure(u), rtol=1e-7)
 
 
+class DuckLaw:
+    """A law by duck typing, with only what check_law asks for (no name, log_pressure or
+    real_area, no base class)."""
+
+    def __init__(self, theory):
+        self._law = TableOnlyLaw(theory)
+        self.u0 = self._law.u0
+
+    def separation_and_slope(self, v):
+        return self._law.separation_and_slope(v)
+
+    def pressure(self, u):
+        return self._law.pressure(u)
+
+
+def test_duck_typed_law_solves_and_sweeps(theory):
+    """It failed on the missing attributes (name, real_area; the cold start's log_pressure)."""
+    lc = fl.LineContact(PSD, E_STAR, RADIUS, model=DuckLaw(theory), n=256, warn=False)
+    ref = fl.LineContact(PSD, E_STAR, RADIUS, model=TableOnlyLaw(theory), n=256, warn=False)
+    loads = [load_for(a) for a in (0.01, 0.012, 1.0)]
+    mine, theirs = lc.sweep(loads), ref.sweep(loads)
+    for a, b in zip(mine, theirs, strict=True):
+        assert a.converged and a.model == "custom" and a.real_area is None
+        assert np.allclose(a.pressure, b.pressure, rtol=RTOL_ROUND_TRIP, atol=0)
+    assert "regime" in lc.solve(loads[0]).diagnostics
+
+
 @pytest.mark.parametrize("alpha", [0.01, 1.0, 30.0])
 def test_tabulated_law_reproduces_persson(theory, alpha):
     u, p = persson_curve(theory)

@@ -58,9 +58,9 @@ def test_compiled_sweep_of_other_shipped_laws(model):
     theory = fl.PerssonTheory(SURFACES[0], E_STAR)
     if model == "tabulated":
         p = np.geomspace(1e-2, 1e8, 200)  # Pa
-        law = fl.laws.TabulatedLaw(theory.separation(p), p)
+        law = fl.TabulatedLaw(theory.separation(p), p)
     else:
-        law = fl.laws.ExponentialLaw.from_theory(theory)
+        law = fl.ExponentialLaw.from_theory(theory)
     lc = fl.LineContact(SURFACES[0], E_STAR, RADIUS, model=law, n=128, warn=False)
     assert lc._law_form() is not None  # the compiled path is taken
     fast, ref = lc.sweep(LOADS[10:40:3]), python_sweep(lc, LOADS[10:40:3])
