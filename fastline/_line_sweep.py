@@ -209,8 +209,9 @@ def sweep_line(
         t = math.log(load)
         restarted = 0.0
         kapps = circ = 0
+        predicted = nh > 0 and t - scal[nh - 1, 0] <= max_step
         for attempt in range(2):
-            if nh == 0 or attempt == 1 or t - scal[nh - 1, 0] > max_step:
+            if not predicted or attempt == 1:
                 a, ln_h, floor, ln_g, two_s2, ln_t, k_t = (
                     cold[k, 0],
                     cold[k, 1],
@@ -246,7 +247,7 @@ def sweep_line(
             )
             kapps += ka
             circ += ci
-            if status == 0 or nh == 0 or attempt == 1:
+            if status == 0 or not predicted or attempt == 1:
                 break
             restarted = 1.0  # the prediction misled Newton: start cold
         pressure_into(v, P[k])

@@ -176,6 +176,17 @@ def test_restarts_cold_when_the_prediction_fails():
     assert count[0] == 2 and scal[1, 0] == math.log(load)  # the solution is remembered
 
 
+def test_a_failed_cold_start_is_not_repeated():
+    """A long step starts cold; if that fails (here: too few Newton steps) there is nothing
+    else to try: the load costs what an independent solve costs, once."""
+    lc = fl.LineContact(SURFACES[0], E_STAR, RADIUS, n=128, max_iter=2, warn=False)
+    res = lc.sweep([1e4, 1e5])  # a step of ln 10: cold
+    alone = lc.solve(1e5)
+    assert not alone.converged and not res[1].converged
+    assert res[1].convolutions == alone.convolutions
+    assert "restarted_cold" not in res[1].diagnostics
+
+
 def test_sweep_reports_the_restart(monkeypatch):
     """What a restarted load's result says (the compiled sweep's statistics, poisoned)."""
     real = _line_sweep.run_sweep
