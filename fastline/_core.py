@@ -352,10 +352,18 @@ def _newton_compiled(disc: Discretisation, law, v, tol, max_iter, form=None) -> 
     if out is None:
         return None
     u1, res, status, steps, cg, tol_eff, hist, u = out
+    return compiled_outcome(v, u1, res, status, steps, cg, tol, tol_eff, hist, pressure_of(v), u)
+
+
+def compiled_outcome(v, u1, res, status, steps, cg, tol, tol_eff, hist, p, u) -> Outcome:
+    """The :class:`Outcome` of a compiled Newton solve (:mod:`fastline._line_newton`: status 0
+    converged, 1 max_iter, 2 line search failed; ``hist`` its (residual, CG iterations, step)
+    rows of the steps taken; ``p`` the pressure, ``u`` the law's separation)."""
+    status, steps = int(status), int(steps)
     message = _message(status == 0, res, tol, tol_eff, f"{steps} Newton steps", status == 2)
     history = [(r, int(c), t) for r, c, t in hist.tolist()]
     info = {"cg_iterations": int(cg), "newton_history": history, "tol_effective": tol_eff}
-    return Outcome(v, u1, res, status == 0, steps, message, info, pressure_of(v), u)
+    return Outcome(v, u1, res, status == 0, steps, message, info, p, u)
 
 
 def newton(

@@ -432,14 +432,10 @@ class LineContact(ContactModel):
         u1, res, status, steps, cg, kapps, circ, tol_eff, restarted, *measures = arrays.stats[
             k
         ].tolist()
-        status, steps = int(status), int(steps)
-        message = _core._message(
-            status == 0, res, self.tol, tol_eff, f"{steps} Newton steps", status == 2
+        hist, p, u = arrays.hist[k, : int(steps)], arrays.p[k].copy(), arrays.u[k].copy()
+        outcome = _core.compiled_outcome(
+            None, u1, res, status, steps, cg, self.tol, tol_eff, hist, p, u
         )
-        history = [(r, int(c), t) for r, c, t in arrays.hist[k, :steps].tolist()]
-        info = {"cg_iterations": int(cg), "newton_history": history, "tol_effective": tol_eff}
-        p, u = arrays.p[k].copy(), arrays.u[k].copy()
-        outcome = _core.Outcome(None, u1, res, status == 0, steps, message, info, p, u)
         op = grid.disc.op
         op.convolutions, op.circulant_solves = int(kapps + circ), int(circ)
         result = self._result(grid, outcome, tuple(measures))
