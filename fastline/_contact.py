@@ -48,8 +48,13 @@ MAX_NEWTON = 100
 MAX_PICARD_SWEEPS = 5000
 #: degree of the polynomial (in ln load) that predicts each solve of a sweep from the previous
 #: ones. Over the paper's three 50-load line-contact sweeps (n = 1024, the predictor below) the
-#: total convolutions were 4337 independent, 2747 / 2596 / 2620 with degree 2 / 3 / 4.
-SWEEP_PREDICTOR_ORDER = 3
+#: total convolutions were 4337 independent, 2747 / 2596 / 2620 with degree 2 / 3 / 4 (an
+#: earlier solver). With the cold start's tail, 32 / 64 coarse aggregates and the compiled
+#: sweep, over four line-contact cases (the 50-load sweeps, 20 and 35 loads over the same range,
+#: and 64 loads alpha 1e3..1e-3 at n = 256; 3 surfaces each): 6411 convolutions with degree 3
+#: and CORE_DEPTH (3, 10), 6191 with degree 4, 6014 with degree 4 and (5, 10), 5909 with
+#: degree 5 and (5, 10), which lost on surface 3's shorter sweeps (471 against 408 at 20 loads).
+SWEEP_PREDICTOR_ORDER = 4
 #: largest step in ln f_N over which the polynomial extrapolates; a longer step starts cold. An
 #: O-ring sweep of 6-12 loads over 10..1e4 N/m (steps of ln 2-ln 4) failed to converge from cubic
 #: predictions. The previous solution rescaled (degree 0), the remedy before, cost up to 5x the
@@ -67,7 +72,9 @@ PREDICTOR_MAX_STEP = math.log(1.5)
 #: %, with cold starts below alpha 5e-3); with the core interpolated by cubic Hermite
 #: (:func:`hermite_slopes`) instead of linearly, 46 / 47 / 40 %, and with the first Newton
 #: step's forcing scaled to the start's residual (``fastline._core.ETA0_SCALE``) 49 / 47 / 42 %.
-CORE_DEPTH = (3.0, 10.0)
+#: With degree 4 (``SWEEP_PREDICTOR_ORDER``) a deeper core, (5, 10), did better than (3, 10):
+#: 495 / 516 / 714 against 506 / 513 / 732 convolutions on the 50-load sweeps.
+CORE_DEPTH = (5.0, 10.0)
 
 
 # ----------------------------------------------------------------------------------------------

@@ -24,6 +24,7 @@ RTOL_CONTINUATION = 1e-7  # a sweep vs independent solves, tol 1e-8 in u/u0
 COUNT_SLACK = 0.02
 
 E_STAR, RADIUS = 1.33e9, 0.01
+ORDER = _contact.SWEEP_PREDICTOR_ORDER
 SURFACES = fl.paper.surfaces()
 #: loads from alpha 1e3 down to 1e-3 (surface 1), the issue's 64-load sweep
 LOADS = np.array([fl.paper.load_for_alpha(a) for a in np.geomspace(1e3, 1e-3, 64)])
@@ -87,7 +88,7 @@ def test_compiled_sweep_equals_independent_solves_in_any_order():
 def _history(lc, loads):
     """Solutions of a model as both predictors keep them: the Python list of _Solved and the
     compiled history arrays (filled by the compiled _remember)."""
-    solved, arrays = [], _line_sweep.history_arrays(3, lc.n)
+    solved, arrays = [], _line_sweep.history_arrays(ORDER, lc.n)
     scal, cells, count = arrays
     for f in loads:
         grid = lc._grid(f)
@@ -97,18 +98,19 @@ def _history(lc, loads):
         count[0] = _line_sweep._remember(
             math.log(f), grid.x, v, grid.dx, res.s, scal, cells, count[0]
         )
-    return solved[-4:], arrays
+    return solved[-(ORDER + 1) :], arrays
 
 
 @pytest.mark.parametrize("next_load", [2.3e4, 2.9e4], ids=["short", "long"])
 def test_predictor_equals_the_python_predictor(next_load):
     lc = fl.LineContact(SURFACES[0], E_STAR, RADIUS, n=128, warn=False)
-    solved, (scal, cells, count) = _history(lc, [1e4, 1.3e4, 1.6e4, 2e4, 2.2e4])
-    assert count[0] == 4  # the oldest dropped
+    loads = [1e4, 1.2e4, 1.4e4, 1.6e4, 1.8e4, 2e4, 2.2e4][-(ORDER + 2) :]
+    solved, (scal, cells, count) = _history(lc, loads)
+    assert count[0] == ORDER + 1  # the oldest dropped
     grid = lc._grid(next_load)
     ref = lc._predict(grid, solved)
     out, work = np.empty(lc.n), np.empty(2 * lc.n)
-    consts = (3, *_contact.CORE_DEPTH)
+    consts = (ORDER, *_contact.CORE_DEPTH)
     _line_sweep.predict_into(math.log(next_load), *consts, scal, cells, count[0], grid.x, work, out)
     assert np.allclose(out, ref, rtol=RTOL_ROUNDOFF, atol=RTOL_ROUNDOFF * np.abs(ref).max())
     # and the prediction is a good one: near the solution in the contact
@@ -148,7 +150,7 @@ def test_restarts_cold_when_the_prediction_fails():
     lc = fl.LineContact(SURFACES[0], E_STAR, RADIUS, n=128, max_iter=6, warn=False)
     load = 1.2e4
     hz = _hertz_line(E_STAR, RADIUS, load)
-    scal, cells, count = _line_sweep.history_arrays(3, lc.n)
+    scal, cells, count = _line_sweep.history_arrays(ORDER, lc.n)
     scal[0] = (math.log(1.1e4), math.log(hz.a))
     cells[0, 0] = np.linspace(-4.0, 4.0, lc.n)
     cells[1, 0] = np.tile([30.0, -30.0], lc.n // 2)
