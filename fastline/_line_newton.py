@@ -41,7 +41,7 @@ from fastline._core import (
 from fastline._fftw import ALIGN_PAD, aligned_size, aligned_views
 from fastline._jit import JIT
 from fastline._solve_kernels import largest, largest_abs, normalise_pressure_into
-from fastline._toeplitz_pcg import _convolve, solve_newton_system
+from fastline._toeplitz_pcg import _convolve, _segment_sum, solve_newton_system
 from fastline._toeplitz_pcg import workspace_size as _system_workspace
 from fastline.laws import _hermite
 from fastline.persson import _solver_law
@@ -125,16 +125,8 @@ def _residual(v, u1_in, fft, kspec, scale, gap, w, kind, prm, A, B, C, E, a, c, 
             gk[i] = gap[i] + scale * gk[i]
     for i in range(n):
         r[i] = U[i] - u1 - gk[i]
-    n4 = n - n % 4
-    s0 = s1 = s2 = s3 = 0.0  # ||r||^2 in four chains
-    for i in range(0, n4, 4):
-        s0 += r[i] * r[i]
-        s1 += r[i + 1] * r[i + 1]
-        s2 += r[i + 2] * r[i + 2]
-        s3 += r[i + 3] * r[i + 3]
-    for i in range(n4, n):
-        s0 += r[i] * r[i]
-    return u1, math.sqrt((s0 + s1) + (s2 + s3)), largest_abs(gk, abs(u1))
+    phi2 = _segment_sum(r, r, 0, n)  # ||r||^2 in four chains
+    return u1, math.sqrt(phi2), largest_abs(gk, abs(u1))
 
 
 @numba.njit(**JIT)

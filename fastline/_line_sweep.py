@@ -62,8 +62,8 @@ STATS = (
     "fwhm",
     "sum_p",
 )
-#: n-sized work arrays of :func:`sweep_line` itself: x, gap, w, in_domain, in_contact
-_OWN_ARRAYS = 5
+#: n-sized work arrays of :func:`sweep_line` itself: x, gap, w, v (ln p), in_domain, in_contact
+_OWN_ARRAYS = 6
 
 
 def workspace_size(n: int) -> int:
@@ -178,7 +178,6 @@ def sweep_line(
     count,
     k0,
     k1,
-    V,
     U,
     P,
     stats,
@@ -192,17 +191,17 @@ def sweep_line(
     ln_h, floor, ln_g, 2 s^2, ln_t, k_t)`` of load k; ``law``, ``u_ref``, ``tol``, ``max_iter``,
     ``nc`` as in :func:`fastline._line_newton.newton_line`; ``predictor = (order, max_step, core_lo,
     core_hi)``. ``scal, cells, count``: the history (:func:`history_arrays`), updated in place. Out,
-    row k: ``V`` ln p, ``U`` the law's separation (m), ``P`` the pressure (Pa,
+    row k: ``U`` the law's separation (m), ``P`` the pressure (Pa,
     :func:`fastline._core.pressure_of` of ln p), ``stats`` the columns of ``STATS`` (the profile's
     measures of :func:`fastline._solve_kernels.line_measures` among them), ``hist`` (max_iter x 3)
     the Newton history. ``ws``: work space of :func:`workspace_size` ``(n)`` elements."""
-    n = V.shape[1]
+    n = U.shape[1]
     order, max_step, core_lo, core_hi = predictor
-    x, gap, w = ws[:n], ws[n : 2 * n], ws[2 * n : 3 * n]
-    work, solver_ws = ws[3 * n : 5 * n], ws[_OWN_ARRAYS * n :]
+    x, gap, w, v = ws[:n], ws[n : 2 * n], ws[2 * n : 3 * n], ws[3 * n : 4 * n]
+    work, solver_ws = ws[4 * n : 6 * n], ws[_OWN_ARRAYS * n :]
     nh = count[0]
     for k in range(k0, k1):
-        load, v, u = loads[k], V[k], U[k]
+        load, u = loads[k], U[k]
         dx = 2.0 * halves[k] / n
         line_cells(dx, two_r, x, gap, w)
         scale = dx / E_star
@@ -261,11 +260,10 @@ def sweep_line(
 
 
 class SweepArrays(NamedTuple):
-    """What :func:`run_sweep` returns, row k for the k-th load in increasing order: ``v`` ln p
-    (p in Pa), ``u`` the law's separation (m), ``p`` the pressure (Pa), ``stats`` the columns
-    of ``STATS``, ``hist`` each solve's Newton history (residual, CG iterations, step)."""
+    """What :func:`run_sweep` returns, row k for the k-th load in increasing order: ``u`` the
+    law's separation (m), ``p`` the pressure (Pa), ``stats`` the columns of ``STATS``, ``hist``
+    each solve's Newton history (residual, CG iterations, step)."""
 
-    v: np.ndarray
     u: np.ndarray
     p: np.ndarray
     stats: np.ndarray
@@ -292,7 +290,7 @@ def run_sweep(
     ``history``: solutions to continue from (:func:`history_arrays`, updated in place; default
     none). The caller has checked everything."""
     m = loads.shape[0]
-    V, U, P = np.empty((m, n)), np.empty((m, n)), np.empty((m, n))
+    U, P = np.empty((m, n)), np.empty((m, n))
     # every stats column is written; of hist only the rows of the steps taken are read
     stats, hist = np.empty((m, len(STATS))), np.empty((m, max_iter, 3))
     scal, cells, count = history_arrays(SWEEP_PREDICTOR_ORDER, n) if history is None else history
@@ -326,7 +324,6 @@ def run_sweep(
                 count,
                 k0,
                 k1,
-                V,
                 U,
                 P,
                 stats,
@@ -337,4 +334,4 @@ def run_sweep(
                 progress()
     finally:
         _fftw.release(2 * n)
-    return SweepArrays(V, U, P, stats, hist)
+    return SweepArrays(U, P, stats, hist)
