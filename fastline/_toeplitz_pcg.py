@@ -36,6 +36,22 @@ increments falls from 5-32 (the circulant alone) to 1.3-4 (two-level, 32 aggrega
 when the Jacobi-weighted norm of the projected residual fell by ``rtol`` (known before the next
 preconditioner application, which is then saved), and returns the best iterate it saw.
 
+Tried and not kept (FFT convolutions over the 160 scenes of the count test, 5 hard surfaces x 8
+alphas 1e-4..1e3 x n = 256..16384: 2976 with this module; issue 13):
+
+* no circulant (Jacobi and the coarse level only): 6213, and 209 at n = 16384, alpha 1e-4;
+  the circulant also only in the tight systems (``rtol < 0.05``): more Newton steps, 33 -> 35-38
+  at n = 1024, alpha 1e-2;
+* the projection ``P B P`` (P the w-orthogonal projection onto zero load) instead of the
+  B-orthogonal one: it saves the circulant solve of ``B 1`` per system, but at n = 1024,
+  alpha 1e-2 it took 46 convolutions instead of 33;
+* ``B 1`` of the previous Newton system kept while D moved less than 1-5% (the preconditioner
+  is then slightly unsymmetric): 3013, with single scenes doubling (21 -> 41);
+* Krylov recycling: the previous systems' CG directions (at most 16, their K products kept,
+  so the new system's Galerkin matrix needs no FFT) deflated from this system's CG: 2813, but
+  worse at n = 1024 (worst 33 -> 35), for 2 x 16 extra vector passes per iteration;
+* the circulant's shift at 0.3x or 3x the geometric mean of D: worse at n = 1024 and 4096.
+
 Written in plain loops over arrays passed one by one (no tuples, no NumPy linear algebra, no
 sorting): Numba compiles that in a fraction of the time, and first-call compilation is a real
 cost to users (the first version, with ``np.linalg.cholesky``, ``np.median`` and tuples of
