@@ -293,6 +293,8 @@ def markdown(m: dict) -> list[str]:
     for name in HARD:
         row = [max(m["counts"][(n, name, a)] for a in ALPHAS) for n in COUNT_NS]
         L.append(f"| {name} | " + " | ".join(map(str, row)) + " |")
+    total = sum(m["counts"].values())
+    L.append(f"\nTotal over the {len(m['counts'])} scenes: {total} convolutions.")
     L.append("\nSurface 1, by alpha:\n")
     L.append("| n | " + " | ".join(f"{a:g}" for a in ALPHAS) + " |")
     L.append("|---|" + "---|" * len(ALPHAS))
