@@ -45,8 +45,10 @@ alphas 1e-4..1e3 x n = 256..16384: 2976 with this module; issue 13):
 * the projection ``P B P`` (P the w-orthogonal projection onto zero load) instead of the
   B-orthogonal one: it saves the circulant solve of ``B 1`` per system, but at n = 1024,
   alpha 1e-2 it took 46 convolutions instead of 33;
-* ``B 1`` of the previous Newton system kept while D moved less than 1-5% (the preconditioner
-  is then slightly unsymmetric): 3013, with single scenes doubling (21 -> 41);
+* ``B 1`` of the previous Newton system kept while D moved by less than a threshold of 1% or
+  5% (one of the two was measured: both runs shared a Numba cache, which does not key on module
+  constants; the preconditioner is then slightly unsymmetric): 3013, single scenes doubling
+  (21 -> 41);
 * Krylov recycling: the previous systems' CG directions (at most 16, their K products kept,
   so the new system's Galerkin matrix needs no FFT) deflated from this system's CG: 2813, but
   worse at n = 1024 (worst 33 -> 35), for 2 x 16 extra vector passes per iteration;
