@@ -4,11 +4,11 @@ Every kernel is decorated with ``@numba.njit(**JIT)``:
 
 * ``cache`` - compiled machine code is kept on disk next to the sources (or under
   ``NUMBA_CACHE_DIR``), so only the first call in the first process pays the compilation
-  (a few seconds for the whole package). Set the environment variable
-  ``FASTLINE_NUMBA_CACHE=0`` before importing fastline to switch the on-disk cache off, e.g. on
-  a read-only file system or when many processes start at once on a shared network drive.
-  Processes of a pool share the cache safely (Numba writes its index atomically; the test
-  suite runs a ``ProcessPoolExecutor`` with the cache on).
+  (15-20 s for the line solver on a 2-core machine, once per installation). Set the
+  environment variable ``FASTLINE_NUMBA_CACHE=0`` before importing fastline to switch the
+  on-disk cache off, e.g. on a read-only file system or when many processes start at once on
+  a shared network drive. Processes of a pool share the cache safely (Numba writes its index
+  atomically; the test suite runs a ``ProcessPoolExecutor`` with the cache on).
 * ``nogil`` - kernels release the GIL, so threads solving different scenes run in parallel.
 * ``fastmath`` - one conservative set: FMA contraction, reciprocal and signed-zero freedom;
   never ``nnan``/``ninf``, so NaN and inf checks inside kernels keep working.
