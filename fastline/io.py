@@ -423,11 +423,17 @@ def read_csv(path: str | os.PathLike) -> tuple[dict, dict]:
 
 def leak_metadata(leak: LeakResult) -> dict:
     """The inputs of a leak rate as header entries: ``pressure_drop_Pa``, ``viscosity_Pa_s``,
-    ``length_m``, ``threshold``, ``method`` (add ``mean_free_path_m`` yourself when used)."""
+    ``length_m`` (radial flow: ``inner_radius_m`` instead), ``threshold``, ``method`` (add
+    ``mean_free_path_m`` yourself when used)."""
+    path = (
+        {"length_m": float(leak.length)}
+        if leak.inner_radius is None
+        else {"inner_radius_m": float(leak.inner_radius)}
+    )
     return {
         "pressure_drop_Pa": float(leak.pressure_drop),
         "viscosity_Pa_s": float(leak.viscosity),
-        "length_m": float(leak.length),
+        **path,
         "threshold": float(leak.threshold),
         "method": str(leak.method),
     }
@@ -462,9 +468,10 @@ def write_leak_csv(
     if result is not None:
         info.update(load_N_per_m=result.load, alpha=result.alpha, p0_Pa=result.p0)
     info.update(leak_metadata(leak))
+    unit = "m2_per_Pa_s" if leak.inner_radius is None else "m3_per_Pa_s"  # per length / whole
+    info[f"conductance_{unit}"] = leak.conductance
     info.update(
         Q_m3_per_s=leak.Q,
-        conductance_m2_per_Pa_s=leak.conductance,
         sealed=leak.sealed,
         share_in_fwhm=leak.share_in_fwhm,
         resistance_width_m=leak.resistance_width,

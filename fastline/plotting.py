@@ -457,16 +457,22 @@ def plot_leak(leak: LeakResult, *, axes: Sequence[Axes] | None = None) -> Figure
     shown = np.isfinite(leak.u_c) & (leak.u_c > 0.0)
     bottom.semilogy(x_mm, np.where(shown, leak.u_c, np.nan), "-", color="C3")
     bottom.set_ylabel(r"critical gap $u_c$ (m)")
-    bottom.set_xlabel(r"$x$ (mm)")
+    radial = leak.inner_radius is not None
+    bottom.set_xlabel(r"$r$ (mm)" if radial else r"$x$ (mm)")
     lo, hi, text = _leak_band(leak)
     half = leak.x[leak.pressure >= 0.5 * leak.pressure.max()]
-    fwhm = f"FWHM of $p$ ({leak.share_in_fwhm:.1%} of the resistance inside)"
+    width = "half width at half maximum" if radial else "FWHM"
+    fwhm = f"{width} of $p$ ({leak.share_in_fwhm:.1%} of the resistance inside)"
+    marks = (half[-1],) if radial else (half[0], half[-1])  # radial: the half width only
     for k, ax in enumerate((top, bottom)):
         color = "C3" if leak.sealed else "C2"
         ax.axvspan(lo * 1e3, hi * 1e3, color=color, alpha=0.15, lw=0, label=text if k else None)
-        for j, xf in enumerate((half[0], half[-1])):
+        for j, xf in enumerate(marks):
             lab = fwhm if (k == 0 and j == 0) else None
             ax.axvline(xf * 1e3, ls=":", color="k", lw=0.8, label=lab)
+        if radial:
+            lab = "orifice (the fluid enters at its edge)" if k == 0 else None
+            ax.axvspan(0.0, leak.inner_radius * 1e3, color="0.6", alpha=0.4, lw=0, label=lab)
     window = _leak_window(leak)
     bottom.set_xlim(window[0] * 1e3, window[1] * 1e3)
     seen = shown & (leak.x >= window[0]) & (leak.x <= window[1])

@@ -821,3 +821,22 @@ def coarse_operator(
     for k in range(nc):
         P[edges[k] : edges[k + 1], k] = 1.0
     return (np.diag(D) + K) @ P, P
+
+
+# ----------------------------------------------------------------------------------------------
+# leakage (THEORY.md 8.4, read radially): rings in series around a point contact's orifice
+# ----------------------------------------------------------------------------------------------
+def radial_leak_rate(r, u_c, r_in, pressure_drop, viscosity):
+    """``Q = dP / int_{r_in}^{r_out} dr 12 eta / (2 pi r u_c(r)^3)``, u_c constant on the cells
+    centred at r (edges halfway, clipped at 0), the integral by SciPy's quad cell by cell (no
+    logarithm in closed form: an independent route from :func:`fastline.leak_rate_profile`)."""
+    mid = 0.5 * (r[1:] + r[:-1])
+    edges = np.maximum(np.concatenate([[2 * r[0] - mid[0]], mid, [2 * r[-1] - mid[-1]]]), 0.0)
+    total = 0.0
+    for k in range(r.size):
+        lo, hi = max(edges[k], r_in), edges[k + 1]
+        if hi <= lo or not math.isfinite(u_c[k]):
+            continue
+        c = 12.0 * viscosity / (2.0 * math.pi * u_c[k] ** 3)
+        total += quad(lambda s, c=c: c / s, lo, hi, epsabs=0.0, epsrel=1e-13)[0]
+    return pressure_drop / total

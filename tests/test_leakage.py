@@ -309,6 +309,132 @@ def test_zero_pressure_strips_add_no_resistance():
 
 
 # ----------------------------------------------------------------------------------------------
+# radial flow: a point contact's orifice
+# ----------------------------------------------------------------------------------------------
+@functools.cache
+def _point_contact(name, load):
+    th = _theory(name)
+    return fl.solve_point_contact(th.psd, E_STAR, RADIUS, load, theory=th, n=128, warn=False)
+
+
+@pytest.mark.parametrize("n", [3, 40])
+def test_uniform_pressure_annulus_is_the_log_formula(n):
+    """Constant p on rings from r_in to r_out: Q = 2 pi dP u_c^3 / (12 eta ln(r_out / r_in))."""
+    th = _theory("surface1")
+    dr, p0 = 1e-3, 2e6
+    r = np.arange(n) * dr  # cells of a point contact: a disc on the axis, then rings
+    r_in, r_out = 0.3 * dr, (n - 0.5) * dr
+    res = fl.leak_rate_profile(r, np.full(n, p0), th, DP, ETA, inner_radius=r_in, warn=False)
+    u_c = th.critical_gap(p0).u_c
+    expected = 2.0 * math.pi * DP * u_c**3 / (12.0 * ETA * math.log(r_out / r_in))
+    assert res.Q == pytest.approx(expected, rel=RTOL_RECTANGLE + RTOL_GAP_TABLE * 3)
+    assert res.conductance == pytest.approx(res.Q / DP, rel=RTOL_EXACT)
+    assert res.inner_radius == r_in and res.length is None
+    np.testing.assert_allclose(res.resistance_share.sum(), 1.0, rtol=RTOL_EXACT)
+
+
+def test_rings_in_series_against_the_quadrature_reference():
+    """Two pressure levels, an orifice inside the third cell: against naive.radial_leak_rate."""
+    th = _theory("surface1")
+    r = np.arange(12) * 2e-4
+    p = np.where(r < 1e-3, 4e6, 1e6)
+    r_in = 2.3 * 2e-4
+    res = fl.leak_rate_profile(r, p, th, DP, ETA, inner_radius=r_in, warn=False)
+    ref = naive.radial_leak_rate(r, res.u_c, r_in, DP, ETA)
+    assert res.Q == pytest.approx(ref, rel=RTOL_REF)
+    inside = r + 1e-4 <= r_in  # cells wholly inside the orifice: not on the flow path
+    assert inside.sum() == 2 and np.all(res.resistance_share[inside] == 0.0)
+
+
+def test_point_contact_leak_falls_with_load_and_with_a_smaller_orifice():
+    name = "surface1"
+    loads = [0.3, 1.0, 3.0]
+    rates = []
+    for f in loads:
+        res = _point_contact(name, f)
+        hwhm = 0.5 * res.fwhm
+        leak = fl.leak_rate(res, DP, ETA, inner_radius=0.05 * hwhm, warn=False)
+        assert leak.converged and leak.share_in_fwhm > 0.5
+        assert leak.diagnostics["orifice_share"] == pytest.approx(0.05, rel=0.2)
+        smaller = fl.leak_rate(res, DP, ETA, inner_radius=0.01 * hwhm, warn=False)
+        assert 0.0 < smaller.Q < leak.Q  # more of the high-pressure core on the path
+        rates.append(leak.Q)
+    assert rates[0] > rates[1] > rates[2] > 0.0
+    res = _point_contact(name, 1.0)
+    b = fl.leak_rate(res, 3.0 * DP, 0.25 * ETA, inner_radius=1e-5, warn=False)
+    a = fl.leak_rate(res, DP, ETA, inner_radius=1e-5, warn=False)
+    assert b.Q == pytest.approx(a.Q * 3.0 / 0.25, rel=RTOL_EXACT * 100)
+    same = fl.leak_rate_profile(res.r, res.pressure, res.theory, DP, ETA, inner_radius=1e-5)
+    assert same.Q == a.Q
+
+
+def test_orifice_warning():
+    th = _theory("surface1")
+    r = np.arange(64) * 5e-4
+    p = 2e6 * np.exp(-((r / 1e-2) ** 2))  # half width at half maximum ~8.3 mm
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        small = fl.leak_rate_profile(r, p, th, DP, ETA, inner_radius=2e-4)
+    assert small.diagnostics["warnings"] == []
+    with pytest.warns(fl.LeakageWarning, match="orifice_share"):
+        wide = fl.leak_rate_profile(r, p, th, DP, ETA, inner_radius=2e-3)
+    assert wide.diagnostics["orifice_share"] > leakage.MAX_ORIFICE_SHARE
+
+
+def test_radial_bad_input():
+    th = _theory("surface1")
+    point = _point_contact("surface1", 1.0)
+    line = _line_contact("surface1", 1e4)
+    with pytest.raises(ValueError, match="inner_radius is required"):
+        fl.leak_rate(point, DP, ETA)
+    with pytest.raises(ValueError, match="inner_radius is for a point contact"):
+        fl.leak_rate(line, DP, ETA, inner_radius=1e-5)
+    with pytest.raises(ValueError, match="length"):
+        fl.leak_rate(point, DP, ETA, 0.1, inner_radius=1e-5)
+    for bad in (0.0, -1e-5, math.nan, 1.0):
+        with pytest.raises(ValueError, match="inner_radius"):
+            fl.leak_rate(point, DP, ETA, inner_radius=bad)
+    for bad in (None, np.zeros(5), "result"):
+        with pytest.raises(TypeError, match="LineContactResult or a PointContactResult"):
+            fl.leak_rate(bad, DP, ETA, theory=th)
+    with pytest.raises(ValueError, match="radii >= 0"):
+        fl.leak_rate_profile([-1e-4, 0.0, 1e-4], [1e6] * 3, th, DP, ETA, inner_radius=1e-5)
+
+
+def test_radial_figure_and_file(tmp_path):
+    """The figure of a radial leak is drawn against r with the orifice shaded; its CSV header
+    holds inner_radius_m (no seal length) and the conductance of the whole contact."""
+    pytest.importorskip("matplotlib")
+    from fastline import io, plotting
+
+    res = _point_contact("surface1", 1.0)
+    leak = fl.leak_rate(res, DP, ETA, inner_radius=1e-5, warn=False)
+    top, bottom = plotting.plot_leak(leak).axes
+    assert bottom.get_xlabel().startswith("$r$")
+    labels = [t.get_text() for t in top.get_legend().get_texts()]
+    assert any(t.startswith("orifice") for t in labels)
+    assert any(t.startswith("half width at half maximum") for t in labels)
+    io.write_leak_csv(tmp_path / "leak.csv", leak)
+    meta, columns = io.read_csv(tmp_path / "leak.csv")
+    assert float(meta["inner_radius_m"]) == pytest.approx(1e-5) and "length_m" not in meta
+    assert float(meta["conductance_m3_per_Pa_s"]) == pytest.approx(leak.conductance, rel=1e-6)
+    np.testing.assert_allclose(columns[next(iter(columns))], leak.x)
+
+
+@pytest.mark.parametrize("name", ["surface1", "no_rolloff", "sum1+3"])
+def test_rolloff_of_a_measured_table(name):
+    """The roll-off of a spectrum without a known qr (a table) is where q^2 C peaks: that of
+    the self-affine spectrum it samples (to the table's node spacing), q0 without a roll-off."""
+    psd = ALL[name]()
+    q = np.geomspace(psd.q0, psd.q1, 301)
+    table = fl.TabulatedPSD(q, psd(q))
+    step = q[1] / q[0]
+    assert leakage._rolloff_wavenumber(table) == pytest.approx(
+        leakage._rolloff_wavenumber(psd), rel=step - 1.0
+    )
+
+
+# ----------------------------------------------------------------------------------------------
 # range of validity (warnings)
 # ----------------------------------------------------------------------------------------------
 def _punch(th, width, p0=2e6, n=32):
