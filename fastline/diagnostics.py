@@ -285,8 +285,39 @@ def assess(
     out["warning_messages"] = {c: msgs[c] for c in causes}
     out["warnings"] = [msgs[c] for c in causes]
     for c in causes if warn else ():
-        warnings.warn(f"fastline: {msgs[c]}", ValidityWarning, stacklevel=3)
+        warnings.warn(f"fastline: {_headline(c, result)}", ValidityWarning, stacklevel=3)
     return out
+
+
+def _headline(cause: str, result) -> str:
+    """The warning a single solve emits for a cause: the same text for every scene, so that
+    Python's warning filter shows it once in a loop of solves (the default action prints a
+    text once per place); this scene's numbers are in ``diagnostics["warning_messages"]``."""
+    point = getattr(result, "EXTENT_WORD", "half-width") == "radius"
+    text = {
+        "half_space": (
+            f"the contact {'radius' if point else 'half-width'} exceeds "
+            f"{100 * HALF_WIDTH_LIMIT:g}% of {'the sphere' if point else 'the cylinder'}'s "
+            "radius R: the elastic half-space assumption is strained"
+        ),
+        "plastic": (
+            "the elastic mean asperity pressure h'E*/2 exceeds the hardness: asperities likely "
+            "deform plastically (the theory is elastic)"
+        ),
+        "exponential_range": (
+            "model='exponential' is used outside its range: its u(p) is off by more than "
+            f"{100 * EXPONENTIAL_RTOL:g}% over the pressures met; use model='persson'"
+        ),
+        "narrow_contact": (
+            "the contact is narrower than the longest roughness wavelength 2 pi/q0: the "
+            "theory's mean-field assumption (pressure varying slowly on that scale) is not met"
+        ),
+        "resolution": (
+            f"the FWHM spans fewer than {RESOLUTION_CELLS:g} grid cells: p0 and w/s are limited "
+            "by the grid (errors of percents); raise n or narrow half_width"
+        ),
+    }[cause]
+    return f"{text} (this scene's numbers: result.diagnostics['warning_messages'])"
 
 
 def _loads_text(loads: list[float], total: int, symbol: str = "f_N", unit: str = "N/m") -> str:

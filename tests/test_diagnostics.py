@@ -220,3 +220,21 @@ def test_hardness_of_a_wrong_type(psd, theory):
     for bad in ("abc", [1e9], True):
         with pytest.raises(TypeError, match="hardness"):
             assess(r, theory, hardness=bad, warn=False)
+
+
+def test_a_loop_of_solves_warns_once_per_cause():
+    """Independent solves in a Python loop: each cause reaches the user once under Python's
+    default warning filter (the emitted text is the same for every scene), while every result
+    keeps its own numbers in ``warning_messages``."""
+    psd = fl.SelfAffinePSD(*ORING_PSD)
+    scene = {k: v for k, v in ORING.items() if k != "load"}
+    loads = np.geomspace(0.5, 2.0, 6) * ORING["load"]
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("default")
+        results = [solve_line_contact(psd, **scene, load=f, n=64) for f in loads]
+    causes = [c for r in results for c in r.diagnostics["warning_causes"]]
+    emitted = [str(w.message) for w in caught if issubclass(w.category, ValidityWarning)]
+    assert len(causes) >= len(loads)  # narrow contact at every load
+    assert len(emitted) == len(set(causes)) and len(set(emitted)) == len(emitted)
+    details = {r.diagnostics["warning_messages"]["narrow_contact"] for r in results}
+    assert len(details) == len(loads)  # the numbers differ from scene to scene
