@@ -107,8 +107,9 @@ def _spectrum_options(parser: argparse.ArgumentParser) -> None:
     g.add_argument(
         "--psd",
         metavar="FILE",
-        help="measured isotropic spectrum: two columns q [1/m] and C(q) [m^4], whitespace- or "
-        "comma-separated, '#' starts a comment (e.g. examples/psd_example.txt)",
+        help="measured isotropic spectrum: two columns q [1/m] and C(q) [m^4], separated by "
+        "blanks, tabs, ',' or ';'; header lines before the numbers and '#' comments skipped "
+        "(e.g. examples/psd_example.txt)",
     )
 
 
