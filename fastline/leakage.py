@@ -1066,7 +1066,7 @@ def leak_rate(
     """Leak rate of a solved line contact: the flow across the contact (along x).
 
     The post-processing step of a seal calculation: the nominal pressure p(x) of a
-    :class:`~fastline.solver.LineContactResult` (any model with a roughness spectrum) and the
+    :class:`~fastline.line_contact.LineContactResult` (any model with a roughness spectrum) and the
     Persson theory of its interface give the leak rate by :func:`leak_rate_profile` (strips in
     series, docs/leakage.md §4). Costs well under the solve it post-processes once the gap table of
     the theory is built (first call per theory and threshold: ~10 ms).
