@@ -107,8 +107,9 @@ def _spectrum_options(parser: argparse.ArgumentParser) -> None:
     g.add_argument(
         "--psd",
         metavar="FILE",
-        help="measured isotropic spectrum: two columns q [1/m] and C(q) [m^4], whitespace- or "
-        "comma-separated, '#' starts a comment (e.g. examples/psd_example.txt)",
+        help="measured isotropic spectrum: two columns q [1/m] and C(q) [m^4], separated by "
+        "blanks, tabs, ',' or ';'; header lines before the numbers and '#' comments skipped "
+        "(e.g. examples/psd_example.txt)",
     )
 
 
@@ -202,11 +203,37 @@ def _variant_option(group) -> None:
     group.add_argument(
         "--variant",
         choices=tuple(VARIANTS),
-        default=DEFAULT_VARIANT,
+        default=None,  # fastline.cli.main fills in DEFAULT_VARIANT: None says 'not given'
         help="variant of the theory's u(p) (docs/theory.md, Variants): the bracket gamma + "
-        "3(1-gamma)P^2 of the energy derivation (default), the printed gamma + (1-gamma)P^2, or "
-        "Wang & Mueser's correction, which also enters the contact area (not with leak)",
+        "3(1-gamma)P^2 of the energy derivation (default, " + DEFAULT_VARIANT + "), the printed "
+        "gamma + (1-gamma)P^2, or Wang & Mueser's correction, which also enters the contact "
+        "area (not with leak)",
     )
+
+
+#: options a smooth (--model hertz) solve does not use: the roughness and the theory's
+_ROUGH_ONLY = {
+    **_SPECTRUM_FLAGS,
+    "psd": "--psd",
+    "scan": "--scan",
+    "gamma": "--gamma",
+    "variant": "--variant",
+    "hardness": "--hardness",
+}
+
+
+def _model_checks(args) -> None:
+    """Refuse roughness and theory options that a smooth Hertz solve would ignore (before the
+    defaults of --gamma and --variant are filled in: None means not given)."""
+    if getattr(args, "model", None) != "hertz":
+        return
+    given = [flag for key, flag in _ROUGH_ONLY.items() if getattr(args, key, None) is not None]
+    if given:
+        it, has = ("it", "has") if len(given) == 1 else ("them", "have")
+        raise CLIError(
+            f"--model hertz solves smooth surfaces: {', '.join(given)} {has} no effect on a "
+            f"Hertz solve (drop {it}, or use --model persson or exponential)"
+        )
 
 
 def _figure_options(parser: argparse.ArgumentParser) -> None:

@@ -20,8 +20,22 @@ WAVENUMBER_RANGE = (1e-3, 1e13)  # 1/m: wavelengths from 6 km down to 0.6 pm
 RADIUS_RANGE = (1e-9, 1e3)  # m
 
 
+def _refuse_complex(name: str, value) -> None:
+    """A TypeError for complex input (numpy would drop the imaginary part with a warning)."""
+    if np.iscomplexobj(value):
+        raise TypeError(f"{name} must be real, got complex values ({np.asarray(value).dtype})")
+
+
+def real_array(name: str, value) -> np.ndarray:
+    """``value`` as a float64 array; a TypeError naming ``name`` for complex input. No other
+    check: for evaluations that accept any real value (the pressure laws' protocol)."""
+    _refuse_complex(name, value)
+    return np.asarray(value, dtype=np.float64)
+
+
 def finite_scalar(name: str, value) -> float:
-    """Return ``value`` as a float, rejecting NaN, inf, bools and non-numbers."""
+    """Return ``value`` as a float, rejecting NaN, inf, bools, complex and non-numbers."""
+    _refuse_complex(name, value)
     if isinstance(value, bool | np.bool_):
         raise TypeError(f"{name} must be a real number, not a bool ({value!r})")
     if isinstance(value, str | bytes):
@@ -59,7 +73,8 @@ def in_range(name: str, value, lo: float, hi: float, lo_open=True, hi_open=False
 
 
 def finite_array(name: str, value, ndim: int | None = None) -> np.ndarray:
-    """A float64 array with no NaN or inf."""
+    """A float64 array with no NaN or inf (a TypeError for complex input)."""
+    _refuse_complex(name, value)
     try:
         arr = np.asarray(value, dtype=np.float64)
     except (TypeError, ValueError):

@@ -35,6 +35,7 @@ from fastline._cli_common import (  # noqa: F401
     _gamma,
     _material_options,
     _meta,
+    _model_checks,
     _number,
     _numerics_options,
     _positive,
@@ -513,6 +514,12 @@ def main(argv: list[str] | None = None) -> int:
         if args.command is None:
             parser.print_help()
             return 2
+        if args.command in ("profile", "sweep"):  # leak refuses --model hertz outright
+            _model_checks(args)
+        if getattr(args, "variant", 0) is None:
+            from fastline.variants import DEFAULT_VARIANT
+
+            args.variant = DEFAULT_VARIANT
         if getattr(args, "gamma", 0.0) is None:  # the variant's own gamma
             from fastline.variants import get_variant
 

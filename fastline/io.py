@@ -2,7 +2,9 @@
 
 Spectrum files hold two columns, wavenumber q [1/m] and isotropic power spectrum C(q) [m^4] in
 Persson's convention (``h_rms^2 = 2 pi int q C dq``, docs/theory.md section 2), separated by
-whitespace or a comma; ``#`` starts a comment. :func:`read_spectrum` checks that the table is
+blanks, tabs, commas or semicolons, after any header lines; ``#`` starts a comment (the
+tolerant table reader ``_read_table`` is shared with the scan files of
+:mod:`fastline.topography`). :func:`read_spectrum` checks that the table is
 a plausible spectrum before it is used (a height profile, x [m] against h [m], starts at x = 0
 and is refused). :func:`write_spectrum` writes such a table (``fastline psd --out``) with the
 measurement it came from in ``#`` header lines.
@@ -17,6 +19,7 @@ SI units throughout.
 
 from __future__ import annotations
 
+import math
 import os
 from collections.abc import Iterable, Mapping, Sequence
 from typing import TYPE_CHECKING
@@ -115,30 +118,86 @@ class SpectrumFileError(ValueError):
     """A spectrum file that cannot be read or does not look like a spectrum."""
 
 
-def _parse_rows(path: str) -> np.ndarray:
-    rows = []
+def _fields(line: str) -> list[str]:
+    """The fields of one data line: ';'-separated (decimal commas allowed), else ','-separated,
+    else separated by blanks or tabs."""
+    if ";" in line:
+        return [f.strip().replace(",", ".") for f in line.split(";")]
+    if "," in line:
+        return [f.strip() for f in line.split(",")]
+    return line.split()
+
+
+def _read_table(
+    path: str, *, what: str = "file", error: type[ValueError] = ValueError
+) -> tuple[np.ndarray, np.ndarray]:
+    """The numeric rows of a text table as exported by spreadsheets and instruments.
+
+    Read as UTF-8 (a byte-order mark is dropped; undecodable bytes in header lines are
+    replaced). ``#`` starts a comment; blank lines are skipped; so are the lines before the
+    first numeric row that do not parse as numbers (a header, with or without ``#``). Fields are
+    separated by ``;`` (then a decimal comma is a decimal point), ``,``, tabs or blanks; an
+    empty field or ``nan`` reads as NaN. A line that does not parse after the first numeric row
+    is corruption, not a header: an ``error`` naming the file and line. So is a row with another
+    number of columns than the first.
+
+    Parameters
+    ----------
+    path : str
+    what : str
+        What the file should be, for the message when it cannot be read.
+    error : type
+        The ValueError subclass raised.
+
+    Returns
+    -------
+    rows : ndarray, shape (n, columns)
+    lines : ndarray of int, shape (n,)
+        The line number (1-based) of each row, for the callers' own messages.
+    """
     try:
-        with open(path, encoding="utf-8") as fh:
-            for k, raw in enumerate(fh, 1):
-                line = raw.split("#", 1)[0].replace(",", " ").strip()
-                if not line:
-                    continue
-                parts = line.split()
-                if len(parts) != 2:
-                    raise SpectrumFileError(
-                        f"{path}:{k}: expected two columns q [1/m] and C [m^4], got {len(parts)}"
-                    )
-                try:
-                    rows.append((float(parts[0]), float(parts[1])))
-                except ValueError:
-                    raise SpectrumFileError(f"{path}:{k}: not a number in {line!r}") from None
+        with open(path, "rb") as fh:
+            data = fh.read()
     except OSError as e:
-        raise SpectrumFileError(f"cannot read spectrum file {path}: {e.strerror}") from None
-    except UnicodeDecodeError:
-        raise SpectrumFileError(f"{path}: not a text file") from None
+        raise error(f"cannot read {what} {path}: {e.strerror}") from None
+    if b"\x00" in data:
+        raise error(f"{path}: not a text file")
+    rows, lines, width = [], [], None
+    for number, raw in enumerate(data.decode("utf-8-sig", errors="replace").splitlines(), 1):
+        line = raw.split("#", 1)[0].strip()
+        fields = _fields(line)
+        if not any(fields):
+            continue
+        try:
+            values = [float(f) if f else math.nan for f in fields]
+        except ValueError:
+            if rows:
+                raise error(f"{path}:{number}: not a number in {line!r}") from None
+            continue  # header lines before the data
+        if width is None:
+            width = len(values)
+        elif len(values) != width:
+            raise error(f"{path}:{number}: {len(values)} columns, expected {width}")
+        rows.append(values)
+        lines.append(number)
+    if not rows:
+        raise error(f"{path}: no numeric data found")
+    return np.array(rows), np.array(lines)
+
+
+def _spectrum_rows(path: str) -> np.ndarray:
+    """The (q, C) rows of a spectrum file: two columns, no missing values, two rows or more."""
+    rows, lines = _read_table(path, what="spectrum file", error=SpectrumFileError)
+    if rows.shape[1] != 2:
+        raise SpectrumFileError(
+            f"{path}:{lines[0]}: expected two columns q [1/m] and C [m^4], got {rows.shape[1]}"
+        )
+    missing = np.isnan(rows).any(axis=1)
+    if missing.any():
+        raise SpectrumFileError(f"{path}:{lines[np.argmax(missing)]}: a value is missing (NaN)")
     if len(rows) < 2:
         raise SpectrumFileError(f"{path}: need at least two (q, C) rows, got {len(rows)}")
-    return np.array(rows)
+    return rows
 
 
 def read_spectrum(path: str | os.PathLike) -> TabulatedPSD:
@@ -147,7 +206,10 @@ def read_spectrum(path: str | os.PathLike) -> TabulatedPSD:
     Parameters
     ----------
     path : str or path-like
-        Text file; whitespace- or comma-separated columns, ``#`` comments.
+        Text file of two columns, as spreadsheets and instruments export it: separated by
+        blanks, tabs, ``,`` or ``;`` (then with decimal commas allowed); header lines before
+        the numbers (with or without ``#``), ``#`` comments, blank lines and a UTF-8
+        byte-order mark are skipped.
 
     Returns
     -------
@@ -163,7 +225,7 @@ def read_spectrum(path: str | os.PathLike) -> TabulatedPSD:
     from fastline.spectra import TabulatedPSD
 
     path = os.fspath(path)
-    q, C = _parse_rows(path).T
+    q, C = _spectrum_rows(path).T
     if q[0] == 0.0:
         raise SpectrumFileError(
             f"{path}: the first column starts at 0: this looks like a height profile, not a "

@@ -49,7 +49,7 @@ import numpy as np
 from numpy.typing import ArrayLike
 
 from fastline._jit import JIT
-from fastline._validate import E_STAR_RANGE, finite_array, in_span, positive
+from fastline._validate import E_STAR_RANGE, finite_array, in_span, positive, real_array
 from fastline.persson import (
     PerssonTheory,
     _log_pressure_from_table,
@@ -78,7 +78,7 @@ class PressureLaw(abc.ABC):
 
     def log_pressure(self, u: ArrayLike) -> np.ndarray:
         """ln p(u) (p in Pa) by safeguarded Newton on :meth:`separation_and_slope`."""
-        u = np.asarray(u, dtype=np.float64)
+        u = real_array("u", u)
         v = np.zeros_like(u)
         for _ in range(200):
             U, dU = self.separation_and_slope(v)
@@ -151,22 +151,22 @@ class PerssonLaw(PressureLaw):
         return f"PerssonLaw({self.theory!r})"
 
     def separation_and_slope(self, v: ArrayLike) -> tuple[np.ndarray, np.ndarray]:
-        v = np.ascontiguousarray(v, dtype=np.float64)
+        v = np.ascontiguousarray(real_array("v", v))
         u = np.empty_like(v)
         d = np.empty_like(v)
         _solver_law(v.ravel(), *self.theory._t1_solver, u.ravel(), d.ravel())
         return u, d
 
     def log_pressure(self, u: ArrayLike) -> np.ndarray:
-        u = np.ascontiguousarray(np.maximum(u, 1e-300), dtype=np.float64)
+        u = np.ascontiguousarray(np.maximum(real_array("u", u), 1e-300))
         return _log_pressure_from_table(u.ravel(), self.theory._t2).reshape(u.shape)
 
     def pressure(self, u: ArrayLike) -> np.ndarray:
-        u = np.ascontiguousarray(np.maximum(u, 1e-300), dtype=np.float64)
+        u = np.ascontiguousarray(np.maximum(real_array("u", u), 1e-300))
         return _pressure_from_table(u.ravel(), self.theory._t2).reshape(u.shape)
 
     def real_area(self, p: ArrayLike) -> np.ndarray:
-        p = np.asarray(p, dtype=np.float64)
+        p = real_array("p", p)
         if p.ndim == 1 and (p.size == 0 or p.min() >= 0.0):  # a solver's own: the fast path
             return self.theory._real_area(p)
         return self.theory.contact_area(p)
@@ -240,11 +240,11 @@ class ExponentialLaw(PressureLaw):
         return f"ExponentialLaw(u0={self.u0!r}, beta={self.beta!r}, E_star={self.E_star!r})"
 
     def separation_and_slope(self, v: ArrayLike) -> tuple[np.ndarray, np.ndarray]:
-        v = np.asarray(v, dtype=np.float64)
+        v = real_array("v", v)
         return self.u0 * (self._lnpb - v), np.full_like(v, -self.u0)
 
     def log_pressure(self, u: ArrayLike) -> np.ndarray:
-        return self._lnpb - np.asarray(u, dtype=np.float64) / self.u0
+        return self._lnpb - real_array("u", u) / self.u0
 
     def pressure(self, u: ArrayLike) -> np.ndarray:
         return np.exp(self.log_pressure(u))
@@ -430,14 +430,14 @@ class TabulatedLaw(PressureLaw):
         return f"TabulatedLaw(<{p.size} points, p from {p[0]:.3g} to {p[-1]:.3g} Pa>)"
 
     def separation_and_slope(self, v: ArrayLike) -> tuple[np.ndarray, np.ndarray]:
-        v = np.ascontiguousarray(v, dtype=np.float64)
+        v = np.ascontiguousarray(real_array("v", v))
         u = np.empty_like(v)
         d = np.empty_like(v)
         _tabulated_u(v.ravel(), self._V, self._U, self._S, u.ravel(), d.ravel())
         return u, d
 
     def log_pressure(self, u: ArrayLike) -> np.ndarray:
-        u = np.ascontiguousarray(u, dtype=np.float64)
+        u = np.ascontiguousarray(real_array("u", u))
         out = np.empty_like(u)
         _tabulated_v(u.ravel(), self._V, self._U, self._S, out.ravel())
         return out
@@ -452,5 +452,5 @@ class TabulatedLaw(PressureLaw):
     def real_area(self, p: ArrayLike) -> np.ndarray | None:
         if self._area is None:
             return None
-        v = np.log(np.maximum(np.asarray(p, dtype=np.float64), 1e-300))
+        v = np.log(np.maximum(real_array("p", p), 1e-300))
         return np.interp(v, self._V, self._area)

@@ -39,6 +39,7 @@ from numpy.typing import ArrayLike
 
 from fastline._abel import inverse_abel
 from fastline._validate import WAVENUMBER_RANGE, finite_scalar, integer, positive
+from fastline.io import _read_table
 from fastline.spectra import PSD, SelfAffinePSD, TabulatedPSD
 
 __all__ = [
@@ -80,6 +81,9 @@ MAX_DROPOUT_FRACTION = 0.2
 #: plausibility of a measured surface (a unit slip by 1e3 or 1e6 falls outside)
 PLAUSIBLE_H_RMS = 1e-3  # m
 PLAUSIBLE_SLOPE = (1e-6, 5.0)
+#: a surface is flat when its detrended h_rms is below this fraction of its largest height
+#: (float64 roundoff of the detrending is ~1e-16 of it)
+FLAT_TOLERANCE = 1e-12
 
 #: a usable range: "auto" (the rules), None (everything), or (lo, hi) in 1/m with None for a rule
 QRange = Literal["auto"] | tuple[float | None, float | None] | None
@@ -167,7 +171,7 @@ def _circle_residual(h: np.ndarray, dx: float, coef: np.ndarray, t: np.ndarray):
     for r, (row, c) in enumerate(zip(h, coef.T, strict=True)):
         a2 = c[0] / half**2  # h = a2 x^2 + a1 x + a0
         a1 = c[1] / half
-        if a2 == 0.0:
+        if abs(c[0]) <= FLAT_TOLERANCE * np.max(np.abs(row)):  # a sag of roundoff: a line
             raise ValueError("detrend='circle': a profile has no curvature (use 'linear')")
         R0 = 1.0 / abs(2.0 * a2)
         if R0 <= half:
@@ -272,6 +276,19 @@ def _span(x: np.ndarray, y: np.ndarray, lo: float, hi: float):
         xs.append([hi])
         ys.append([y[-1] * (hi / x[-1]) ** s1])
     return np.concatenate(xs), np.concatenate(ys)
+
+
+def _refuse_flat(h_rms: float, h: np.ndarray, what: str, detrend: str) -> None:
+    """A ValueError when the detrended heights are zero to roundoff (a constant or a plane
+    surface has no roughness spectrum), before the plausibility check blames the units."""
+    scale = float(np.nanmax(np.abs(h))) if np.any(np.isfinite(h)) else 0.0
+    if h_rms <= FLAT_TOLERANCE * scale or h_rms == 0.0:
+        form = "mean" if detrend == "mean" else f"{detrend} form"
+        raise ValueError(
+            f"the {what} is flat: after removing its {form} the heights vary by h_rms = "
+            f"{h_rms:.3g} m, roundoff of heights up to {scale:.3g} m; a flat surface has no "
+            "roughness spectrum (does the file hold the heights?)"
+        )
 
 
 def _check_plausible(h_rms: float, slope: float, what: str) -> None:
@@ -556,9 +573,11 @@ def psd_from_profile(
     noise = None if noise is None else positive("noise", noise, "m")
     w = _window(window, rows.shape[-1])  # checks the name before any work
 
-    rows = _fill_dropouts(rows, nan)
-    rows, radius = _detrend_rows(rows, dx, detrend)
+    raw = _fill_dropouts(rows, nan)
+    _refuse_flat(float(np.std(raw)), raw, "profile", "mean")  # before a form fit divides by 0
+    rows, radius = _detrend_rows(raw, dx, detrend)
     h_rms = float(np.sqrt(np.mean(rows**2)))
+    _refuse_flat(h_rms, raw, "profile", detrend)
     slope = float(np.sqrt(np.mean((np.diff(rows, axis=-1) / dx) ** 2)))
     _check_plausible(h_rms, slope, "psd_from_profile")
     k, C = _periodogram(rows, dx, w)
@@ -855,6 +874,7 @@ def psd_from_map(
 
     maps = [_detrend_map(_fill_dropouts(m, nan), detrend) for m in stack]
     h_rms = float(np.sqrt(np.mean([np.mean(m**2) for m in maps])))
+    _refuse_flat(h_rms, stack, "map", detrend)
     h = maps[0]
     slope = float(
         np.sqrt(np.mean((np.diff(h, axis=1) / dx) ** 2) + np.mean((np.diff(h, axis=0) / dy) ** 2))
@@ -1227,33 +1247,6 @@ def _unit(name: str, unit) -> float:
     return UNITS[unit]
 
 
-def _read_text_table(path: str) -> np.ndarray:
-    """Numeric rows of a text file; header and comment lines skipped; comma, semicolon, tab or
-    blank separated; empty fields and 'nan' read as NaN."""
-    rows, width = [], None
-    with open(path, encoding="utf-8", errors="replace") as fh:
-        for number, raw in enumerate(fh, 1):
-            line = raw.split("#", 1)[0].strip()
-            if not line:
-                continue
-            sep = "," if "," in line else (";" if ";" in line else None)
-            fields = [f.strip() for f in (line.split(sep) if sep else line.split())]
-            try:
-                values = [float(f) if f else math.nan for f in fields]
-            except ValueError:
-                if rows:
-                    raise ValueError(f"{path}:{number}: not a number in {line!r}") from None
-                continue  # header lines before the data
-            if width is None:
-                width = len(values)
-            elif len(values) != width:
-                raise ValueError(f"{path}:{number}: {len(values)} columns, expected {width}")
-            rows.append(values)
-    if not rows:
-        raise ValueError(f"{path}: no numeric data found")
-    return np.array(rows)
-
-
 def _uniform_spacing(x: np.ndarray, path: str) -> float:
     """dx of positions x that must lie on a uniform grid (to 1 % of dx)."""
     j = np.arange(x.size)
@@ -1295,6 +1288,22 @@ def _surfacetopography(path: str):
     return 2, heights.T, (float(sizes[0] / points[0]), float(sizes[1] / points[1]))
 
 
+def _refuse_columns(path: str, columns: int, traces: bool) -> None:
+    """Refuse a table of more than two columns read as a line scan, unless it can be one trace
+    per line (``traces``, :func:`read_topography`) with at least MIN_POINTS heights each."""
+    if traces and columns >= MIN_POINTS:
+        return
+    other = (
+        f"; one trace per line needs at least {MIN_POINTS} heights per line"
+        if traces
+        else "; a height map: read_map"
+    )
+    raise ValueError(
+        f"{path}: expected 1 column (heights, with dx) or 2 columns (x, height), got {columns}"
+        + other
+    )
+
+
 def _load(path, *, dx, unit, x_unit, kind):
     """(dimension, heights, spacings) from a text, .npy or instrument file (kind: profile,
     map or None for either)."""
@@ -1306,9 +1315,11 @@ def _load(path, *, dx, unit, x_unit, kind):
         return _surfacetopography(path)
     scale = _unit("unit", unit)
     scale_x = _unit("x_unit", unit if x_unit is None else x_unit)
-    data = np.load(path, allow_pickle=False) if ext in _NUMPY else _read_text_table(path)
+    data = np.load(path, allow_pickle=False) if ext in _NUMPY else _read_table(path)[0]
     data = np.asarray(data, dtype=np.float64)
     columns = 1 if data.ndim == 1 else data.shape[1]
+    if kind != "map" and data.ndim == 2 and columns > 2:
+        _refuse_columns(path, columns, traces=kind is None)
     if kind == "map" or (kind is None and data.ndim == 2 and columns > 2):
         if data.ndim != 2 or min(data.shape) < 2:
             raise ValueError(f"{path}: a map needs a 2D array of heights, got shape {data.shape}")
@@ -1319,8 +1330,6 @@ def _load(path, *, dx, unit, x_unit, kind):
         if dx is None:
             raise ValueError(f"{path}: one column of heights: dx (m) is required")
         return 1, data.ravel() * scale, (dx,)
-    if columns != 2:
-        raise ValueError(f"{path}: a profile has one (h) or two (x, h) columns, got {columns}")
     x, h = data[:, 0] * scale_x, data[:, 1] * scale
     if np.any(np.isnan(x)):
         raise ValueError(f"{path}: the x column has missing values")

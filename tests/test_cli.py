@@ -334,6 +334,48 @@ def test_bad_options(argv, needle, capsys):
 
 
 @pytest.mark.parametrize(
+    "extra, named",
+    [
+        (["--h-rms", "1e-6"], ["--h-rms"]),
+        (["--gamma", "0.3"], ["--gamma"]),
+        (["--variant", "yang-persson-energy"], ["--variant"]),  # the default, but given
+        (["--psd", "examples/psd_example.txt", "--hardness", "1e9"], ["--psd", "--hardness"]),
+        (["--hurst", "0.5", "--q0", "2e3", "--qr", "2e4", "--q1", "1e8"], ["--hurst", "--q1"]),
+        (["--scan", "examples/scan_example.txt", "--dx", "1e-6"], ["--scan"]),
+        (["--geometry", "sphere", "--gamma", "0.5"], ["--gamma"]),
+    ],
+)
+@pytest.mark.parametrize("command", ["profile", "sweep"])
+def test_hertz_refuses_roughness_options(command, extra, named, monkeypatch, capsys):
+    """--model hertz solves smooth surfaces: roughness and theory options would be silently
+    ignored, so they are refused by name (one line, exit 2) before anything is read or solved."""
+
+    def no_solve(*args, **kwargs):
+        raise AssertionError("solved")
+
+    monkeypatch.setattr(fastline.line_contact, "solve_line_contact", no_solve)
+    monkeypatch.setattr(fastline.line_contact.LineContact, "sweep", no_solve)
+    status, out, err = run([command, "--model", "hertz", *extra], capsys)
+    assert status == 2 and out == ""
+    lines = [ln for ln in err.splitlines() if ln.strip()]
+    assert len(lines) == 1 and lines[0].startswith("fastline: error: --model hertz"), err
+    assert all(flag in lines[0] for flag in named)
+
+
+def test_hertz_alone_and_theory_options_with_other_models(capsys):
+    """The refusal is hertz's only: --model hertz alone solves, --gamma and --variant still
+    reach the exponential law."""
+    status, out, _ = run(["profile", "--model", "hertz", "--n", 64], capsys)
+    assert status == 0 and "model            hertz" in out
+    base = ["profile", "--model", "exponential", "--n", 64, "--load", 1e3]
+    _, out45, _ = run(base, capsys)
+    status, out30, _ = run(base + ["--gamma", 0.3, "--variant", "yang-persson-printed"], capsys)
+    assert status == 0 and "model            exponential" in out30
+    peak = [ln for ln in out45.splitlines() if ln.startswith("peak pressure")]
+    assert peak and peak[0] not in out30  # the theory options moved the result
+
+
+@pytest.mark.parametrize(
     "argv",
     [
         ["profile", "--csv", "/nonexistent-dir/p.csv"],

@@ -117,3 +117,89 @@ def test_ci_runs_the_readme_setup_commands():
     lines = [ln for ln in code.splitlines() if ln.strip()]
     assert len(lines) == 2 and all(ln in ci for ln in lines)
     assert all(".venv/bin/" in ln for ln in lines)  # no activated venv needed
+
+
+def skipped_python_blocks():
+    """(page, line, code) of the python blocks marked not to run."""
+    for page in PAGES:
+        text = open(os.path.join(ROOT, page), encoding="utf-8").read()
+        for m in FENCE.finditer(text):
+            before = text[: m.start()].rstrip("\n").rsplit("\n", 1)[-1]
+            if m.group(1) == "python" and before.strip() == SKIP:
+                yield page, text[: m.start()].count("\n") + 1, m.group(2)
+
+
+def _free_names(code: str, name: str) -> set[str]:
+    """Names a block reads at module level (or as globals of its functions) but never binds."""
+    import builtins
+    import symtable
+
+    top = symtable.symtable(code, name, "exec")
+    bound = {s.get_name() for s in top.get_symbols() if s.is_assigned() or s.is_imported()}
+    read, stack = set(), [top]
+    while stack:
+        table = stack.pop()
+        stack += table.get_children()
+        for s in table.get_symbols():
+            if s.is_referenced() and (table is top or s.is_global()):
+                read.add(s.get_name())
+    return read - bound - set(dir(builtins))
+
+
+def test_skipped_blocks_are_complete():
+    """A block the test does not run (it needs a cluster, a licence, ...) still compiles and
+    defines or imports every name it uses: a reader can paste it as it stands."""
+    found = list(skipped_python_blocks())
+    assert found
+    for page, line, code in found:
+        where = f"{page}:{line}"
+        compile(code, where, "exec")
+        assert not _free_names(code, where), (where, _free_names(code, where))
+
+
+def test_sphere_signature_block_is_the_real_one():
+    """The signature shown in docs/sphere.md is PointContact's (names, order, defaults)."""
+    import ast
+    import inspect
+
+    import fastline as fl
+
+    text = open(os.path.join(ROOT, "docs", "sphere.md"), encoding="utf-8").read()
+    params = re.search(r"^fl\.PointContact(\(.*?\))$", text, re.MULTILINE | re.DOTALL).group(1)
+    shown = ast.parse(f"def f{params}: pass").body[0].args
+    real = inspect.signature(fl.PointContact).parameters
+    names = [a.arg for a in shown.args] + [a.arg for a in shown.kwonlyargs]
+    assert names == list(real)
+    defaults = dict(zip([a.arg for a in shown.kwonlyargs], shown.kw_defaults, strict=True))
+    for name, node in defaults.items():
+        assert ast.literal_eval(node) == real[name].default, name
+    assert [a.arg for a in shown.args] == [
+        p.name for p in real.values() if p.kind is p.POSITIONAL_OR_KEYWORD
+    ]
+
+
+def test_docstring_references_resolve():
+    """Every ``:class:`~fastline.x.Y``` (func, meth, mod, ...) in the package's source names
+    something that exists."""
+    import importlib
+
+    pat = re.compile(r":(?:class|func|meth|mod|attr|data|exc|obj):`~?(fastline(?:\.\w+)+)`")
+    missing = []
+    for base, _dirs, files in os.walk(os.path.join(ROOT, "fastline")):
+        for f in files:
+            if not f.endswith(".py"):
+                continue
+            text = open(os.path.join(base, f), encoding="utf-8").read()
+            for ref in {m.group(1) for m in pat.finditer(text)}:
+                parts = ref.split(".")
+                for i in range(len(parts), 0, -1):
+                    try:
+                        obj = importlib.import_module(".".join(parts[:i]))
+                    except ImportError:
+                        continue
+                    break
+                for attr in parts[i:]:
+                    obj = getattr(obj, attr, None)
+                if obj is None:
+                    missing.append((f, ref))
+    assert not missing, missing

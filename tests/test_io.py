@@ -43,7 +43,9 @@ def test_example_spectrum_is_plausible():
         ("0 1e-6\n1e-5 2e-6\n2e-5 -1e-6\n", "this looks like a height profile, not a spectrum"),
         ("1e3 1e-20\n1e4 -1e-22\n", "C(q) < 0"),
         ("1e3 1e-20 5\n1e4 1e-22 5\n", "expected two columns"),
-        ("1e3 abc\n1e4 1e-22\n", "not a number"),
+        ("1e3 1e-20\n1e4 abc\n", "f.txt:2: not a number"),
+        ("q C\n1e3 1e-20\n1e4 1e-22\nend of data\n", "f.txt:4: not a number"),
+        ("1e3,1e-20\n1e4,\n", "f.txt:2: a value is missing"),
         ("1e3 1e-20\n", "at least two"),
         ("1e4 1e-20\n1e3 1e-22\n", "strictly increasing"),
     ],
@@ -53,6 +55,50 @@ def test_read_spectrum_rejects(tmp_path, text, needle):
         io.read_spectrum(write(tmp_path, text))
     assert needle in str(e.value)
     assert issubclass(io.SpectrumFileError, ValueError)
+
+
+SPECTRUM_Q = np.geomspace(1e3, 1e7, 9)
+SPECTRUM_C = 1e-20 * (SPECTRUM_Q / 1e3) ** -3.6
+
+
+def _table_text(sep: str, decimal: str = ".") -> str:
+    return "\n".join(
+        f"{q!r}{sep}{C!r}".replace(".", decimal) if decimal != "." else f"{q!r}{sep}{C!r}"
+        for q, C in zip(SPECTRUM_Q.tolist(), SPECTRUM_C.tolist(), strict=True)
+    )
+
+
+@pytest.mark.parametrize(
+    "text",
+    [
+        "q [1/m], C [m^4]\n" + _table_text(","),  # a spreadsheet header without '#'
+        "Instrument X export\nq;C\n\n" + _table_text(";"),
+        "q\tC\n" + _table_text("\t") + "\n\n",
+        "\ufeff" + _table_text(" "),  # UTF-8 byte-order mark
+        "\ufeffq;C\r\n" + _table_text(";", decimal=",").replace("\n", "\r\n"),
+        "# written by hand\n" + _table_text(", ") + "  # last row\n",
+    ],
+    ids=["comma-header", "semicolon-headers", "tab", "bom", "decimal-comma-crlf", "comments"],
+)
+def test_read_spectrum_accepts_exports(tmp_path, text):
+    """Spreadsheet and instrument exports: headers without '#', ',', ';' (decimal commas), tabs,
+    a byte-order mark, blank lines, CRLF: all read to the same table, exactly."""
+    path = tmp_path / "export.csv"
+    path.write_bytes(text.encode("utf-8"))
+    tab = io.read_spectrum(path)
+    np.testing.assert_array_equal(tab.q, SPECTRUM_Q)
+    np.testing.assert_array_equal(tab.C, SPECTRUM_C)
+
+
+def test_read_spectrum_names_the_line_of_a_bad_row(tmp_path):
+    body = _table_text(",").splitlines()
+    bad = ["q, C"] + body[:3] + ["1e5, 1e-22, 7"] + body[3:]
+    with pytest.raises(io.SpectrumFileError, match=r"f.txt:5: 3 columns, expected 2"):
+        io.read_spectrum(write(tmp_path, "\n".join(bad)))
+    with pytest.raises(io.SpectrumFileError, match=r"f.txt:2: expected two columns .* got 3"):
+        io.read_spectrum(write(tmp_path, "x y z\n1 2 3\n4 5 6\n"))
+    with pytest.raises(io.SpectrumFileError, match="no numeric data"):
+        io.read_spectrum(write(tmp_path, "q [1/m], C [m^4]\n"))
 
 
 def test_read_spectrum_missing_or_binary(tmp_path):

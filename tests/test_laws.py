@@ -90,6 +90,30 @@ def test_tabulated_law_interpolates_monotonically(theory):
     assert law.u0 > 0 and law.separation_and_slope(np.array([hi + 1.0]))[1][0] < 0
 
 
+def test_laws_reject_complex(theory):
+    """Each law's evaluations refuse complex input with a TypeError naming the argument."""
+    u, p = persson_curve(theory, per_decade=5)
+    laws = [
+        fl.PerssonLaw(theory),
+        fl.ExponentialLaw.from_theory(theory),
+        fl.TabulatedLaw(u, p, real_area=theory.contact_area(p)),
+    ]
+    z = np.array([1e-6 + 1e-9j, 2e-6])
+    for law in laws:
+        for method, name in [
+            (law.separation_and_slope, "v"),
+            (law.log_pressure, "u"),
+            (law.pressure, "u"),
+            (law.real_area, "p"),
+        ]:
+            with pytest.raises(TypeError, match=rf"^{name} must be real"):
+                method(z)
+    with pytest.raises(TypeError, match="u0 must be real"):
+        fl.ExponentialLaw(1e-6 + 0j, 1.0, 1e9)
+    with pytest.raises(TypeError, match="^u must be real"):
+        fl.TabulatedLaw(u + 0j, p)
+
+
 def test_tabulated_law_any_order_and_area(theory):
     u, p = persson_curve(theory, per_decade=5)
     perm = np.random.default_rng(1).permutation(p.size)

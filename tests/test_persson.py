@@ -403,6 +403,32 @@ def test_methods_reject(bad):
         th.pressure(bad)
 
 
+_COMPLEX = [np.array([1e5 + 1j]), [1e5 + 0j, 2e5], np.complex128(1e5), 1e5 + 1e-3j]
+_COMPLEX_CALLS = {
+    "separation": lambda th, z: th.separation(z),
+    "separation_table": lambda th, z: th.separation_table(z),
+    "pressure": lambda th, z: th.pressure(z),
+    "contact_area p": lambda th, z: th.contact_area(z),
+    "contact_area q": lambda th, z: th.contact_area(1e5, q=np.real(z) / 1e5 * 1e6 + 1j),
+    "apparent_area zeta": lambda th, z: th.apparent_area(z, 1e5),
+    "mean_separation p": lambda th, z: th.mean_separation(1.0, z),
+    "edge_separation p": lambda th, z: th.edge_separation(2.0, z),
+    "critical_gap": lambda th, z: th.critical_gap(z),
+    "critical_gap threshold": lambda th, z: th.critical_gap(1e5, threshold=0.42 + 0j),
+    "exponential_valid_range": lambda th, z: th.exponential_valid_range(rtol=0.05 + 0j),
+}
+
+
+@pytest.mark.parametrize("call", list(_COMPLEX_CALLS))
+@pytest.mark.parametrize("z", _COMPLEX, ids=["array", "list", "np-scalar", "scalar"])
+def test_methods_reject_complex(call, z):
+    """Complex input is a TypeError naming the parameter (numpy would silently keep the real
+    part), whatever its imaginary part, even 0."""
+    th = _theory("surface1")
+    with pytest.raises(TypeError, match=r"\b(p|u|q|zeta|threshold|rtol) must be real"):
+        _COMPLEX_CALLS[call](th, z)
+
+
 # ------------------------------------------------------------------------------------------------
 # quintic Hermite kernel
 # ------------------------------------------------------------------------------------------------

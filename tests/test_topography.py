@@ -668,6 +668,63 @@ def test_read_bad_files(tmp_path):
         tp.read_profile(tmp_path / "jump.txt", unit="furlong")
 
 
+def test_scan_and_spectrum_files_share_one_reader(tmp_path):
+    """The same export quirks (BOM, ';' with decimal commas, headers, tabs) read the same way
+    for a profile as for a spectrum; a non-numeric line after the data names its line."""
+    x = np.arange(64) * 0.5  # um
+    h = np.random.default_rng(5).normal(size=64).round(6)  # um
+    rows = [f"{a!r};{b!r}".replace(".", ",") for a, b in zip(x.tolist(), h.tolist(), strict=True)]
+    path = tmp_path / "export.csv"
+    path.write_bytes(("\ufeffPosition [um];Height [um]\r\n" + "\r\n".join(rows)).encode())
+    prof = tp.read_profile(path, unit="um")
+    assert prof.dx == pytest.approx(0.5e-6, rel=RTOL_EXACT)
+    np.testing.assert_allclose(prof.heights, h * 1e-6, rtol=RTOL_EXACT)
+    tab = "\n".join(f"{a}\t{b}" for a, b in zip(x, h, strict=True))
+    (tmp_path / "tab.txt").write_text("x\th\n" + tab)
+    prof = tp.read_profile(tmp_path / "tab.txt", unit="um")
+    np.testing.assert_array_equal(prof.heights, h * 1e-6)
+    (tmp_path / "tail.txt").write_text("h\n" + "\n".join(map(str, h)) + "\nEND\n")
+    with pytest.raises(ValueError, match=r"tail.txt:66: not a number in 'END'"):
+        tp.read_profile(tmp_path / "tail.txt", dx=1e-6)
+
+
+def test_three_columns_are_not_a_profile(tmp_path):
+    """(x, h, h) is neither layout of a profile nor one trace per line: refused, naming the
+    column count, with or without dx (never read as 3-point traces)."""
+    x = np.arange(200) * 1e-6
+    h = np.random.default_rng(6).normal(size=200) * 1e-7
+    np.savetxt(tmp_path / "xhh.csv", np.column_stack([x, h, h]), delimiter=",")
+    expected = r"expected 1 column \(heights, with dx\) or 2 columns \(x, height\), got 3"
+    for read in (tp.read_profile, tp.read_topography):
+        for dx in (None, 1e-6):
+            with pytest.raises(ValueError, match=expected):
+                read(tmp_path / "xhh.csv", dx=dx)
+    np.save(tmp_path / "xhh.npy", np.column_stack([x, h, h]))
+    with pytest.raises(ValueError, match=expected):
+        tp.read_topography(tmp_path / "xhh.npy", dx=1e-6)
+    # one trace per line (the documented layout) still reads as parallel traces
+    np.savetxt(tmp_path / "traces.txt", np.tile(h[:40], (3, 1)))
+    traces = tp.read_topography(tmp_path / "traces.txt", dx=1e-6)
+    assert isinstance(traces, tp.Map) and traces.heights.shape == (3, 40)
+
+
+@pytest.mark.parametrize("detrend", ["linear", "mean", "parabola", "circle"])
+@pytest.mark.parametrize("tilt", [0.0, 1e-3])
+def test_flat_profile_is_called_flat(detrend, tilt):
+    """A constant profile (any detrending) and a plane one (detrended by a line or a form) fail
+    with "flat" (a circle fit: "no curvature"), before any unit warning."""
+    h = 5e-6 + tilt * np.arange(256) * 1e-6
+    if tilt and detrend == "mean":
+        return  # a tilt is roughness to the mean detrending
+    flat = "no curvature" if tilt and detrend == "circle" else "the profile is flat"
+    with warnings.catch_warnings():
+        warnings.simplefilter("error", tp.TopographyWarning)
+        with pytest.raises(ValueError, match=flat):
+            tp.psd_from_profile(h, 1e-6, detrend=detrend)
+        with pytest.raises(ValueError, match="the map is flat"):
+            tp.psd_from_map(np.full((64, 64), 5e-6) + tilt * np.arange(64) * 1e-6, 1e-6)
+
+
 def test_height_file_is_not_a_spectrum(tmp_path):
     """A profile (x from 0, signed heights) passed where a spectrum is read is refused."""
     from fastline.io import SpectrumFileError, read_spectrum
