@@ -311,14 +311,17 @@ def _scan_lines(scan, table: bool) -> list[str]:
     )
     f = scan.fit
     hurst = f"H {f.hurst:.3f} ± {f.hurst_err:.2g}"
-    if f.at_bound:  # held there: no error bar
+    if f.hurst_at_bound:  # held there: no error bar
         steeper = "faster" if f.hurst >= 1.0 else "slower"
         hurst = f"H {f.hurst:g} (held at its bound: C falls {steeper} than self-affine can)"
+    qr = f"q_r {f.qr:.4g} ± {f.qr_err:.2g} 1/m"
+    if f.qr_at_bound:
+        qr = f"q_r {f.qr:.4g} 1/m not resolved (the roll-off may lie anywhere below)"
     lines.append(
-        f"fit              {hurst}, q_r {f.qr:.4g} ± {f.qr_err:.2g} 1/m, h_rms {f.h_rms:.4g} ± "
-        f"{f.h_rms_err:.2g} m (self-affine with roll-off fitted to C(q) over "
-        f"{f.q_range[0]:.4g}-{f.q_range[1]:.4g} 1/m; scatter of ln C {f.rms_residual:.2g} rms, "
-        f"{f.n_points} points)"
+        f"fit              {hurst}, {qr}, h_rms {f.h_rms:.4g} ± {f.h_rms_err:.2g} m "
+        f"(self-affine with roll-off fitted to {f.fitted_to} over {f.q_range[0]:.4g}-"
+        f"{f.q_range[1]:.4g} 1/m; scatter of ln {f.fitted_to.split('(')[0]} "
+        f"{f.rms_residual:.2g} rms, {f.n_points} points)"
     )
     if table:
         t = scan.psd

@@ -745,7 +745,7 @@ def _c_panel(ax, scan) -> None:
     else:
         what = "inverse Abel transform"
     ax.loglog(measured.q, measured.C, "o", ms=3, color="C0", label=what)
-    qf = np.geomspace(fit.psd.q0, fit.psd.q1 * (1 - 1e-12), 200)
+    qf = np.geomspace(fit.psd.q0, min(fit.psd.q1, measured.q1) * (1 - 1e-12), 200)  # the data's
     label = f"fit: $H$ = {fit.hurst:.2f}, $q_r$ = {_times_ten(fit.qr)} 1/m"
     ax.loglog(qf, fit.psd(qf), "-", color="C1", lw=1.2, label=label)
     hi = max(table.q1, measured.q1)

@@ -5,9 +5,11 @@ parallel line scans or a height map (:func:`fastline.topography.read_topography`
 spectrum over the usable range (:func:`~fastline.topography.psd_from_profile` and the exact
 inverse Abel transform :func:`~fastline.topography.isotropic_from_1d`, or
 :func:`~fastline.topography.psd_from_map`), fit the self-affine model
-(:func:`~fastline.topography.fit_self_affine`) and, on request, cut the table at q1 or continue it
-to q1 by the fitted power law (:func:`~fastline.topography.extend_psd`). Every number is the one
-those functions return; this module only chains them and records what was done.
+(:func:`~fastline.topography.fit_self_affine`: to C1D for line scans, to C(q) for maps) and, on
+request, cut the table at q1 or continue it to q1 by the fitted power law
+(:func:`~fastline.topography.extend_psd`; the fitted model ``fit.psd`` spans the same range).
+Every number is the one those functions return; this module only chains them and records what
+was done.
 
 Conventions and SI units as :mod:`fastline.topography`: heights and spacings in m, wavenumbers
 in 1/m, C1D in m^3, C(q) in m^4 with ``h_rms^2 = 2 pi int q C dq``.
@@ -69,7 +71,9 @@ class ScanSpectrum:
     q_range : tuple of float
         The usable range in 1/m; ``limits`` the rule that set each end (keys of LIMIT_RULES).
     fit : SelfAffineFit
-        The self-affine model fitted to ``measured``.
+        The self-affine model fitted over the usable range: to the 1D spectrum ``spectrum``
+        (line scans) or to ``measured`` (maps). ``fit.psd`` spans the same range as ``psd``:
+        the usable range, cut at q1, or continued to q1 (with ``extend``) by the model itself.
     psd : TabulatedPSD
         The table to use: ``measured``, cut at q1, or continued to q1 above ``extended_from``.
     extended_from : float or None
@@ -252,20 +256,33 @@ def _map_stage(h, dx, dy, options):
     return (raw.q, raw.C), measured, limits
 
 
-def _table(measured: TabulatedPSD, fit, q1, extend: bool):
-    """(the table to use, the wavenumber above which it is extrapolated or None)."""
-    if q1 is None:
-        return measured, None
+def _check_q1(measured: TabulatedPSD, q1, extend: bool) -> None:
+    """q1 above the usable range needs extend (before the fit)."""
     top = float(measured.q1)
-    if q1 <= top:
-        return tp.extend_psd(measured, q1), None
-    if not extend:
+    if q1 is not None and q1 > top and not extend:
         raise ValueError(
             f"q1 = {q1:.4g} 1/m lies above the usable range, which ends at {top:.4g} 1/m: "
             "continuing the spectrum there is an assumption, not a measurement; ask for it "
             "with extend=True (--extend on the command line), which continues the power law "
             "of the fitted H"
         )
+
+
+def _fit(spectrum, measured: TabulatedPSD, q1) -> tp.SelfAffineFit:
+    """The self-affine model fitted to C1D (line scans: :func:`fit_self_affine` of the
+    ProfileSpectrum, not of the noisier inverse transform) or to C(q) (maps), spanning the
+    table's range: from the usable range's low end to q1 when given."""
+    return tp.fit_self_affine(measured if spectrum is None else spectrum, q0=measured.q0, q1=q1)
+
+
+def _table(measured: TabulatedPSD, fit, q1, extend: bool):
+    """(the table to use, the wavenumber above which it is extrapolated or None)."""
+    if q1 is None:
+        return measured, None
+    _check_q1(measured, q1, extend)
+    top = float(measured.q1)
+    if q1 <= top:
+        return tp.extend_psd(measured, q1), None
     return tp.extend_psd(measured, q1, hurst=fit.hurst), top
 
 
@@ -366,7 +383,8 @@ def analyse_scan(
     else:
         spectrum, raw, measured = _profile_stage(h, dx, options)
         q_rng, limits = spectrum.q_range, spectrum.limits
-    fit = tp.fit_self_affine(measured)
+    _check_q1(measured, q1, extend)
+    fit = _fit(spectrum, measured, q1)
     psd, extended_from = _table(measured, fit, q1, extend)
     return ScanSpectrum(
         path=path,

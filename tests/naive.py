@@ -840,3 +840,18 @@ def radial_leak_rate(r, u_c, r_in, pressure_drop, viscosity):
         c = 12.0 * viscosity / (2.0 * math.pi * u_c[k] ** 3)
         total += quad(lambda s, c=c: c / s, lo, hi, epsabs=0.0, epsrel=1e-13)[0]
     return pressure_drop / total
+
+
+def gaussian_profiles(c1d, n: int, dx: float, count: int, seed: int) -> np.ndarray:
+    """``count`` periodic Gaussian profiles (count, n) of the two-sided 1D spectrum c1d(k):
+    Fourier coefficients at ``k_m = 2 pi m / L`` (m = 1 .. n/2) with independent Gaussian real
+    and imaginary parts of total variance ``E|F_m|^2 = 2 pi L C1D(k_m) / dx^2`` (the inverse of
+    ``C1D = dx^2 / (2 pi L) |F|^2``; the Nyquist coefficient real), zero mean."""
+    L = n * dx
+    m = np.arange(n // 2 + 1)
+    k = 2.0 * math.pi * np.maximum(m, 1) / L
+    power = np.where(m > 0, 2.0 * math.pi * L * np.asarray(c1d(k)) / (dx * dx), 0.0)
+    rng = np.random.default_rng(seed)
+    z = rng.standard_normal((count, m.size)) + 1j * rng.standard_normal((count, m.size))
+    z[:, -1] = z[:, -1].real * math.sqrt(2.0)  # real at Nyquist, the same variance
+    return np.fft.irfft(z * np.sqrt(0.5 * power), n, axis=-1)

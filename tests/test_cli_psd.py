@@ -66,7 +66,7 @@ def rows_api(d):
     fit."""
     spectrum = tp.psd_from_profile(np.loadtxt(d / "rows.txt") * 1e-6, DX)
     iso = tp.isotropic_from_1d(spectrum.k, spectrum.C1D)
-    return spectrum, iso, tp.fit_self_affine(iso)
+    return spectrum, iso, tp.fit_self_affine(spectrum, q0=iso.q0)
 
 
 ROWS = ["--dx", DX, "--units", "um"]

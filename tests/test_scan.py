@@ -46,7 +46,7 @@ def test_profiles_equal_the_elementary_calls(files, surface):
     h = np.loadtxt(files["rows"]) * 1e-6  # as written: 8 rows in um
     spectrum = tp.psd_from_profile(h, DX)
     iso = tp.isotropic_from_1d(spectrum.k, spectrum.C1D)
-    fit = tp.fit_self_affine(iso)
+    fit = tp.fit_self_affine(spectrum, q0=iso.q0, q1=1e8)  # fitted to C1D, the model to q1
     table = tp.extend_psd(iso, 1e8, hurst=fit.hurst)
     assert scan.kind == "profiles" and scan.shape == (8, 256) and scan.n_profiles == 8
     np.testing.assert_allclose(scan.spectrum.C1D, spectrum.C1D, rtol=SAME)
@@ -80,6 +80,20 @@ def test_map_equals_psd_from_map_and_names_its_rules(files, surface):
     every = analyse_scan(files["map"], dx=DX, as_map=True, q_range=None)
     assert every.limits == {"low": "all", "high": "all"}
     assert set(LIMIT_RULES) >= {scan.limits["low"], noisy.limits["high"], "tip radius"}
+
+
+@pytest.mark.parametrize("as_map", [False, True])
+def test_the_fitted_model_spans_the_table(files, as_map):
+    """fit.psd follows q1 as psd does: continued to q1 with extend, cut at q1 below the top."""
+    path, unit = (files["map"], "m") if as_map else (files["rows"], "um")
+    for q1, extend in ((1e8, True), (3e5, False)):
+        scan = analyse_scan(path, dx=DX, unit=unit, as_map=as_map, q1=q1, extend=extend)
+        assert scan.fit.psd.q1 == pytest.approx(q1, rel=SAME) == scan.psd.q1
+        assert scan.fit.psd.q0 == pytest.approx(scan.psd.q0, rel=SAME)
+        assert scan.fit.psd.hurst == scan.fit.hurst
+    plain = analyse_scan(path, dx=DX, unit=unit, as_map=as_map)
+    assert plain.fit.psd.q1 == pytest.approx(plain.measured.q1, rel=SAME)
+    assert plain.fit.hurst == pytest.approx(scan.fit.hurst, rel=SAME)  # q1 moves only the range
 
 
 def test_cut_at_q1_below_the_range(files):
