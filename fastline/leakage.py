@@ -948,15 +948,16 @@ def _where(lo, hi, p, share):
     return cum, in_fwhm, float(hi - lo)
 
 
-def _half_width(x: np.ndarray, hi: np.ndarray, p: np.ndarray) -> float:
+def _half_width(hi: np.ndarray, p: np.ndarray) -> float:
     """Half width at half maximum (m) of a radial pressure profile: the outer edge of the
     outermost cell with ``p >= max(p) / 2``."""
     return float(hi[np.nonzero(p >= 0.5 * p.max())[0][-1]])
 
 
-def _orifice(x, hi, p, inner_radius) -> tuple[dict, list[str]]:
-    """Radial flow: the orifice's size against the contact it perforates."""
-    share = inner_radius / _half_width(x, hi, p)
+def _orifice(hi, p, inner_radius) -> tuple[dict, list[str]]:
+    """Radial flow: the orifice's size against the contact it perforates (``hi``: the cells'
+    outer edges, m)."""
+    share = inner_radius / _half_width(hi, p)
     msgs = []
     if share > MAX_ORIFICE_SHARE:
         msgs.append(
@@ -1130,7 +1131,7 @@ def _leak(x, p, theory, flow: _Flow, warn: bool, converged: bool) -> LeakResult:
         theory, p, flow.pressure_drop, width90, min_gap, sealed, flow.mean_free_path
     )
     if radial:
-        more, more_msgs = _orifice(x, _cell_edges(x, None)[1], p, flow.inner_radius)
+        more, more_msgs = _orifice(_cell_edges(x, None)[1], p, flow.inner_radius)
         diag.update(more)
         msgs += more_msgs
     diag.update(
