@@ -956,7 +956,7 @@ def _half_width(hi: np.ndarray, p: np.ndarray) -> float:
 
 def _orifice(hi, p, inner_radius) -> tuple[dict, list[str]]:
     """Radial flow: the orifice's size against the contact it perforates (``hi``: the cells'
-    outer edges, m)."""
+    outer edges in m, clipped at the orifice: a half width inside it gives a share of 1)."""
     share = inner_radius / _half_width(hi, p)
     msgs = []
     if share > MAX_ORIFICE_SHARE:
@@ -1131,7 +1131,7 @@ def _leak(x, p, theory, flow: _Flow, warn: bool, converged: bool) -> LeakResult:
         theory, p, flow.pressure_drop, width90, min_gap, sealed, flow.mean_free_path
     )
     if radial:
-        more, more_msgs = _orifice(_cell_edges(x, None)[1], p, flow.inner_radius)
+        more, more_msgs = _orifice(hi, p, flow.inner_radius)
         diag.update(more)
         msgs += more_msgs
     diag.update(
