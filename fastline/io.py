@@ -21,6 +21,7 @@ from __future__ import annotations
 
 import math
 import os
+import re
 from collections.abc import Iterable, Mapping, Sequence
 from typing import TYPE_CHECKING
 
@@ -128,18 +129,40 @@ def _fields(line: str) -> list[str]:
     return line.split()
 
 
+#: byte-order marks of UTF-16 (spreadsheets' "Unicode text" exports) and their codecs
+_UTF16_BOMS = ((b"\xff\xfe", "utf-16-le"), (b"\xfe\xff", "utf-16-be"))
+#: control characters that no text table holds (everything below a blank but \t \n \v \f \r)
+_BINARY = re.compile("[\x00-\x08\x0e-\x1f]")
+
+
+def _decode(data: bytes, path: str, error: type[ValueError]) -> str:
+    """The text of a table file: UTF-16 when it starts with a UTF-16 byte-order mark, else
+    UTF-8 (a UTF-8 byte-order mark dropped, undecodable bytes replaced); ``error`` when the
+    bytes are not text (NUL or other control characters)."""
+    text = None
+    for bom, codec in _UTF16_BOMS:
+        if data.startswith(bom):
+            text = data[len(bom) :].decode(codec, errors="replace")
+    if text is None:
+        text = data.decode("utf-8-sig", errors="replace")
+    if _BINARY.search(text):
+        raise error(f"{path}: not a text file")
+    return text
+
+
 def _read_table(
     path: str, *, what: str = "file", error: type[ValueError] = ValueError
 ) -> tuple[np.ndarray, np.ndarray]:
     """The numeric rows of a text table as exported by spreadsheets and instruments.
 
     Read as UTF-8 (a byte-order mark is dropped; undecodable bytes in header lines are
-    replaced). ``#`` starts a comment; blank lines are skipped; so are the lines before the
-    first numeric row that do not parse as numbers (a header, with or without ``#``). Fields are
-    separated by ``;`` (then a decimal comma is a decimal point), ``,``, tabs or blanks; an
-    empty field or ``nan`` reads as NaN. A line that does not parse after the first numeric row
-    is corruption, not a header: an ``error`` naming the file and line. So is a row with another
-    number of columns than the first.
+    replaced), or as UTF-16 when the file starts with its byte-order mark (a spreadsheet's
+    "Unicode text" export). ``#`` starts a comment; blank lines are skipped; so are the lines
+    before the first numeric row that do not parse as numbers (a header, with or without ``#``).
+    Fields are separated by ``;`` (then a decimal comma is a decimal point), ``,``, tabs or
+    blanks; an empty field or ``nan`` reads as NaN. A line that does not parse after the first
+    numeric row is corruption, not a header: an ``error`` naming the file and line. So is a row
+    with another number of columns than the first.
 
     Parameters
     ----------
@@ -160,10 +183,8 @@ def _read_table(
             data = fh.read()
     except OSError as e:
         raise error(f"cannot read {what} {path}: {e.strerror}") from None
-    if b"\x00" in data:
-        raise error(f"{path}: not a text file")
     rows, lines, width = [], [], None
-    for number, raw in enumerate(data.decode("utf-8-sig", errors="replace").splitlines(), 1):
+    for number, raw in enumerate(_decode(data, path, error).splitlines(), 1):
         line = raw.split("#", 1)[0].strip()
         fields = _fields(line)
         if not any(fields):

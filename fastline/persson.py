@@ -630,7 +630,7 @@ class PerssonTheory:
         variant: VariantName | Variant = DEFAULT_VARIANT,
     ) -> None:
         if not isinstance(psd, PSD):
-            raise ValueError(f"psd must be a fastline PSD, got {type(psd).__name__}")
+            raise TypeError(f"psd must be a fastline PSD, got {type(psd).__name__}")
         var = get_variant(variant)
         self.psd = psd
         self.E_star = in_span("E_star", E_star, E_STAR_RANGE, "Pa")

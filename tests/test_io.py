@@ -105,9 +105,25 @@ def test_read_spectrum_missing_or_binary(tmp_path):
     with pytest.raises(ValueError, match="cannot read"):
         io.read_spectrum(tmp_path / "nope.txt")
     path = tmp_path / "b.bin"
-    path.write_bytes(b"\xff\xfe\x00\x81" * 10)
-    with pytest.raises(ValueError, match="not a text file"):
-        io.read_spectrum(path)
+    for blob in (b"\x89PNG\r\n\x1a\n\x00\x00", b"\xff\xfe\x00\x00\x01\x00" * 10):
+        path.write_bytes(blob)  # binary, and binary behind a UTF-16 byte-order mark
+        with pytest.raises(ValueError, match="not a text file"):
+            io.read_spectrum(path)
+
+
+@pytest.mark.parametrize("codec", ["utf-16-le", "utf-16-be"])
+def test_read_spectrum_utf16_export(tmp_path, codec):
+    """A spreadsheet's "Unicode text" export (UTF-16 with its byte-order mark, tabs, CRLF)
+    reads as the same table as its UTF-8 original."""
+    q = np.geomspace(1e3, 1e9, 25)
+    C = 1e-18 * (q / 1e3) ** -2.6
+    rows = [f"{a:.17g}\t{b:.17g}\r\n" for a, b in zip(q, C, strict=True)]
+    text = "q [1/m]\tC [m^4]\r\n" + "".join(rows)
+    path = tmp_path / "unicode.txt"
+    path.write_bytes("\ufeff".encode(codec) + text.encode(codec))
+    psd = io.read_spectrum(path)
+    np.testing.assert_array_equal(psd.q, q)
+    np.testing.assert_array_equal(psd.C, C)
 
 
 def test_csv_header_records_the_scene(tmp_path):

@@ -380,9 +380,6 @@ def test_solver_form_equals_table(case, rtol):
         (dict(gamma=math.inf), "gamma"),
         (dict(rtol=0.0), "rtol"),
         (dict(rtol=math.nan), "rtol"),
-        (dict(psd="surface1"), "psd"),
-        (dict(psd=None), "psd"),
-        (dict(psd=lambda q: q), "psd"),
     ],
 )
 def test_constructor_rejects(kwargs, name):
@@ -390,6 +387,13 @@ def test_constructor_rejects(kwargs, name):
     args.update(kwargs)
     with pytest.raises(ValueError, match=rf"^{name}\b"):
         PerssonTheory(**args)
+
+
+@pytest.mark.parametrize("psd", ["surface1", None, lambda q: q, np.ones(3)])
+def test_constructor_rejects_what_is_not_a_spectrum(psd):
+    """A wrong type is a TypeError naming psd (as everywhere else a spectrum is taken)."""
+    with pytest.raises(TypeError, match=r"^psd must be a fastline PSD, got"):
+        PerssonTheory(psd, E_STAR, gamma=GAMMA)
 
 
 @pytest.mark.parametrize("bad", [0.0, -1.0, math.nan, math.inf, [1e6, 0.0], [math.nan, 1.0]])

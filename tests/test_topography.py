@@ -746,8 +746,8 @@ def test_read_bad_files(tmp_path):
 
 
 def test_scan_and_spectrum_files_share_one_reader(tmp_path):
-    """The same export quirks (BOM, ';' with decimal commas, headers, tabs) read the same way
-    for a profile as for a spectrum; a non-numeric line after the data names its line."""
+    """The same export quirks (BOM, UTF-16, ';' with decimal commas, headers, tabs) read the
+    same way for a profile as for a spectrum; a non-numeric line after the data names its line."""
     x = np.arange(64) * 0.5  # um
     h = np.random.default_rng(5).normal(size=64).round(6)  # um
     rows = [f"{a!r};{b!r}".replace(".", ",") for a, b in zip(x.tolist(), h.tolist(), strict=True)]
@@ -759,6 +759,9 @@ def test_scan_and_spectrum_files_share_one_reader(tmp_path):
     tab = "\n".join(f"{a}\t{b}" for a, b in zip(x, h, strict=True))
     (tmp_path / "tab.txt").write_text("x\th\n" + tab)
     prof = tp.read_profile(tmp_path / "tab.txt", unit="um")
+    np.testing.assert_array_equal(prof.heights, h * 1e-6)
+    (tmp_path / "utf16.txt").write_bytes(("\ufeffx\th\r\n" + tab).encode("utf-16-le"))
+    prof = tp.read_profile(tmp_path / "utf16.txt", unit="um")  # a "Unicode text" export
     np.testing.assert_array_equal(prof.heights, h * 1e-6)
     (tmp_path / "tail.txt").write_text("h\n" + "\n".join(map(str, h)) + "\nEND\n")
     with pytest.raises(ValueError, match=r"tail.txt:66: not a number in 'END'"):
