@@ -316,9 +316,12 @@ def _require_matplotlib() -> None:
         )
 
 
-def _spectrum_line(psd, source) -> str:
+def _spectrum_line(psd, source, model: str | None = None) -> str:
+    """The spectrum the scene uses; for ``--model hertz`` that there is none."""
     from fastline.io import spectrum_summary
 
+    if model == "hertz":
+        return "spectrum         none: --model hertz solves the smooth contact (no roughness)"
     s = spectrum_summary(psd)
     what = f"file {source}" if source else "self-affine"
     if isinstance(source, _ScanSource):
@@ -395,7 +398,7 @@ def run_profile(args, solve, result_lines, write_csv, meta) -> int:
     _check_outputs(args)
     th = _theory(psd, E, args)
     r = solve(psd, E, args.radius, args.load, model=args.model, **_solve_kwargs(args, th))
-    print(_spectrum_line(psd, source))
+    print(_spectrum_line(psd, source, args.model))
     print("\n".join(result_lines(r, r.diagnostics)))
     _report_warnings([r])
     if args.csv:
@@ -415,8 +418,7 @@ def _result_lines(r, diag) -> list[str]:
         f"model            {r.model} (method {r.method}, n = {r.diagnostics.get('n', '?')})",
         f"load f_N         {r.load:.6g} N/m",
         f"E*, R            {r.E_star:.6g} Pa, {r.radius:.6g} m",
-        f"alpha            {r.alpha:.6g}   (h_rms / delta, delta = {r.delta:.6g} m)",
-        f"regime           {diag['regime']}",
+        *_roughness_lines(r, diag),
         f"peak pressure p0 {r.p0:.6g} Pa",
         f"p0 / p0(Hertz)   {r.p0_ratio:.6g}",
         f"std. dev. s      {r.s:.6g} m",
@@ -439,6 +441,21 @@ def _result_lines(r, diag) -> list[str]:
     if r.message:
         lines.append(f"solver message   {r.message}")
     return lines
+
+
+def _roughness_lines(r, diag, delta: str = "delta") -> list[str]:
+    """alpha and the regime it puts the scene in (none for the smooth ``hertz`` model)."""
+    if r.model == "hertz":
+        return []
+    return [
+        f"alpha            {r.alpha:.6g}   (h_rms / delta, {delta} = {r.delta:.6g} m)",
+        f"regime           {diag['regime']}",
+    ]
+
+
+def _alpha_cell(r, width: int) -> str:
+    """alpha in a sweep table's column (``-`` for the smooth ``hertz`` model)."""
+    return f"{'-':>{width}}" if r.model == "hertz" else f"{r.alpha:>{width}.4g}"
 
 
 def _asperity_lines(diag) -> list[str]:

@@ -28,6 +28,7 @@ import time
 # the shared options and printing (_gamma, _number, _variant_option: for fastline.cli_validate)
 from fastline._cli_common import (  # noqa: F401
     CLIError,
+    _alpha_cell,
     _check_outputs,
     _convergence_status,
     _count,
@@ -390,14 +391,14 @@ def cmd_sweep(args) -> int:
             results = model.sweep(loads, progress=bar.update)
     else:
         results, table = _sweep_in_parallel(psd, E, args, loads)
-    print(_spectrum_line(psd, source))
+    print(_spectrum_line(psd, source, args.model))
     print(
         f"{'load [N/m]':>12}{'alpha':>12}{'p0 [Pa]':>13}{'p0 ratio':>10}{'s [m]':>12}"
         f"{'w [m]':>12}{'w/s':>8}{'conv':>6}"
     )
     for r in results:
         print(
-            f"{r.load:>12.4g}{r.alpha:>12.4g}{r.p0:>13.5g}{r.p0_ratio:>10.5f}{r.s:>12.4g}"
+            f"{r.load:>12.4g}{_alpha_cell(r, 12)}{r.p0:>13.5g}{r.p0_ratio:>10.5f}{r.s:>12.4g}"
             f"{r.fwhm:>12.4g}{r.w_over_s:>8.4f}{'yes' if r.converged else 'NO':>6}"
         )
     if table is None:

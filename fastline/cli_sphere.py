@@ -17,6 +17,7 @@ import time
 
 from fastline._cli_common import (
     CLIError,
+    _alpha_cell,
     _asperity_lines,
     _check_outputs,
     _convergence_status,
@@ -25,6 +26,7 @@ from fastline._cli_common import (
     _positive,
     _progress,
     _report_warnings,
+    _roughness_lines,
     _save,
     _scene,
     _solve_kwargs,
@@ -95,9 +97,8 @@ def _sphere_result_lines(r, diag) -> list[str]:
         "geometry         sphere on a flat (point contact)",
         f"load F           {r.load:.6g} N (total load on the sphere)",
         f"E*, R            {r.E_star:.6g} Pa, {r.radius:.6g} m (sphere radius)",
-        f"alpha            {r.alpha:.6g}   (h_rms / delta, delta = a^2/R = {r.delta:.6g} m)",
+        *_roughness_lines(r, diag, delta="delta = a^2/R"),
         f"Hertz radius a   {a:.6g} m (Hertz contact diameter {2 * a:.6g} m)",
-        f"regime           {diag['regime']}",
         f"peak pressure p0 {r.p0:.6g} Pa",
         f"p0 / p0(Hertz)   {r.p0_ratio:.6g}",
         f"std. dev. s      {r.s:.6g} m (s^2 = int r^2 p dA / 2F, along a diameter)",
@@ -159,7 +160,7 @@ def cmd_sphere_sweep(args: argparse.Namespace) -> int:
             results = model.sweep(loads, progress=bar.update)
     else:
         results, table = _sweep_on_executor(psd, E, args, loads)
-    print(_spectrum_line(psd, source))
+    print(_spectrum_line(psd, source, args.model))
     print(f"geometry         sphere on a flat, R = {args.radius:.6g} m; loads F in N")
     print(
         f"{'load F [N]':>12}{'alpha':>12}{'p0 [Pa]':>13}{'p0 ratio':>10}{'s [m]':>12}"
@@ -167,7 +168,7 @@ def cmd_sphere_sweep(args: argparse.Namespace) -> int:
     )
     for r in results:
         print(
-            f"{r.load:>12.4g}{r.alpha:>12.4g}{r.p0:>13.5g}{r.p0_ratio:>10.5f}{r.s:>12.4g}"
+            f"{r.load:>12.4g}{_alpha_cell(r, 12)}{r.p0:>13.5g}{r.p0_ratio:>10.5f}{r.s:>12.4g}"
             f"{r.fwhm:>12.4g}{r.w_over_s:>8.4f}{'yes' if r.converged else 'NO':>6}"
         )
     if table is None:

@@ -362,6 +362,21 @@ def test_hertz_refuses_roughness_options(command, extra, named, monkeypatch, cap
     assert all(flag in lines[0] for flag in named)
 
 
+@pytest.mark.parametrize("geometry", ["cylinder", "sphere"])
+def test_hertz_prints_no_roughness(geometry, capsys):
+    """A smooth scene shows no spectrum, alpha or regime (they would describe a roughness the
+    solve never saw); a rough scene of the same command still shows all three."""
+    base = ["--geometry", geometry, "--n", 64]
+    status, out, _ = run(["profile", "--model", "hertz", *base], capsys)
+    assert status == 0 and out.startswith("spectrum         none: --model hertz")
+    assert "h_rms" not in out and "\nalpha" not in out and "\nregime" not in out
+    status, out, _ = run(["sweep", "--model", "hertz", "--loads-num", 2, *base], capsys)
+    rows = [ln.split() for ln in out.splitlines()[-2:]]
+    assert status == 0 and [row[1] for row in rows] == ["-", "-"], out
+    status, out, _ = run(["profile", "--model", "persson", *base], capsys)
+    assert "h_rms" in out and "\nalpha" in out and "\nregime" in out
+
+
 def test_hertz_alone_and_theory_options_with_other_models(capsys):
     """The refusal is hertz's only: --model hertz alone solves, --gamma and --variant still
     reach the exponential law."""
