@@ -71,9 +71,10 @@ result is the pressure profile p(x) across the contact line, its peak p0, width 
 deviation s, full width at half maximum w) and how far it is from the smooth Hertz solution,
 measured by alpha = h_rms / delta (delta = 4 f_N / (pi E*), the Hertz penetration).
 
-With --geometry sphere (profile, sweep, paper) the same for a rigid sphere on the flat (a point
-contact): p(r), the FWHM w along a diameter, s^2 = int r^2 p dA / (2F), delta = a^2/R; the load
-is then the total load F on the sphere in N.
+With --geometry sphere (profile, sweep, leak, paper) the same for a rigid sphere on the flat (a
+point contact): p(r), the FWHM w along a diameter, s^2 = int r^2 p dA / (2F), delta = a^2/R; the
+load is then the total load F on the sphere in N (leak: the radial flow out of a hole of radius
+--inner-radius in the flat).
 
 From a measurement: fastline psd SCAN turns a line scan or height map into the spectrum C(q)
 (summary, fit, a table for --psd, a figure); --scan SCAN on profile, sweep and leak solves
@@ -91,6 +92,8 @@ examples:
   fastline sweep --h-rms 1e-6 --loads-from 1e3 --loads-to 1e6 --loads-num 30 --csv sweep.csv
   fastline profile --geometry sphere --load 500 --E1 2.1e11 --nu1 0.3 --E2 7e10 --nu2 0.33
   fastline leak --h-rms 1e-6 --load 1e4 --pressure-drop 1e4 --viscosity 1e-3 --plot leak.png
+  fastline leak --geometry sphere --h-rms 0.3e-6 --q0 5e4 --qr 5e5 --load 10 \\
+                --inner-radius 20e-6 --pressure-drop 1e4 --viscosity 1e-3
   fastline sweep --loads-num 400 --workers 2 --csv sweep.csv
   fastline batch scenes.csv --out results.csv --workers 2
   fastline validate --alpha 1 --all-variants --gw --realizations 8 --plot validate.png

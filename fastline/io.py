@@ -53,6 +53,8 @@ __all__ = [
     "leak_sweep_rows",
     "LEAK_COLUMNS",
     "LEAK_SWEEP_COLUMNS",
+    "POINT_LEAK_COLUMNS",
+    "POINT_LEAK_SWEEP_COLUMNS",
     "POINT_PROFILE_COLUMNS",
     "POINT_SWEEP_COLUMNS",
     "write_point_profile_csv",
@@ -107,6 +109,22 @@ LEAK_SWEEP_COLUMNS = (
     "p0_Pa",
     "Q_m3_per_s",
     "conductance_m2_per_Pa_s",
+    "sealed",
+    "share_in_fwhm",
+    "resistance_width_m",
+    "min_gap_m",
+    "converged",
+)
+#: columns of :func:`write_leak_csv` for radial flow (a point contact: rings at r from the axis)
+POINT_LEAK_COLUMNS = ("r_m", *LEAK_COLUMNS[1:])
+#: columns of :func:`write_leak_sweep_csv` for radial flow (the load F on a sphere in N; the
+#: conductance of the whole contact, not per unit seal length)
+POINT_LEAK_SWEEP_COLUMNS = (
+    "load_N",
+    "alpha",
+    "p0_Pa",
+    "Q_m3_per_s",
+    "conductance_m3_per_Pa_s",
     "sealed",
     "share_in_fwhm",
     "resistance_width_m",
@@ -527,13 +545,15 @@ def write_leak_csv(
     leak: LeakResult,
     meta: Mapping | None = None,
     *,
-    result: LineContactResult | None = None,
+    result: LineContactResult | PointContactResult | None = None,
 ) -> None:
-    """Write where along the contact a seal leaks: one row per strip, :data:`LEAK_COLUMNS`.
+    """Write where along the contact a seal leaks: one row per strip, :data:`LEAK_COLUMNS`
+    (radial flow, ``leak.inner_radius`` set: one row per ring, :data:`POINT_LEAK_COLUMNS`).
 
-    Columns: strip centre x [m], nominal pressure p [Pa], critical gap u_c [m] (0 in sealed
-    strips, ``inf`` where p = 0), local conductance sigma [m^3/(Pa s)], the strip's share of the
-    flow resistance and its running sum, and whether the strip is sealed (0/1).
+    Columns: strip centre x [m] (radial flow: the ring's radius r [m]), nominal pressure p [Pa],
+    critical gap u_c [m] (0 in sealed strips, ``inf`` where p = 0), local conductance sigma
+    [m^3/(Pa s)], the strip's share of the flow resistance and its running sum, and whether the
+    strip is sealed (0/1).
 
     Parameters
     ----------
@@ -544,14 +564,17 @@ def write_leak_csv(
         The scene (:func:`scene_metadata`); the leak's inputs (:func:`leak_metadata`) and its
         results (Q [m^3/s], conductance [m^2/(Pa s)], sealed, share in the FWHM, 90 % width
         [m]) are added.
-    result : LineContactResult, optional
-        The solve the leak rate post-processes: its load, alpha, p0 and convergence are added.
+    result : LineContactResult or PointContactResult, optional
+        The solve the leak rate post-processes: its load (``load_N_per_m``, a point contact's
+        ``load_N``), alpha and p0 are added.
     """
+    radial = leak.inner_radius is not None
     info = dict(meta or {})
     if result is not None:
-        info.update(load_N_per_m=result.load, alpha=result.alpha, p0_Pa=result.p0)
+        load_key = "load_N" if hasattr(result, "r") else "load_N_per_m"
+        info.update({load_key: result.load, "alpha": result.alpha, "p0_Pa": result.p0})
     info.update(leak_metadata(leak))
-    unit = "m2_per_Pa_s" if leak.inner_radius is None else "m3_per_Pa_s"  # per length / whole
+    unit = "m3_per_Pa_s" if radial else "m2_per_Pa_s"  # the whole contact / per unit length
     info[f"conductance_{unit}"] = leak.conductance
     info.update(
         Q_m3_per_s=leak.Q,
@@ -570,12 +593,19 @@ def write_leak_csv(
         leak.sealed_strips,
         strict=True,
     )
-    title = "fastline leak: p(x), critical gap u_c(x) and where the flow resistance sits"
-    write_csv(path, LEAK_COLUMNS, rows, info, title=title)
+    title = (
+        "fastline leak: p(r), critical gap u_c(r) and where the flow resistance sits (radial)"
+        if radial
+        else "fastline leak: p(x), critical gap u_c(x) and where the flow resistance sits"
+    )
+    columns = POINT_LEAK_COLUMNS if radial else LEAK_COLUMNS
+    write_csv(path, columns, rows, info, title=title)
 
 
 def leak_sweep_rows(results: Iterable, leaks: Iterable) -> list[tuple]:
-    """One row of :data:`LEAK_SWEEP_COLUMNS` per (LineContactResult, LeakResult) pair."""
+    """One row of :data:`LEAK_SWEEP_COLUMNS` per (LineContactResult, LeakResult) pair (of
+    :data:`POINT_LEAK_SWEEP_COLUMNS` per (PointContactResult, LeakResult) pair: the same
+    numbers, the load in N)."""
     return [
         (
             r.load,
@@ -596,7 +626,9 @@ def leak_sweep_rows(results: Iterable, leaks: Iterable) -> list[tuple]:
 def write_leak_sweep_csv(
     path: str | os.PathLike, results: Sequence, leaks: Sequence, meta: Mapping | None = None
 ) -> None:
-    """Write leak rate against load: one row per load, columns :data:`LEAK_SWEEP_COLUMNS`.
+    """Write leak rate against load: one row per load, columns :data:`LEAK_SWEEP_COLUMNS`
+    (radial flow out of a point contact: :data:`POINT_LEAK_SWEEP_COLUMNS`, the load F in N and
+    the conductance of the whole contact).
 
     ``results`` and ``leaks`` are the solves and their leak rates, in the same order; the
     leak's inputs (:func:`leak_metadata`, from the first) are added to ``meta``. At sealed
@@ -608,7 +640,8 @@ def write_leak_sweep_csv(
         raise ValueError("leaks must hold at least one LeakResult")
     info = {**dict(meta or {}), **leak_metadata(leaks[0])}
     rows = leak_sweep_rows(results, leaks)
-    write_csv(path, LEAK_SWEEP_COLUMNS, rows, info, title="fastline leak --sweep: Q against load")
+    columns = LEAK_SWEEP_COLUMNS if leaks[0].inner_radius is None else POINT_LEAK_SWEEP_COLUMNS
+    write_csv(path, columns, rows, info, title="fastline leak --sweep: Q against load")
 
 
 def write_spectrum(

@@ -505,7 +505,8 @@ def plot_leak_sweep(
     Parameters
     ----------
     loads : array_like
-        Loads per unit length f_N in N/m (e.g. ``[r.load for r in results]``).
+        Loads per unit length f_N in N/m (e.g. ``[r.load for r in results]``); for radial flow
+        out of a point contact (``leaks[0].inner_radius`` set), the total loads F in N.
     leaks : sequence of LeakResult
         Their leak rates, in the same order.
     label : str, optional
@@ -554,7 +555,8 @@ def plot_leak_sweep(
     ax.set_xlim(f[0] / pad, f[-1] * pad)
     _log_axis(ax.xaxis)
     _log_axis(ax.yaxis)
-    ax.set_xlabel(r"load per unit length $f_N$ (N/m)")
+    radial = leaks[0].inner_radius is not None  # a point contact: the load on the sphere
+    ax.set_xlabel(r"load $F$ (N)" if radial else r"load per unit length $f_N$ (N/m)")
     ax.set_ylabel(r"leak rate $Q$ (m$^3$/s)")
     ax.grid(True, which="major", alpha=0.3)
     if ax.get_legend_handles_labels()[1]:

@@ -4,7 +4,9 @@ The command's numbers against the API's (``fl.leak_rate`` on the same solve), th
 writes (CSV header and columns, figure magic bytes), the seal designer's curve (Q non-increasing
 with load, sealed loads marked), warnings once per cause, exit statuses, bad input and output
 paths checked before any solve. Small settings (n = 128) on the O-ring-like scene of
-docs/leakage.md: rubber (E 10 MPa, nu 0.5) on steel, h_rms 0.3 um, H 0.85, R 1.5 mm, water.
+docs/leakage.md: rubber (E 10 MPa, nu 0.5) on steel, h_rms 0.3 um, H 0.85, R 1.5 mm, water;
+with ``--geometry sphere`` the rubber ball of its example 3 (R 10 mm) on a seat with a hole of
+20 um radius: radial flow, the same checks plus the rings in series recomputed from the CSV.
 """
 
 import dataclasses
@@ -16,9 +18,16 @@ import pytest
 
 import fastline as fl
 import fastline.line_contact
+import fastline.point_contact
 from fastline import plotting
 from fastline.cli import main
-from fastline.io import LEAK_COLUMNS, LEAK_SWEEP_COLUMNS, read_csv
+from fastline.io import (
+    LEAK_COLUMNS,
+    LEAK_SWEEP_COLUMNS,
+    POINT_LEAK_COLUMNS,
+    POINT_LEAK_SWEEP_COLUMNS,
+    read_csv,
+)
 
 pytest.importorskip("matplotlib")
 
@@ -161,6 +170,14 @@ def test_sealed_scene(theory, tmp_path, capsys):
     assert meta["sealed"] == "1" and float(meta["Q_m3_per_s"]) == 0.0
     np.testing.assert_array_equal(cols["sealed"] == 1, leak.sealed_strips)
     assert np.all(cols["u_c_m"][leak.sealed_strips] == 0.0)
+
+
+def test_cylinder_seal_length_defaults_to_1_m(one_scene, capsys):
+    argv = [a for a in ONE if a not in ("--length", LENGTH)]
+    status, out, _ = run(argv, capsys)
+    assert status == 0 and "seal length 1 m" in out
+    leak = fl.leak_rate(one_scene[0], DP, ETA, warn=False)  # the API's default length, 1 m
+    assert f"leak rate Q      {leak.Q:.6g} m^3/s" in out
 
 
 def test_threshold_moves_the_result(one_scene, capsys):
@@ -425,3 +442,190 @@ def test_plot_leak_sweep_edge_cases(swept):
 def test_write_leak_sweep_csv_bad_input(tmp_path):
     with pytest.raises(ValueError, match="at least one"):
         fl.io.write_leak_sweep_csv(tmp_path / "x.csv", [], [])
+
+
+# ----------------------------------------------------------------------------------------------
+# --geometry sphere: a ball on a flat seat with a hole, radial flow (docs/leakage.md, example 3)
+# ----------------------------------------------------------------------------------------------
+#: the ball of example 3: rubber on steel as above, R = 10 mm, 0.2 N, a hole of 20 um radius
+BALL, BALL_LOAD, HOLE = 10e-3, 0.2, 20e-6
+BALL_SCENE = ["leak", "--geometry", "sphere", *SCENE[:-2], "--radius", BALL, "--n", N]
+BALL_FLUID = ["--pressure-drop", DP, "--viscosity", ETA]
+BALL_ONE = [*BALL_SCENE, "--load", BALL_LOAD, "--inner-radius", HOLE, *BALL_FLUID]
+#: 0.1 to 200 N: leaks at the small loads, sealed from about 90 N (p0 about 3.1 MPa)
+BALL_LOADS = (0.1, 200.0, 6)
+BALL_SWEEP = [*BALL_SCENE, "--sweep", "--inner-radius", HOLE, *BALL_FLUID]
+BALL_SWEEP += ["--loads-from", BALL_LOADS[0], "--loads-to", BALL_LOADS[1]]
+BALL_SWEEP += ["--loads-num", BALL_LOADS[2]]
+
+
+@pytest.fixture(scope="module")
+def ball(theory):
+    """The API's solve of the ball and its radial leak rate (``BALL_ONE``)."""
+    r = fl.solve_point_contact(PSD, E_STAR, BALL, BALL_LOAD, n=N, theory=theory, warn=False)
+    return r, fl.leak_rate(r, DP, ETA, inner_radius=HOLE, warn=False)
+
+
+@pytest.fixture(scope="module")
+def ball_swept(theory):
+    loads = np.geomspace(*BALL_LOADS)
+    model = fl.PointContact(PSD, E_STAR, BALL, n=N, theory=theory, warn=False)
+    results = model.sweep(loads)
+    leaks = [fl.leak_rate(r, DP, ETA, inner_radius=HOLE, warn=False) for r in results]
+    return loads, results, leaks
+
+
+@pytest.fixture(scope="module")
+def ball_sweep_run(tmp_path_factory):
+    out = tmp_path_factory.mktemp("ball_sweep")
+    csv_path, png = out / "sweep.csv", out / "sweep.png"
+    so, se = StringIO(), StringIO()
+    with redirect_stdout(so), redirect_stderr(se):
+        status = main([str(a) for a in BALL_SWEEP + ["--csv", csv_path, "--plot", png]])
+    return status, so.getvalue(), se.getvalue(), csv_path, png
+
+
+def test_sphere_leak_matches_api(ball, tmp_path, capsys):
+    csv_path, png = tmp_path / "ball.csv", tmp_path / "ball.png"
+    status, out, _ = run(BALL_ONE + ["--csv", csv_path, "--plot", png, "--dpi", 60], capsys)
+    assert status == 0
+    r, leak = ball
+    assert not leak.sealed and leak.Q > 0.0
+    meta, cols = read_csv(csv_path)
+    assert float(meta["Q_m3_per_s"]) == pytest.approx(leak.Q, rel=SAME)
+    assert float(meta["conductance_m3_per_Pa_s"]) == pytest.approx(leak.conductance, rel=SAME)
+    assert f"leak rate Q      {leak.Q:.6g} m^3/s" in out
+    assert f"conductance      {leak.conductance:.6g} m^3/(Pa s) of the whole contact" in out
+    assert f"orifice share    {leak.diagnostics['orifice_share']:.3g}" in out
+    assert "radial flow from r = inner radius 2e-05 m outwards" in out
+    assert "seal length" not in out  # radial flow has none
+    assert f"load F           {BALL_LOAD:.6g} N" in out  # the sphere's result lines
+    assert f"peak pressure p0 {r.p0:.6g} Pa" in out
+    assert png.read_bytes()[:8] == MAGIC["png"]
+
+
+def test_sphere_csv_is_radial_and_self_consistent(ball, tmp_path, capsys):
+    """The file holds the rings (r_m), the hole and the load in N; its Q is the rings in series
+    recomputed from its own columns: Q = dP / sum ln(r_hi / r_lo) / (2 pi sigma) over the rings
+    outside the hole (a uniform grid r_j = j dr, ring edges halfway between centres)."""
+    path = tmp_path / "ball.csv"
+    assert run(BALL_ONE + ["--csv", path], capsys)[0] == 0
+    r, leak = ball
+    meta, cols = read_csv(path)
+    assert tuple(cols) == POINT_LEAK_COLUMNS
+    np.testing.assert_allclose(cols["r_m"], r.r, rtol=SAME)
+    np.testing.assert_allclose(cols["p_Pa"], r.pressure, rtol=SAME)
+    assert float(meta["inner_radius_m"]) == HOLE and "length_m" not in meta
+    assert float(meta["load_N"]) == BALL_LOAD and meta["geometry"] == "sphere"
+    dr = cols["r_m"][1]
+    lo = np.clip(cols["r_m"] - dr / 2, HOLE, None)
+    hi = np.clip(cols["r_m"] + dr / 2, HOLE, None)
+    crossed = hi > HOLE
+    ln = np.log(hi[crossed] / lo[crossed])
+    q_from_columns = DP / np.sum(ln / (2 * np.pi * cols["sigma_m3_per_Pa_s"][crossed]))
+    assert q_from_columns == pytest.approx(float(meta["Q_m3_per_s"]), rel=SUM)
+    assert np.all(cols["resistance_share"][~crossed] == 0.0)
+
+
+def test_sphere_smaller_hole_leaks_less(ball, capsys):
+    """A smaller hole puts more rings (those of smallest circumference, the most resistive) on
+    the flow path: Q falls with the inner radius."""
+    argv = [*BALL_SCENE, "--load", BALL_LOAD, *BALL_FLUID, "--inner-radius", HOLE / 4]
+    status, out, _ = run(argv, capsys)
+    assert status == 0
+    q_small = float(out.split("leak rate Q")[1].split()[0])
+    assert 0.0 < q_small < ball[1].Q
+
+
+def test_sphere_sweep_matches_api(ball_sweep_run, ball_swept):
+    status, out, _, csv_path, png = ball_sweep_run
+    assert status == 0
+    loads, results, leaks = ball_swept
+    meta, cols = read_csv(csv_path)
+    assert tuple(cols) == POINT_LEAK_SWEEP_COLUMNS
+    np.testing.assert_allclose(cols["load_N"], loads, rtol=SAME)
+    np.testing.assert_allclose(cols["Q_m3_per_s"], [k.Q for k in leaks], rtol=SAME, atol=0.0)
+    np.testing.assert_allclose(cols["p0_Pa"], [r.p0 for r in results], rtol=SAME)
+    assert float(meta["inner_radius_m"]) == HOLE and meta["geometry"] == "sphere"
+    assert "load F [N]" in out
+    assert png.read_bytes()[:8] == MAGIC["png"]
+
+
+def test_sphere_sweep_squeeze_stops_the_leak(ball_sweep_run):
+    """Q non-increasing in F while the ball leaks, then sealed (Q = 0) above every leaking
+    load, reported in N."""
+    _, out, _, csv_path, _ = ball_sweep_run
+    _, cols = read_csv(csv_path)
+    Q, sealed, F = cols["Q_m3_per_s"], cols["sealed"] == 1, cols["load_N"]
+    assert np.all(np.diff(Q[~sealed]) <= 0.0) and np.all(Q[~sealed] > 0.0)
+    assert sealed.any() and (~sealed).any() and F[sealed].min() > F[~sealed].max()
+    assert np.all(Q[sealed] == 0.0)
+    assert f"sealed from F = {F[sealed].min():.4g} N on" in out
+
+
+def test_sphere_default_load(capsys):
+    from fastline.cli_sphere import GEOMETRY_DEFAULTS
+
+    status, out, _ = run([*BALL_SCENE, "--inner-radius", HOLE, *BALL_FLUID], capsys)
+    assert status == 0
+    assert f"load F           {GEOMETRY_DEFAULTS['sphere']['load']:.6g} N" in out
+
+
+def test_plot_leak_sweep_of_a_sphere_labels_F(ball_swept):
+    loads, _, leaks = ball_swept
+    (ax,) = plotting.plot_leak_sweep(loads, leaks).axes
+    assert ax.get_xlabel() == "load $F$ (N)"
+
+
+@pytest.mark.parametrize(
+    "argv, needle",
+    [
+        ([*BALL_SCENE, *BALL_FLUID], "--inner-radius"),  # missing for a sphere
+        ([*BALL_SCENE, *BALL_FLUID, "--inner-radius", HOLE, "--length", 1], "--length"),
+        ([*BALL_SCENE, *BALL_FLUID, "--inner-radius", HOLE, "--model", "hertz"], "--model"),
+        ([*BALL_SCENE, *BALL_FLUID, "--inner-radius", HOLE, "--sweep", "--load", 1], "--load"),
+        ([*BALL_SCENE, *BALL_FLUID, "--inner-radius", 0], "--inner-radius"),
+        (["leak", *REQUIRED, "--n", N, "--inner-radius", HOLE], "--inner-radius"),  # cylinder
+        (
+            [*BALL_SCENE, *BALL_FLUID, "--inner-radius", HOLE, "--csv", "/nonexistent/b.csv"],
+            "b.csv",
+        ),
+    ],
+)
+def test_sphere_bad_options(argv, needle, monkeypatch, capsys):
+    def no_solve(*args, **kwargs):
+        raise AssertionError("solved before checking the input")
+
+    for module, cls in (
+        (fastline.point_contact, "PointContact"),
+        (fastline.line_contact, "LineContact"),
+    ):
+        monkeypatch.setattr(getattr(module, cls), "solve", no_solve)
+        monkeypatch.setattr(getattr(module, cls), "sweep", no_solve)
+    status, out, err = run(argv, capsys)
+    assert status == 2
+    lines = [ln for ln in err.splitlines() if ln.strip()]
+    assert len(lines) == 1 and lines[0].startswith("fastline: error:") and needle in lines[0]
+    assert "Traceback" not in err + out and out == ""
+
+
+@pytest.mark.parametrize("sweep", [False, True])
+def test_sphere_hole_beyond_the_profile(sweep, capsys):
+    """An --inner-radius at or beyond the profile's outer edge (1 m: far outside a 10 mm ball's
+    contact) is one error line naming it, not a traceback."""
+    argv = [*BALL_SCENE, *BALL_FLUID, "--inner-radius", 1.0]
+    argv += ["--sweep", "--loads-num", 2] if sweep else []
+    status, out, err = run(argv, capsys)
+    assert status == 2
+    lines = [ln for ln in err.splitlines() if ln.strip()]
+    assert len(lines) == 1 and lines[0].startswith("fastline: error: --inner-radius 1 m")
+    assert "outer edge" in lines[0] and ("2 of 2 loads" in lines[0]) == sweep
+    assert "Traceback" not in err and out == ""
+
+
+def test_sphere_help(capsys):
+    with pytest.raises(SystemExit):
+        main(["leak", "--help"])
+    out = " ".join(capsys.readouterr().out.split())
+    for text in ("--inner-radius M", "--geometry {cylinder,sphere}", "the total load F [N]"):
+        assert text in out, text
