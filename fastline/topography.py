@@ -27,6 +27,8 @@ and the rules that set it: :func:`psd_from_profile`. Files: :func:`read_topograp
 
 from __future__ import annotations
 
+import contextlib
+import contextvars
 import math
 import os
 import warnings
@@ -113,6 +115,29 @@ def _heights(h, ndim_allowed: tuple[int, ...]) -> np.ndarray:
     if np.any(np.isinf(arr)):
         raise ValueError("h must not contain inf")
     return arr
+
+
+#: set while a caller recomputes what it has already analysed (and warned about) once
+_QUIET: contextvars.ContextVar[bool] = contextvars.ContextVar("fastline_topography_quiet")
+
+
+@contextlib.contextmanager
+def _quiet():
+    """Drop this module's TopographyWarnings inside the block. Unlike
+    ``warnings.catch_warnings``, it leaves the warning filters alone: changing them (entering
+    or leaving that context manager) clears the record of warnings already shown, so each call
+    of a function using it would show the same warning again."""
+    token = _QUIET.set(True)
+    try:
+        yield
+    finally:
+        _QUIET.reset(token)
+
+
+def _warn(text: str, stacklevel: int) -> None:
+    """A TopographyWarning, ``stacklevel`` counted from the caller of this function."""
+    if not _QUIET.get(False):
+        warnings.warn(text, TopographyWarning, stacklevel=stacklevel + 1)
 
 
 def _fill_dropouts(h: np.ndarray, nan: str) -> np.ndarray:
@@ -303,10 +328,9 @@ def _check_plausible(h_rms: float, slope: float, what: str) -> None:
             f"the rms slope {slope:.3g} is outside [{PLAUSIBLE_SLOPE[0]:g}, {PLAUSIBLE_SLOPE[1]:g}]"
         )
     if notes:
-        warnings.warn(
+        _warn(
             f"{what}: {' and '.join(notes)}: are the heights or the spacing in the wrong unit "
             "(e.g. micrometres read as metres)? Heights and spacings are in m.",
-            TopographyWarning,
             stacklevel=3,
         )
 
@@ -707,10 +731,9 @@ def isotropic_from_1d(
     C = inverse_abel(k, C1D, slope)
     good = C > 0.0
     if not good.all():
-        warnings.warn(
+        _warn(
             f"isotropic_from_1d: C(q) <= 0 at {int((~good).sum())} of {k.size} points (noise "
             "in C1D); they are left out. Fewer bins per decade or more profiles help.",
-            TopographyWarning,
             stacklevel=2,
         )
     if good.sum() < 2:
@@ -1189,11 +1212,10 @@ def _warn_unresolved(qr: float, lowest: float, gain: float) -> None:
             f"improves on a pure power law by {gain:.3g} < {ROLLOFF_SIGNIFICANCE:g} (likelihood "
             "ratio or F statistic): noise could make it, from the range starting at"
         )
-    warnings.warn(
+    _warn(
         f"fit_self_affine: the roll-off is not resolved: q_r = {qr:.3g} 1/m {why} {lowest:.3g} "
         "1/m. The roll-off may lie anywhere below; q_r, its error and the model's h_rms are not "
         "measurements (a longer scan, more profiles or a map resolve them)",
-        TopographyWarning,
         stacklevel=3,
     )
 
