@@ -46,6 +46,13 @@ MODELS = ("persson", "exponential", "hertz")
 METHODS = ("newton", "picard")
 MAX_NEWTON = 100
 MAX_PICARD_SWEEPS = 5000
+#: the ConvergenceWarning of a single solve: the same text for every scene, so that a loop of
+#: solves shows it once under Python's default warning filter (which prints a text once per
+#: place); each result's residual, steps and reason are in ``result.message``
+NOT_CONVERGED = (
+    "fastline: a solve did not converge (result.converged is False; its residual, steps and "
+    "reason: result.message)"
+)
 #: degree of the polynomial (in ln load) that predicts each solve of a sweep from the previous
 #: ones. Over the paper's three 50-load line-contact sweeps (n = 1024, the predictor below) the
 #: total convolutions were 4337 independent, 2747 / 2596 / 2620 with degree 2 / 3 / 4 (an
@@ -389,7 +396,7 @@ class ContactModel:
         outcome = self._run(grid, start)
         result = self._result(grid, outcome)
         if not result.converged and warn:
-            warnings.warn(f"fastline: {result.message}", ConvergenceWarning, stacklevel=4)
+            warnings.warn(NOT_CONVERGED, ConvergenceWarning, stacklevel=4)
         if warn:
             result.diagnostics.update(assess(result, self._theory, self.hardness, warn=True))
         else:

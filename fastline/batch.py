@@ -234,6 +234,13 @@ def _columns_of(scenes) -> dict[str, list]:
     if hasattr(scenes, "columns") and hasattr(scenes, "to_dict"):  # a pandas DataFrame
         return {name: scenes[name].tolist() for name in scenes.columns}
     if isinstance(scenes, Mapping):
+        for name, cells in scenes.items():
+            if isinstance(cells, str | bytes) or not isinstance(cells, Iterable):
+                raise TypeError(
+                    f"scenes: column {name!r} of a dict of columns must be a sequence of cells, "
+                    f"one per scene; got {type(cells).__name__} ({cells!r}): repeat a value "
+                    "shared by every scene, e.g. [value] * len(loads)"
+                )
         cols = {k: list(v) for k, v in scenes.items()}
         if len({len(v) for v in cols.values()}) > 1:
             raise ValueError("scenes: every column of a dict of columns must have the same length")

@@ -204,6 +204,7 @@ def _sweep_on_executor(psd, E, args, loads):
     results = [
         SimpleNamespace(
             **{k: row[k].item() for k in names},
+            model=args.model,  # the table's rows name no model; the printed table asks
             hertz_radius=hertz_point_contact(E, args.radius, float(row["load"])).a,
         )
         for row in rows

@@ -1215,8 +1215,9 @@ def leak_rate(
         For anything but a line- or point-contact result.
     ValueError
         For a Hertz result (smooth surfaces: no spectrum), a result without a theory when none
-        is given, a theory of another E*, ``inner_radius`` missing for a point contact or given
-        for a line contact, or an input outside its range.
+        is given, a theory of another E*, spectrum (h_rms), gamma or variant,
+        ``inner_radius`` missing for a point contact or given for a line contact, or an input
+        outside its range.
     """
     coords = _coordinates(result, inner_radius)
     length = _length(length, inner_radius)
@@ -1273,4 +1274,24 @@ def _result_theory(result, theory):
             f"theory.E_star = {theory.E_star:g} Pa differs from the result's E* = "
             f"{result.E_star:g} Pa"
         )
+    _check_same_interface(result, theory)
     return theory
+
+
+def _check_same_interface(result, theory) -> None:
+    """The theory must describe the surface the result was solved for: its h_rms (which the
+    result carries as ``alpha * delta``) and, when the result holds a theory, its gamma and
+    variant. A theory of another spectrum would give a leak rate decades off, silently."""
+    h_rms = result.alpha * result.delta  # NaN for a law of your own without a spectrum
+    if math.isfinite(h_rms) and not math.isclose(theory.psd.h_rms, h_rms, rel_tol=1e-9):
+        raise ValueError(
+            f"theory is of another spectrum: its h_rms = {theory.psd.h_rms:.6g} m, the result's "
+            f"{h_rms:.6g} m (alpha * delta); pass the theory the contact was solved with"
+        )
+    own = getattr(result, "theory", None)
+    if own is not None and (own.gamma, own.variant) != (theory.gamma, theory.variant):
+        raise ValueError(
+            f"theory has gamma = {theory.gamma:g}, variant {theory.variant!r}; the result was "
+            f"solved with gamma = {own.gamma:g}, variant {own.variant!r}: pass the theory the "
+            "contact was solved with"
+        )

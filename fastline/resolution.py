@@ -655,3 +655,16 @@ def check_result(model: LineContact, result) -> None:
             "result must come from this model (same E_star, radius and law): got "
             f"E_star={result.E_star!r}, radius={result.radius!r}, model={result.model!r}"
         )
+    alpha = model._alpha(result.delta)  # h_rms / delta of the model's spectrum (NaN: none)
+    same_alpha = math.isclose(alpha, result.alpha, rel_tol=1e-9) or (
+        math.isnan(alpha) and math.isnan(result.alpha)
+    )
+    theirs, ours = result.theory, model.theory
+    same_theory = theirs is None or ours is None or theirs is ours
+    if not same_theory:
+        same_theory = (theirs.gamma, theirs.variant) == (ours.gamma, ours.variant)
+    if not (same_alpha and same_theory):
+        raise ValueError(
+            "result must come from this model (same spectrum, gamma and variant): its alpha "
+            f"is {result.alpha:.6g}, this model's at its load {alpha:.6g}"
+        )

@@ -218,8 +218,7 @@ def _profile_stage(h, dx, options):
     spectrum = tp.psd_from_profile(h, dx, **options)
     raw_options = {**options, "q_range": None, "bins_per_decade": None}
     raw_options.pop("tip_radius"), raw_options.pop("noise")
-    with warnings.catch_warnings():
-        warnings.simplefilter("ignore", tp.TopographyWarning)  # said once, by the call above
+    with tp._quiet():  # said once, by the call above
         raw = tp.psd_from_profile(h, dx, **raw_options)
     return spectrum, (raw.k, raw.C1D), spectrum.isotropic()
 
@@ -247,8 +246,7 @@ def _map_stage(h, dx, dy, options):
     measured = tp.psd_from_map(h, dx, dy, **options)
     raw_options = {**options, "q_range": None}
     raw_options.pop("tip_radius"), raw_options.pop("noise")
-    with warnings.catch_warnings():
-        warnings.simplefilter("ignore", tp.TopographyWarning)
+    with tp._quiet():  # said once, by the call above
         raw = tp.psd_from_map(h, dx, dy, **raw_options)
     limits = _map_limits(
         measured, dx, dy, options["q_range"], options["tip_radius"], options["noise"]

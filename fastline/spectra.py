@@ -249,7 +249,8 @@ class TabulatedPSD(PSD):
         """C(q) in m^4 for q in 1/m (vectorised), log-log interpolated."""
         q = np.asarray(q, dtype=np.float64)
         i = self._index(q)
-        c = self.C[i] * (q / self.q[i]) ** self._slope[i]
+        qc = np.clip(q, self.q[0], self.q[-1])  # no 0 ** -slope (q = 0 of an FFT grid) outside
+        c = self.C[i] * (qc / self.q[i]) ** self._slope[i]
         inside = (q >= self.q[0]) & (q <= self.q[-1]) & self._live[i]
         return np.where(inside, c, 0.0)
 

@@ -27,6 +27,8 @@ and the rules that set it: :func:`psd_from_profile`. Files: :func:`read_topograp
 
 from __future__ import annotations
 
+import contextlib
+import contextvars
 import math
 import os
 import warnings
@@ -113,6 +115,29 @@ def _heights(h, ndim_allowed: tuple[int, ...]) -> np.ndarray:
     if np.any(np.isinf(arr)):
         raise ValueError("h must not contain inf")
     return arr
+
+
+#: set while a caller recomputes what it has already analysed (and warned about) once
+_QUIET: contextvars.ContextVar[bool] = contextvars.ContextVar("fastline_topography_quiet")
+
+
+@contextlib.contextmanager
+def _quiet():
+    """Drop this module's TopographyWarnings inside the block. Unlike
+    ``warnings.catch_warnings``, it leaves the warning filters alone: changing them (entering
+    or leaving that context manager) clears the record of warnings already shown, so each call
+    of a function using it would show the same warning again."""
+    token = _QUIET.set(True)
+    try:
+        yield
+    finally:
+        _QUIET.reset(token)
+
+
+def _warn(text: str, stacklevel: int) -> None:
+    """A TopographyWarning, ``stacklevel`` counted from the caller of this function."""
+    if not _QUIET.get(False):
+        warnings.warn(text, TopographyWarning, stacklevel=stacklevel + 1)
 
 
 def _fill_dropouts(h: np.ndarray, nan: str) -> np.ndarray:
@@ -303,10 +328,9 @@ def _check_plausible(h_rms: float, slope: float, what: str) -> None:
             f"the rms slope {slope:.3g} is outside [{PLAUSIBLE_SLOPE[0]:g}, {PLAUSIBLE_SLOPE[1]:g}]"
         )
     if notes:
-        warnings.warn(
+        _warn(
             f"{what}: {' and '.join(notes)}: are the heights or the spacing in the wrong unit "
             "(e.g. micrometres read as metres)? Heights and spacings are in m.",
-            TopographyWarning,
             stacklevel=3,
         )
 
@@ -707,10 +731,9 @@ def isotropic_from_1d(
     C = inverse_abel(k, C1D, slope)
     good = C > 0.0
     if not good.all():
-        warnings.warn(
+        _warn(
             f"isotropic_from_1d: C(q) <= 0 at {int((~good).sum())} of {k.size} points (noise "
             "in C1D); they are left out. Fewer bins per decade or more profiles help.",
-            TopographyWarning,
             stacklevel=2,
         )
     if good.sum() < 2:
@@ -1189,11 +1212,10 @@ def _warn_unresolved(qr: float, lowest: float, gain: float) -> None:
             f"improves on a pure power law by {gain:.3g} < {ROLLOFF_SIGNIFICANCE:g} (likelihood "
             "ratio or F statistic): noise could make it, from the range starting at"
         )
-    warnings.warn(
+    _warn(
         f"fit_self_affine: the roll-off is not resolved: q_r = {qr:.3g} 1/m {why} {lowest:.3g} "
         "1/m. The roll-off may lie anywhere below; q_r, its error and the model's h_rms are not "
         "measurements (a longer scan, more profiles or a map resolve them)",
-        TopographyWarning,
         stacklevel=3,
     )
 
@@ -1386,6 +1408,11 @@ def convert_psd(
 # ----------------------------------------------------------------------------------------------
 # synthetic surfaces
 # ----------------------------------------------------------------------------------------------
+#: most points of a synthetic surface, n * ny (4096 x 4096: ~1 GB of FFT work arrays)
+SYNTHETIC_MAX_POINTS = 4096 * 4096
+_SYNTHETIC_WHY = " (n * ny at most 4096 x 4096 points: the FFTs need ~64 bytes a point)"
+
+
 def synthetic_surface(
     psd: PSD,
     n: int,
@@ -1406,23 +1433,40 @@ def synthetic_surface(
     psd : PSD
         Isotropic spectrum (Persson's convention).
     n, ny : int
-        Points along x and y (ny defaults to n), >= 2.
+        Points along x and y (ny defaults to n), >= 2; ``n * ny`` at most
+        ``SYNTHETIC_MAX_POINTS`` (4096 x 4096).
     dx : float
         Spacing in m (both directions).
     seed : int or numpy Generator, optional
+
+    Raises
+    ------
+    ValueError
+        Bad sizes or spacing, or a grid none of whose wavenumbers (2 pi / L up to the Nyquist
+        corner) lies where the spectrum is nonzero: the surface would be flat.
     """
     if not isinstance(psd, PSD):
         raise TypeError(f"psd must be a fastline PSD, got {type(psd).__name__}")
-    n = integer("n", n, 2)
-    ny = n if ny is None else integer("ny", ny, 2)
+    if ny is None:  # a square map
+        n = ny = integer("n", n, 2, math.isqrt(SYNTHETIC_MAX_POINTS), _SYNTHETIC_WHY)
+    else:
+        n = integer("n", n, 2, SYNTHETIC_MAX_POINTS // 2, _SYNTHETIC_WHY)
+        ny = integer("ny", ny, 2, SYNTHETIC_MAX_POINTS // n, _SYNTHETIC_WHY)
     dx = positive("dx", dx, "m")
-    rng = np.random.default_rng(seed)
-    noise = np.fft.fft2(rng.standard_normal((ny, n)))
     qx = 2.0 * math.pi * np.fft.fftfreq(n, dx)
     qy = 2.0 * math.pi * np.fft.fftfreq(ny, dx)
     q = np.hypot(qy[:, None], qx[None, :])
+    C = psd(q)
+    if not np.any(C > 0.0):
+        raise ValueError(
+            f"the grid's wavenumbers {2.0 * math.pi / (max(n, ny) * dx):.4g}-{q.max():.4g} 1/m "
+            f"(2 pi / L to the Nyquist corner) miss the spectrum, which is 0 outside "
+            f"{float(psd.q0):.4g}-{float(psd.q1):.4g} 1/m: the surface would be flat (is dx in m?)"
+        )
+    rng = np.random.default_rng(seed)
+    noise = np.fft.fft2(rng.standard_normal((ny, n)))
     area = n * ny * dx * dx
-    amplitude = np.sqrt((2.0 * math.pi) ** 2 * area * psd(q) / (dx**4 * n * ny))
+    amplitude = np.sqrt((2.0 * math.pi) ** 2 * area * C / (dx**4 * n * ny))
     return np.fft.ifft2(noise * amplitude).real
 
 

@@ -481,6 +481,8 @@ BAD_TABLES = [
     ("scenes.csv", TypeError, "scenes must be a list of dicts"),
     (np.zeros((2, 2)), TypeError, "1-D NumPy structured array"),
     ({"load": [1.0, 2.0], "E_star": [1.0]}, ValueError, "same length"),
+    ({"load": [1.0, 2.0], "E_star": 1.33e9}, TypeError, "column 'E_star' .* sequence of cells"),
+    ({"load": [1.0], "psd": "examples/psd_example.txt"}, TypeError, "column 'psd'"),  # not chars
 ]
 
 

@@ -546,3 +546,18 @@ def test_spectrum_with_a_gap_is_refused():
     th = fl.PerssonTheory(fl.TabulatedPSD(q, C), E_STAR)
     with pytest.raises(ValueError, match="gap"):
         th.critical_gap(1e6)
+
+
+def test_a_theory_of_another_interface_is_refused():
+    """``theory=`` of another spectrum (or gamma) than the solve's would give a leak rate
+    decades off without a word; it is refused like a theory of another E*."""
+    res = _line_contact("surface1", 1e4)
+    with pytest.raises(ValueError, match="h_rms"):
+        fl.leak_rate(res, DP, ETA, theory=_theory("surface3"))  # h_rms 1 um, not 10 um
+    with pytest.raises(ValueError, match="gamma"):
+        fl.leak_rate(res, DP, ETA, theory=fl.PerssonTheory(res.theory.psd, E_STAR, gamma=0.3))
+    point = _point_contact("surface1", 1.0)
+    with pytest.raises(ValueError, match="h_rms"):
+        fl.leak_rate(point, DP, ETA, inner_radius=1e-5, theory=_theory("surface3"))
+    same = fl.PerssonTheory(ALL["surface1"](), E_STAR)  # an equal spectrum, another object
+    assert fl.leak_rate(res, DP, ETA, theory=same, warn=False).Q > 0.0

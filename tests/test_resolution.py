@@ -321,3 +321,12 @@ def test_bad_estimate_error_input():
     hertz = fl.LineContact(None, E_STAR, RADIUS, model="hertz", n=256)
     with pytest.raises(ValueError, match="result|hertz"):
         hertz.estimate_error(hertz.solve(1e4))
+    rougher = fl.SelfAffinePSD(2 * PAPER[0].h_rms, PAPER[0].hurst, PAPER[0].q0, PAPER[0].qr, 1e9)
+    for other in (  # another spectrum, another gamma: re-solving it here would be nonsense
+        fl.LineContact(rougher, E_STAR, RADIUS, n=256, warn=False).solve(1e4),
+        fl.LineContact(PAPER[0], E_STAR, RADIUS, n=256, gamma=0.3, warn=False).solve(1e4),
+    ):
+        with pytest.raises(ValueError, match="spectrum, gamma"):
+            lc.estimate_error(other)
+    twin = fl.LineContact(PAPER[0], E_STAR, RADIUS, n=512, warn=False)  # same scene, own grid
+    assert lc.estimate_error(twin.solve(1e4)).n == 512

@@ -188,3 +188,21 @@ def test_figure_of_profiles_and_map(files, tmp_path):
     one = fl.plotting.plot_measured_psd(analyse_scan(files["map"], dx=DX, as_map=True))
     assert len(one.axes) == 1
     assert any("ring averages" in t for t in one.axes[0].get_legend_handles_labels()[1])
+
+
+@pytest.mark.parametrize("as_map", [False, True])
+def test_a_loop_of_analyses_warns_once_per_cause(files, as_map, tmp_path):
+    """analyse_scan in a loop (a unit slip: the units warning at every call) shows each
+    TopographyWarning once under Python's default filter: the recomputation of the raw
+    spectrum is silenced without touching the warning filters, whose change would clear the
+    record of warnings already shown."""
+    path = tmp_path / "map_um.npy"  # heights in um, read as mm: an rms slope of ~40
+    np.save(path, np.load(files["map"]) * 1e6)
+    path, kwargs = (path, {"as_map": True}) if as_map else (files["rows"], {})
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("default")
+        for _ in range(3):
+            analyse_scan(path, dx=DX, unit="mm", **kwargs)
+    emitted = [str(w.message) for w in caught if issubclass(w.category, tp.TopographyWarning)]
+    assert any("wrong unit" in text for text in emitted)
+    assert len(emitted) == len(set(emitted)), emitted

@@ -417,3 +417,17 @@ def test_compiled_newton_equals_python_loop(name):
         assert fast.p0 == pytest.approx(slow.p0, rel=RTOL_PATHS)
         assert fast.w_over_s == pytest.approx(slow.w_over_s, rel=RTOL_PATHS)
         assert abs(fast.iterations - slow.iterations) <= 1
+
+
+def test_a_loop_of_unconverged_solves_warns_once():
+    """Independent solves in a loop that do not converge: one ConvergenceWarning under Python's
+    default filter (the text is the same for every scene, as for the ValidityWarning), while
+    each result keeps its own residual in ``message``."""
+    psd = SURFACES["surface1"]
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("default")
+        results = [solve(psd, alpha, max_iter=1) for alpha in (1e-3, 2e-3, 4e-3, 8e-3)]
+    emitted = [w for w in caught if issubclass(w.category, fl.ConvergenceWarning)]
+    assert not any(r.converged for r in results)
+    assert len(emitted) == 1 and "result.message" in str(emitted[0].message)
+    assert len({r.message for r in results}) == len(results)  # the numbers differ per scene

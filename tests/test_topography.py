@@ -942,6 +942,12 @@ def test_fit_and_generator_reject():
         tp.synthetic_surface(PSD_ANALYTIC, 1, 1e-6)
     with pytest.raises(ValueError, match="dx must be > 0"):
         tp.synthetic_surface(PSD_ANALYTIC, 64, -1e-6)
+    with pytest.raises(ValueError, match="n must be an integer in"):  # 8 TB, refused at once
+        tp.synthetic_surface(PSD_ANALYTIC, 10**6, 1e-6)
+    with pytest.raises(ValueError, match="ny must be an integer in"):
+        tp.synthetic_surface(PSD_ANALYTIC, 4096, 1e-6, ny=8192)
+    with pytest.raises(ValueError, match="miss the spectrum"):  # dx in mm read as m: all 0
+        tp.synthetic_surface(PSD_ANALYTIC, 64, 1.0)
 
 
 def test_hermite_pieces_never_overshoot():
