@@ -744,6 +744,14 @@ class LeakageWarning(ValidityWarning):
     """A leak-rate estimate is outside the assumptions of the critical-junction theory."""
 
 
+#: the warning of a leak rate computed from a solve that did not converge (one text for every
+#: scene, so that a loop shows it once)
+UNCONVERGED = (
+    "fastline.leak_rate: the contact's solve did not converge (result.converged is False): "
+    "the leak rate is that of an unconverged pressure profile (LeakResult.converged says so)"
+)
+
+
 @dataclass
 class LeakResult:
     """The leak rate of a seal and where along the contact it is decided.
@@ -1142,6 +1150,8 @@ def _leak(x, p, theory, flow: _Flow, warn: bool, converged: bool) -> LeakResult:
     )
     for msg in msgs if warn else ():
         warnings.warn(f"fastline.leak_rate: {msg}", LeakageWarning, stacklevel=3)
+    if warn and not converged:  # not in diagnostics: the solve's own diagnostics say it
+        warnings.warn(UNCONVERGED, LeakageWarning, stacklevel=3)
     return LeakResult(
         Q=conductance * (1.0 if radial else flow.length) * flow.pressure_drop,
         conductance=conductance,
@@ -1195,7 +1205,9 @@ def leak_rate(
     result : LineContactResult or PointContactResult
         A solved contact (``model="persson"`` or ``"exponential"``).
     pressure_drop, viscosity, threshold, method, mean_free_path, warn
-        As in :func:`leak_rate_profile` (Pa, Pa s, -, str, m, bool).
+        As in :func:`leak_rate_profile` (Pa, Pa s, -, str, m, bool). With ``warn``, a result
+        that did not converge also gets a :class:`LeakageWarning` (one text for every scene:
+        a loop shows it once); ``LeakResult.converged`` says so either way.
     length : float, optional
         Line contact: the seal length in m (default 1 m). Not for a point contact.
     inner_radius : float, optional

@@ -368,6 +368,26 @@ def test_point_contact_leak_falls_with_load_and_with_a_smaller_orifice():
     assert same.Q == a.Q
 
 
+def test_leak_of_an_unconverged_solve_warns_once():
+    """A leak rate from a pressure that did not converge says so (LeakageWarning), once for a
+    loop of such scenes; a converged solve's leak rate does not."""
+    th = _theory("surface1")
+    kw = dict(theory=th, n=128, warn=False)
+    bad = [fl.solve_line_contact(th.psd, E_STAR, RADIUS, f, max_iter=1, **kw) for f in (1e3, 2e3)]
+    assert not any(r.converged for r in bad)
+    with warnings.catch_warnings(record=True) as seen:
+        warnings.simplefilter("default")
+        leaks = [fl.leak_rate(r, DP, ETA) for r in bad + bad]
+    texts = [str(w.message) for w in seen if "did not converge" in str(w.message)]
+    assert texts == [leakage.UNCONVERGED] and not any(k.converged for k in leaks)
+    assert all(issubclass(w.category, fl.LeakageWarning) for w in seen)
+    good = fl.solve_line_contact(th.psd, E_STAR, RADIUS, 1e3, **kw)
+    with warnings.catch_warnings(record=True) as seen:
+        warnings.simplefilter("always")
+        fl.leak_rate(good, DP, ETA)
+    assert not [w for w in seen if "did not converge" in str(w.message)]
+
+
 def test_orifice_warning():
     th = _theory("surface1")
     r = np.arange(64) * 5e-4
