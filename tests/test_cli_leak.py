@@ -82,14 +82,20 @@ def swept(theory):
     return loads, results, [fl.leak_rate(r, DP, ETA, LENGTH, warn=False) for r in results]
 
 
+def _sweep_once(tmp_path_factory, name, argv, figure):
+    """``(status, stdout, stderr, csv path, figure path)`` of one sweep run for a module-scoped
+    fixture (capsys is function-scoped)."""
+    out = tmp_path_factory.mktemp(name)
+    csv_path, fig = out / "sweep.csv", out / f"sweep.{figure}"
+    so, se = StringIO(), StringIO()
+    with redirect_stdout(so), redirect_stderr(se):
+        status = main([str(a) for a in argv + ["--csv", csv_path, "--plot", fig]])
+    return status, so.getvalue(), se.getvalue(), csv_path, fig
+
+
 @pytest.fixture(scope="module")
 def sweep_run(tmp_path_factory):
-    out = tmp_path_factory.mktemp("leak_sweep")
-    csv_path, svg = out / "sweep.csv", out / "sweep.svg"
-    so, se = StringIO(), StringIO()  # capsys is function-scoped
-    with redirect_stdout(so), redirect_stderr(se):
-        status = main([str(a) for a in SWEEP + ["--csv", csv_path, "--plot", svg]])
-    return status, so.getvalue(), se.getvalue(), csv_path, svg
+    return _sweep_once(tmp_path_factory, "leak_sweep", SWEEP, "svg")
 
 
 # ----------------------------------------------------------------------------------------------
@@ -477,12 +483,7 @@ def ball_swept(theory):
 
 @pytest.fixture(scope="module")
 def ball_sweep_run(tmp_path_factory):
-    out = tmp_path_factory.mktemp("ball_sweep")
-    csv_path, png = out / "sweep.csv", out / "sweep.png"
-    so, se = StringIO(), StringIO()
-    with redirect_stdout(so), redirect_stderr(se):
-        status = main([str(a) for a in BALL_SWEEP + ["--csv", csv_path, "--plot", png]])
-    return status, so.getvalue(), se.getvalue(), csv_path, png
+    return _sweep_once(tmp_path_factory, "ball_sweep", BALL_SWEEP, "png")
 
 
 def test_sphere_leak_matches_api(ball, tmp_path, capsys):
