@@ -119,17 +119,9 @@ LEAK_SWEEP_COLUMNS = (
 POINT_LEAK_COLUMNS = ("r_m", *LEAK_COLUMNS[1:])
 #: columns of :func:`write_leak_sweep_csv` for radial flow (the load F on a sphere in N; the
 #: conductance of the whole contact, not per unit seal length)
-POINT_LEAK_SWEEP_COLUMNS = (
-    "load_N",
-    "alpha",
-    "p0_Pa",
-    "Q_m3_per_s",
-    "conductance_m3_per_Pa_s",
-    "sealed",
-    "share_in_fwhm",
-    "resistance_width_m",
-    "min_gap_m",
-    "converged",
+POINT_LEAK_SWEEP_COLUMNS = tuple(
+    {"load_N_per_m": "load_N", "conductance_m2_per_Pa_s": "conductance_m3_per_Pa_s"}.get(c, c)
+    for c in LEAK_SWEEP_COLUMNS
 )
 
 
@@ -571,7 +563,7 @@ def write_leak_csv(
     radial = leak.inner_radius is not None
     info = dict(meta or {})
     if result is not None:
-        load_key = "load_N" if hasattr(result, "r") else "load_N_per_m"
+        load_key = "load_N" if radial else "load_N_per_m"
         info.update({load_key: result.load, "alpha": result.alpha, "p0_Pa": result.p0})
     info.update(leak_metadata(leak))
     unit = "m3_per_Pa_s" if radial else "m2_per_Pa_s"  # the whole contact / per unit length
