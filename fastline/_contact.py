@@ -34,6 +34,7 @@ import numpy as np
 from fastline import _core
 from fastline import _solve_kernels as _kernels
 from fastline._core import ConvergenceWarning, normalise
+from fastline._hard_contact import hard_contact
 from fastline._solve_kernels import cold_start_into, cold_start_normalised, hermite_accumulate
 from fastline._validate import E_STAR_RANGE, RADIUS_RANGE, finite_scalar, in_span, integer, positive
 from fastline.diagnostics import assess, warn_once
@@ -588,7 +589,7 @@ class ContactModel:
             v = self._cold_start(grid) if start is None else start
             max_iter = self.max_iter or 10 * self.n
             p = _core.pressure_of(v)  # exactly 0 off the predicted contact
-            return _core.hard_contact(disc, p, grid.hertz.delta, self.tol, max_iter)
+            return hard_contact(disc, p, grid.hertz.delta, self.tol, max_iter)
         if start is None:  # the cold start, normalised to the load, in one compiled call
             v = np.empty_like(grid.x)
             profiles = self._cold_profiles(grid.hertz)
