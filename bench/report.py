@@ -23,7 +23,7 @@ import numpy as np  # noqa: E402
 
 import fastline as fl  # noqa: E402
 from bench import baseline as bl  # noqa: E402
-from bench import core  # noqa: E402
+from bench import core, hard  # noqa: E402
 from bench.conftest import (  # noqa: E402
     ALPHAS,
     E_STAR,
@@ -206,6 +206,7 @@ def main():
 
     # ---- (f) the core's targets: counts over n, FFT share, sweeps, threads -------------------
     core_m = core.measure()
+    hard_rows = hard.measure()
 
     # ---- figures ------------------------------------------------------------------------------
     cmap = plt.get_cmap("viridis")
@@ -381,6 +382,7 @@ def main():
         L.append(f"| {name} | {txt} | {'yes' if ok else '**no**'} | {margin} |")
     L.append("")
     L.extend(core.markdown(core_m))
+    L.extend(hard.markdown(hard_rows))
 
     L.append("## Convolutions per solve (n = 1024, tol = 1e-8)\n")
     L.append(

@@ -280,6 +280,16 @@ _SHIPPED_LAWS = (PerssonLaw, ExponentialLaw, TabulatedLaw)
 # ----------------------------------------------------------------------------------------------
 # the model base class
 # ----------------------------------------------------------------------------------------------
+def _hertz_start(r: np.ndarray, a: float) -> np.ndarray:
+    """ln p of Hertz's profile ``sqrt(1 - r^2/a^2)`` (up to a constant) at distances ``r`` (m)
+    from the centre, -inf outside ``a``; the innermost cells when ``a`` is below a cell."""
+    inside = r < a
+    if not inside.any():
+        inside = r == r.min()
+    with np.errstate(divide="ignore"):
+        return np.where(inside, 0.5 * np.log(np.maximum(1.0 - (r / a) ** 2, 1e-300)), -np.inf)
+
+
 class ContactModel:
     """Settings, law and solve loop shared by the contact geometries (module docstring).
 
@@ -500,8 +510,8 @@ class ContactModel:
         """ln p to start from without a neighbour: Hertz and Gaussian profiles blended (up to
         a constant: :meth:`_run` normalises every start to the load)."""
         x = grid.x
-        if self._law is None:  # hard contact: uniform pressure on the central third
-            return np.where(np.abs(x) <= grid.half_width / 3.0, 0.0, -np.inf)
+        if self._law is None:  # hard contact: Hertz's profile, sqrt(1 - x^2/a^2)
+            return _hertz_start(np.abs(x), grid.hertz.a)
         v = np.empty_like(x)
         cold_start_into(x, *self._cold_profiles(grid.hertz), v)  # compiled, nogil
         return v  # normalised to the load by _run, as every start is

@@ -125,9 +125,9 @@ class LineContactResult(DeferredFields):
     converged : bool
         Whether the residual fell below ``tol``.
     iterations, convolutions : int
-        Outer iterations (Newton steps, sweeps) and FFT convolutions of length 2n: applications
-        of K plus the preconditioner's circulant solves (``diagnostics`` splits the two as
-        ``k_applications`` and ``circulant_solves``).
+        Outer iterations (Newton steps, sweeps; hertz: active-set steps) and FFT convolutions
+        of length 2n: applications of K plus the preconditioner's circulant solves
+        (``diagnostics`` splits the two as ``k_applications`` and ``circulant_solves``).
     residual : float
         Final residual: max |u_law(p) - u1 - x^2/2R - K p| / u0 (for hertz: the
         complementarity error relative to delta).
@@ -276,11 +276,12 @@ class LineContact(ContactModel):
         Half-width of the domain in m, the same for every load, at most 1e3 R and at least the
         Hertz half-width ``a`` of each load solved; default per load ``1.25 a + 8 sqrt(R u0)``.
     tol : float
-        Residual tolerance (separation mismatch in units of u0; hertz: relative pressure
-        change), in (0, 1e-2].
+        Residual tolerance (separation mismatch in units of u0; hertz: gap mismatch in the
+        contact in units of delta, :mod:`fastline._hard_contact`), in (0, 1e-2].
     max_iter : int, optional
         Newton steps / fixed-point sweeps allowed (defaults 100 / 5000; the fixed point also
-        stops when it stagnates, see :func:`fastline._core.picard`).
+        stops when it stagnates, see :func:`fastline._core.picard`); hertz: active-set steps
+        (at most 30, typically 1-2).
     u0, beta : float, optional
         Exponential-law parameters for ``model="exponential"`` (m, dimensionless).
     theory : PerssonTheory, optional

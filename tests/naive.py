@@ -136,6 +136,34 @@ def line_contact_exponential(E_star, radius, load, u0, beta, n, half_width):
     return x, np.exp(sol.x[:-1])
 
 
+def line_contact_hard(E_star, radius, load, n, half_width):
+    """Hard contact of a smooth cylinder, dense: the contact set by enumeration.
+
+    For a convex profile the discrete contact is a centred, symmetric run of cells. Try runs
+    of growing length; on each, solve the bordered system ``K_AA p_A + u1 = -g_A``,
+    ``dx sum(p_A) = load``; return ``x, p`` of the first with ``p >= 0`` and no penetration
+    outside (``g + K p + u1 >= 0``).
+    """
+    dx = 2.0 * half_width / n
+    x = (np.arange(n) - 0.5 * (n - 1)) * dx
+    K = log_kernel_matrix(n, dx, E_star)
+    g = x * x / (2.0 * radius)
+    order = np.argsort(np.abs(x), kind="stable")
+    for m in range(2 - n % 2, n + 1, 2):  # symmetric runs: odd n odd lengths, even n even
+        idx = np.sort(order[:m])
+        M = np.zeros((m + 1, m + 1))
+        M[:m, :m] = K[np.ix_(idx, idx)]
+        M[:m, m] = 1.0
+        M[m, :m] = dx
+        sol = np.linalg.solve(M, np.concatenate([-g[idx], [load]]))
+        p = np.zeros(n)
+        p[idx] = sol[:m]
+        gap = g + K @ p + sol[m]
+        if p.min() >= 0.0 and gap.min() >= -1e-12 * g.max():
+            return x, p
+    raise RuntimeError("no feasible contact set")
+
+
 # ----------------------------------------------------------------------------------------------
 # leakage (THEORY.md section 8): the interface at magnification zeta
 # ----------------------------------------------------------------------------------------------
