@@ -130,7 +130,7 @@ class LineContactResult(DeferredFields):
         (``diagnostics`` splits the two as ``k_applications`` and ``circulant_solves``).
     residual : float
         Final residual: max |u_law(p) - u1 - x^2/2R - K p| / u0 (for hertz: the
-        complementarity error relative to delta).
+        complementarity error relative to delta, or the relative load error if larger).
     message : str
         What happened.
     model, method : str
