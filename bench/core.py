@@ -18,7 +18,7 @@ import numpy as np
 
 import fastline as fl
 from bench.conftest import E_STAR, RADIUS, load_for_alpha
-from bench.gil import gil_held, thread_speedups
+from bench.gil import gil_held, parallel_speedups
 from fastline import _fftw
 from fastline._line_newton import _law
 from fastline._toeplitz_pcg import _convolve
@@ -167,15 +167,21 @@ THREAD_SOLVES, THREAD_RUNS = 240, 9
 
 def threads(n: int = 1024, solves: int = THREAD_SOLVES, runs: int = THREAD_RUNS) -> dict:
     """2-thread speed-up of ``solves`` solves (one shared LineContact, wall time, serial / 2
-    threads; :func:`bench.gil.thread_speedups`): min, median and max over ``runs`` runs; and,
+    threads; :func:`bench.gil.parallel_speedups`): min, median and max over ``runs`` runs, the
+    same for 2 processes in the same runs and the threads' share of it (median of the per-run
+    ratios); and,
     independent of the machine's other load, the GIL-held share of a warm solve
     (:func:`bench.gil.gil_held`, alpha 1 and 1e-2) with the speed-up it allows on 2 cores
     (Amdahl: 1 / (f + (1 - f) / 2))."""
-    s = sorted(thread_speedups(n, runs, solves))
+    runs_ = parallel_speedups(n, runs, solves)
+    s, sp = sorted(runs_["threads"]), sorted(runs_["processes"])
+    of_ceiling = [t / p for t, p in zip(runs_["threads"], runs_["processes"], strict=True)]
     held = {a: gil_held(n, a, repeat=300) for a in (1.0, 1e-2)}
     share = {a: g["gil"] / g["solve"] for a, g in held.items()}
     return dict(
         speedup=(s[0], statistics.median(s), s[-1]),
+        processes=(sp[0], statistics.median(sp), sp[-1]),
+        of_ceiling=statistics.median(of_ceiling),
         gil_us={a: g["gil"] * 1e6 for a, g in held.items()},
         solve_us={a: g["solve"] * 1e6 for a, g in held.items()},
         bound={a: 1.0 / (f + (1.0 - f) / 2.0) for a, f in share.items()},
@@ -385,6 +391,14 @@ def markdown(m: dict) -> list[str]:
         "cold start, the load normalisation and the profile measures are compiled "
         "(fastline._solve_kernels), the result's real-area profile and validity diagnostics are "
         "computed when first read.\n"
+    )
+    plo, pmid, phi = th["processes"]
+    L.append(
+        "The machine's own ceiling, in the same runs: the same solves split between 2 forked "
+        f"processes (sharing nothing) ran {pmid:.2f}x faster than serial (median; min {plo:.2f}, "
+        f"max {phi:.2f}); the threads reached {th['of_ceiling']:.0%} of the processes' speed-up "
+        "(median of the per-run ratios), the figure of the code that survives this machine's "
+        "moods.\n"
     )
     L.append(
         "What bounds the speed-up, measured without the other load (`python -m bench.gil`: the "

@@ -13,7 +13,8 @@ dispatch) holds the GIL and serialises them. Measured here:
 * **2-thread speed-up**: wall time of S solves of different loads in turn, over the wall time
   of the same solves split between 2 threads of one shared model (every other load each, no
   pool: a pool's hand-over of each task costs GIL time of its own); min / median / max over
-  ``--runs`` runs (the machine's other load shows as spread).
+  ``--runs`` runs (the machine's other load shows as spread). Beside it, in the same runs, the
+  same split on 2 forked processes: the machine's own ceiling at that moment.
 
 Options: ``--ns 256 1024``, ``--runs 9``.
 """
@@ -23,6 +24,7 @@ from __future__ import annotations
 import argparse
 import contextlib
 import math
+import multiprocessing
 import statistics
 import threading
 import time
@@ -190,19 +192,43 @@ def _on_two_threads(lc: fl.LineContact, loads: np.ndarray) -> float:
     return time.perf_counter() - t0
 
 
-def thread_speedups(n: int, runs: int, solves: int | None = None) -> list[float]:
-    """Serial wall time / 2-thread wall time of ``solves`` solves (loads 1e3..1e6 N/m, surface
-    1, one shared model; the loads split between the threads, no pool), one figure per run."""
-    lc = fl.LineContact(surfaces()[0], E_STAR, RADIUS, n=n, warn=False)
+#: the model the forked worker processes of :func:`parallel_speedups` solve with (set before
+#: the pool forks, so each worker inherits it with its compiled kernels and FFT plans)
+_MODEL: fl.LineContact | None = None
+
+
+def _solve_part(loads: np.ndarray) -> None:
+    for f in loads:
+        _MODEL.solve(f)
+
+
+def _on_two_processes(pool, loads: np.ndarray) -> float:
+    """Wall time (s) of two worker processes, each solving every other load."""
+    t0 = time.perf_counter()
+    pool.map(_solve_part, [loads[0::2], loads[1::2]], chunksize=1)
+    return time.perf_counter() - t0
+
+
+def parallel_speedups(n: int, runs: int, solves: int | None = None) -> dict[str, list[float]]:
+    """Serial wall time over the wall time of the same ``solves`` solves (loads 1e3..1e6 N/m,
+    surface 1, one shared model; the loads split in two) on 2 threads and on 2 forked
+    processes, interleaved in each run: one figure per run for each. The processes share
+    nothing, so their speed-up is what this machine gives any parallel code at that moment
+    (two cores that are hyperthreads of one, or busy with other work, give less than 2)."""
+    global _MODEL
+    lc = _MODEL = fl.LineContact(surfaces()[0], E_STAR, RADIUS, n=n, warn=False)
     loads = np.geomspace(1e3, 1e6, solves or SOLVES.get(n, 120))
-    _on_two_threads(lc, loads[:16])  # both threads warm (FFT plans, caches)
-    out = []
-    for _ in range(runs):
-        t = time.perf_counter()
-        for f in loads:
-            lc.solve(f)
-        serial = time.perf_counter() - t
-        out.append(serial / _on_two_threads(lc, loads))
+    out: dict[str, list[float]] = {"threads": [], "processes": []}
+    with multiprocessing.get_context("fork").Pool(2) as pool:
+        _on_two_threads(lc, loads[:16])  # both threads and both workers warm (plans, caches)
+        _on_two_processes(pool, loads[:16])
+        for _ in range(runs):
+            t = time.perf_counter()
+            for f in loads:
+                lc.solve(f)
+            serial = time.perf_counter() - t
+            out["threads"].append(serial / _on_two_threads(lc, loads))
+            out["processes"].append(serial / _on_two_processes(pool, loads))
     return out
 
 
@@ -220,11 +246,13 @@ def main(argv=None) -> None:  # pragma: no cover - a report
                 f"| {n} | {alpha:g} | {m['solve'] * 1e6:.0f} us | {m['gil'] * 1e6:.1f} us | "
                 f"{100 * m['gil'] / m['solve']:.0f}% | {w['gil'] * 1e6:.1f} us |"
             )
-    print("\n| n | solves | 2-thread speed-up min / median / max |\n|---|---|---|")
+    print("\n| n | solves | speed-up min / median / max: 2 threads | 2 processes |")
+    print("|---|---|---|---|")
     for n in args.ns:
-        s = sorted(thread_speedups(n, args.runs))
-        spread = f"{s[0]:.2f} / {statistics.median(s):.2f} / {s[-1]:.2f}"
-        print(f"| {n} | {SOLVES.get(n, 120)} | {spread} |")
+        runs = parallel_speedups(n, args.runs)
+        spread = [sorted(runs[k]) for k in ("threads", "processes")]
+        cells = [f"{s[0]:.2f} / {statistics.median(s):.2f} / {s[-1]:.2f}" for s in spread]
+        print(f"| {n} | {SOLVES.get(n, 120)} | {cells[0]} | {cells[1]} |")
 
 
 if __name__ == "__main__":  # pragma: no cover
