@@ -68,21 +68,22 @@ def hard_contact(
         Length scale of the scene in m (the Hertz approach): residuals are in its units.
     tol : float
         Active set: the gap mismatch in the contact and the penetration outside, in units of
-        ``delta``. Constrained CG: the relative change of the pressure in one iteration.
+        ``delta``, and the relative error of the load. Constrained CG: the relative change of
+        the pressure in one iteration.
     max_iter : int
         Iterations allowed (active-set steps at most :data:`ACTIVE_SET_STEPS`).
     """
     out = active_set(disc, p, delta, tol, min(max_iter, ACTIVE_SET_STEPS))
     if out is not None and out.converged:
         return out
-    start = p if out is None else out.pressure
+    start = p if out is None else np.maximum(out.pressure, 0.0)
     return constrained_cg(disc, start, delta, tol, max_iter)
 
 
-def complementarity_error(p: np.ndarray, gap: np.ndarray, contact: np.ndarray) -> float:
-    """Largest violation of hard contact in m: ``|gap|`` on the contact cells, the penetration
-    ``-gap`` anywhere, ``-p`` anywhere (pressure in Pa is not compared with gaps: p is >= 0
-    by construction in both algorithms, checked by the tests)."""
+def complementarity_error(gap: np.ndarray, contact: np.ndarray) -> float:
+    """Largest violation of hard contact in m: ``|gap|`` on the contact cells and the
+    penetration ``-gap`` anywhere (``p >= 0`` holds by construction in both algorithms; the
+    tests check it)."""
     inside = float(np.max(np.abs(gap[contact]))) if contact.any() else 0.0
     return max(inside, float(max(0.0, -gap.min())))
 
@@ -117,9 +118,7 @@ def active_set(
         sizes.append(int(A.sum()))
         gap = disc.gap + disc.op.apply(p) + u1
         # the load too: dp off the contact is zeroed, so what it carried would be lost
-        err = max(
-            complementarity_error(p, gap, A) / delta, abs(dot(disc.weights, p) / disc.load - 1)
-        )
+        err = max(complementarity_error(gap, A) / delta, abs(dot(disc.weights, p) / disc.load - 1))
         A_new = (A & (p > 0.0)) | (~A & (gap < 0.0))
         settled = bool(np.array_equal(A_new, A))
         if settled and err < tol:
@@ -200,7 +199,7 @@ def constrained_cg(
     c = p > 0.0
     u1 = -dot(w[c], h[c]) / w[c].sum()
     gap = h + u1
-    err = complementarity_error(p, gap, c) / delta
+    err = complementarity_error(gap, c) / delta
     ok = change < tol
     msg = (
         f"{'converged' if ok else 'not converged'}: pressure change {change:.2e} "
