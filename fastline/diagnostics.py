@@ -20,6 +20,10 @@ regime the scene is in (information) and which model assumptions fail (warnings)
 * **mean field**: a warning when the contact (the larger of the FWHM and the Hertz width 2a)
   is narrower than the longest roughness wavelength ``2 pi / q0`` (``"narrow_contact"``): the
   theory assumes the nominal pressure varies slowly on that scale;
+* **domain**: a warning when the pressure at the edge of the domain exceeds
+  :data:`EDGE_LIMIT` of p0 (``"truncated_domain"``): a ``half_width`` (``domain_radius``)
+  given too small cuts off part of the contact, and p0, s and w/s are off, converged or not
+  (not for a result of ``accuracy=`` that met it: its error estimate counts the truncation);
 * **resolution**: a warning when the FWHM spans fewer than :data:`RESOLUTION_CELLS` grid cells
   (``"resolution"``): p0 and w/s are then limited by the grid, converged or not.
 
@@ -56,6 +60,7 @@ __all__ = [
     "HERTZ_LIKE_ALPHA",
     "GAUSSIAN_LIKE_ALPHA",
     "RESOLUTION_CELLS",
+    "EDGE_LIMIT",
 ]
 
 #: alpha below which the contact is Hertz-like (paper section 3).
@@ -74,10 +79,24 @@ HALF_WIDTH_LIMIT = 0.1
 #: 0.4 % for the paper's scenes; the needle scene has p0 off by 4 % at 2.8 cells, 0.5 % at
 #: 5.9 and 0.07 % at 11.9.
 RESOLUTION_CELLS = 8.0
+#: pressure at the domain edge, relative to p0, above which the domain cuts off the contact.
+#: Measured against the default domain (paper surface 1, E* = 1.33 GPa, R = 1 cm, n = 2048,
+#: domains a + k sqrt(R u0)): an edge pressure of 1e-3 goes with errors of 0.03-0.4 % in s
+#: and w/s and below 0.2 % in p0 (alpha 0.1-100; cylinder and sphere), 1e-2 with 1-4 %,
+#: 0.4-0.8 with 20-190 % (and a NaN FWHM when p does not fall to p0/2 inside the domain); the
+#: default domain's edge pressure is below 1e-14 over alpha 1e-3..100
+EDGE_LIMIT = 1e-3
 #: causes whose worst case is the smallest load of a sweep (the narrowest contact)
 _WORST_AT_SMALL_LOAD = frozenset({"narrow_contact"})
 #: warning causes, in the order they are reported
-CAUSES = ("half_space", "plastic", "exponential_range", "narrow_contact", "resolution")
+CAUSES = (
+    "half_space",
+    "plastic",
+    "exponential_range",
+    "narrow_contact",
+    "truncated_domain",
+    "resolution",
+)
 
 
 _REAL = (int, float, np.floating, np.integer)
@@ -159,15 +178,47 @@ def _mean_field(out, result, psd, msgs) -> None:
         )
 
 
+def _domain_parameter(result) -> str:
+    """The name of the option that sets the domain: a cylinder's ``half_width``, a sphere's
+    ``domain_radius``."""
+    point = getattr(result, "EXTENT_WORD", "half-width") == "radius"
+    return "domain_radius" if point else "half_width"
+
+
+def _domain_half_width(result) -> float:
+    """The extent of the solved domain (m): a cylinder's cells span ``n dx``, a sphere's
+    central disc and rings reach ``(n - 1/2) dr``."""
+    if hasattr(result, "dr"):
+        return float((result.r.size - 0.5) * result.dr)
+    return float(0.5 * result.x.size * result.dx)
+
+
+def _domain(out, result, msgs) -> None:
+    edge = float(result.edge_pressure)
+    out["domain_ok"] = bool(edge <= EDGE_LIMIT)
+    estimate = getattr(result, "error_estimate", None)
+    if estimate is not None and estimate.met:  # accuracy= met: the truncation is in its errors
+        return
+    if not out["domain_ok"]:
+        name = _domain_parameter(result)
+        msgs["truncated_domain"] = (
+            f"the pressure at the edge of the domain is {edge:.3g} of p0 (> {EDGE_LIMIT:g}): "
+            f"the domain ({name} = {out['domain_half_width']:.3g} m) cuts off part of the "
+            f"contact and p0, s and w/s are off; widen {name} (None, the default, sizes it "
+            "for each load)"
+        )
+
+
 def _resolution(out, result, msgs) -> None:
     step = result.dr if hasattr(result, "dr") else result.dx  # a point contact's ring width
     cells = result.fwhm / step if step > 0 else float("nan")
     out["fwhm_cells"] = float(cells)
     out["resolution_ok"] = bool(cells >= RESOLUTION_CELLS)
-    if not out["resolution_ok"]:
+    if not out["resolution_ok"] and math.isfinite(cells):  # NaN: no FWHM inside the domain
         msgs["resolution"] = (
             f"the FWHM spans {cells:.3g} grid cells (< {RESOLUTION_CELLS:g}): p0 and w/s are "
-            "limited by the grid (errors of percents); raise n or narrow half_width"
+            f"limited by the grid (errors of percents); raise n or narrow "
+            f"{_domain_parameter(result)}"
         )
 
 
@@ -247,7 +298,9 @@ def assess(
         ``regime`` (str), ``alpha`` (-), ``half_width`` (m; max of FWHM/2 and the Hertz a),
         ``contact_width`` (m, twice that), ``half_width_over_radius`` (-), ``half_space_ok``
         (bool), ``longest_wavelength`` (m, ``2 pi/q0``) and ``mean_field_ok`` (contact at least
-        that wide), ``fwhm_cells`` (FWHM / grid spacing) and ``resolution_ok``, ``rms_slope``
+        that wide), ``domain_half_width`` (m, the solved domain's extent) and ``domain_ok``
+        (edge pressure at most :data:`EDGE_LIMIT` of p0), ``fwhm_cells`` (FWHM / grid
+        spacing) and ``resolution_ok``, ``rms_slope``
         (-), ``asperity_pressure`` (Pa, ``h' E*/2``), ``real_area_at_peak`` (-,
         ``P(q1, p0)``), ``plastic_likely`` (bool or None), ``p0_over_beta_E_star`` (-); for
         ``model="persson"`` ``beyond_exponential_law`` (the peak lies above the range where
@@ -276,6 +329,8 @@ def assess(
     msgs: dict[str, str] = {}
     _half_space(out, result, msgs)
     _mean_field(out, result, psd, msgs)
+    out["domain_half_width"] = _domain_half_width(result)
+    _domain(out, result, msgs)
     _resolution(out, result, msgs)
     _asperities(out, result, theory, hardness, msgs)
     _exponential(out, result, theory, msgs)
@@ -312,9 +367,14 @@ def _headline(cause: str, result) -> str:
             "the contact is narrower than the longest roughness wavelength 2 pi/q0: the "
             "theory's mean-field assumption (pressure varying slowly on that scale) is not met"
         ),
+        "truncated_domain": (
+            f"the pressure at the edge of the domain exceeds {EDGE_LIMIT:g} of p0: the domain "
+            f"cuts off part of the contact; widen {_domain_parameter(result)} (None, the "
+            "default, sizes it for each load)"
+        ),
         "resolution": (
             f"the FWHM spans fewer than {RESOLUTION_CELLS:g} grid cells: p0 and w/s are limited "
-            "by the grid (errors of percents); raise n or narrow half_width"
+            f"by the grid (errors of percents); raise n or narrow {_domain_parameter(result)}"
         ),
     }[cause]
     return f"{text} (this scene's numbers: result.diagnostics['warning_messages'])"

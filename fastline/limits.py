@@ -62,6 +62,21 @@ WS_GAUSSIAN = 2.0 * math.sqrt(2.0 * math.log(2.0))
 WS_HERTZ_SPHERE = math.sqrt(15.0)
 
 
+def _representable(what: str, given: dict, derived: dict) -> None:
+    """A ValueError naming the inputs when a closed form's ``derived`` quantities are not
+    finite and > 0 in float64 (inputs each > 0 but so far apart, e.g. a load of 1e-320 N or
+    1e300 N/m, that the result under- or overflows): no 0, inf or ZeroDivisionError."""
+    bad = {k: v for k, v in derived.items() if not (0.0 < v < math.inf)}
+    if bad:
+        inputs = ", ".join(f"{k}={v!r}" for k, v in given.items())
+        out = ", ".join(f"{k} = {v!r}" for k, v in bad.items())
+        raise ValueError(
+            f"{what} of {inputs} is not representable in float64 ({out}): the inputs lie "
+            "outside any physical range (the solvers accept E_star in [1, 1e13] Pa and radius "
+            "in [1e-9, 1e3] m)"
+        )
+
+
 def _as_result(out: np.ndarray) -> float | np.ndarray:
     """A Python float for 0-d results, the array otherwise."""
     return float(out) if out.ndim == 0 else out
@@ -84,7 +99,9 @@ def penetration(E_star: float, load: float) -> float:
     """
     E_star = positive("E_star", E_star, "Pa")
     load = positive("load", load, "N/m")
-    return 4.0 * load / (math.pi * E_star)
+    delta = 4.0 * load / (math.pi * E_star)
+    _representable("the penetration", {"E_star": E_star, "load": load}, {"delta": delta})
+    return delta
 
 
 def alpha(h_rms: float, E_star: float, load: float) -> float:
@@ -105,7 +122,9 @@ def alpha(h_rms: float, E_star: float, load: float) -> float:
         ``alpha`` (dimensionless); Hertz-like below ~0.01, Gaussian-like above ~10.
     """
     h_rms = positive("h_rms", h_rms, "m")
-    return h_rms / penetration(E_star, load)
+    out = h_rms / penetration(E_star, load)
+    _representable("alpha", {"h_rms": h_rms, "E_star": E_star, "load": load}, {"alpha": out})
+    return out
 
 
 @dataclass(frozen=True)
@@ -236,7 +255,10 @@ def hertz_line_contact(E_star: float, radius: float, load: float) -> HertzLineCo
     E_star = positive("E_star", E_star, "Pa")
     radius = positive("radius", radius, "m")
     load = positive("load", load, "N/m")
-    return _hertz_line(E_star, radius, load)
+    hz = _hertz_line(E_star, radius, load)
+    given = {"E_star": E_star, "radius": radius, "load": load}
+    _representable("the Hertz line contact", given, {"p0": hz.p0, "a": hz.a, "delta": hz.delta})
+    return hz
 
 
 def _hertz_line(E_star: float, radius: float, load: float) -> HertzLineContact:
@@ -273,7 +295,11 @@ def gaussian_line_contact(u0: float, radius: float, load: float) -> GaussianLine
     u0 = positive("u0", u0, "m")
     radius = positive("radius", radius, "m")
     load = positive("load", load, "N/m")
-    return _gaussian_line(u0, radius, load)
+    given = {"u0": u0, "radius": radius, "load": load}
+    _representable("the Gaussian line contact", given, {"s": math.sqrt(radius * u0)})
+    gs = _gaussian_line(u0, radius, load)
+    _representable("the Gaussian line contact", given, {"p0": gs.p0})
+    return gs
 
 
 def _gaussian_line(u0: float, radius: float, load: float) -> GaussianLineContact:
@@ -450,6 +476,10 @@ def hertz_point_contact(E_star: float, radius: float, load: float) -> HertzPoint
     radius = positive("radius", radius, "m")
     load = positive("load", load, "N")
     a = (3.0 * load * radius / (4.0 * E_star)) ** (1.0 / 3.0)
+    given = {"E_star": E_star, "radius": radius, "load": load}
+    _representable("the Hertz point contact", given, {"a": a, "a^2": a * a})
+    _representable("the Hertz point contact", given, {"p0": 3.0 * load / (2.0 * math.pi * a * a)})
+    _representable("the Hertz point contact", given, {"delta": a * a / radius})
     return HertzPointContact(
         E_star=E_star,
         radius=radius,
@@ -481,6 +511,9 @@ def gaussian_point_contact(u0: float, radius: float, load: float) -> GaussianPoi
     radius = positive("radius", radius, "m")
     load = positive("load", load, "N")
     s = math.sqrt(radius * u0)
+    given = {"u0": u0, "radius": radius, "load": load}
+    _representable("the Gaussian point contact", given, {"s": s, "s^2": s * s})
+    _representable("the Gaussian point contact", given, {"p0": load / (2 * math.pi * s * s)})
     return GaussianPointContact(
         u0=u0, radius=radius, load=load, s=s, p0=load / (2 * math.pi * s * s)
     )

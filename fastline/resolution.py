@@ -549,6 +549,8 @@ def solve_to_accuracy(
         pending = None
         if (est.met and not suspect) or len(levels.log) >= MAX_LEVELS:
             break
+        if est.solver > target:  # the solver's residual: no finer grid reduces it
+            break
         if est.met:  # confirm on twice the cells: the estimate must fall as h^2
             pending, n_new = est, 2 * n
         elif max(map(abs, est.truncation.values())) > WIDEN_SHARE * target or not math.isfinite(
@@ -591,12 +593,18 @@ def _finish(model, res, est, log, warn) -> LineContactResult:
 
 
 def _not_met(est: ErrorEstimate) -> str:
-    return (
+    text = (
         f"accuracy {est.accuracy:g} not reached: estimated error {est.worst:.2g} (p0 {est.p0:.2g},"
         f" s {est.s:.2g}, w/s {est.w_over_s:.2g}; a grid is accepted below accuracy/"
-        f"{ACCEPT_MARGIN:g}) with n = {est.n}, FWHM over {est.fwhm_cells:.3g} cells; the loop "
-        f"stops at {MAX_LEVELS} grids or n = {MAX_N}"
+        f"{ACCEPT_MARGIN:g}) with n = {est.n}, FWHM over {est.fwhm_cells:.3g} cells; "
     )
+    if est.solver > est.accuracy / ACCEPT_MARGIN:
+        return text + (
+            f"the solver's residual {est.solver:.2g} alone exceeds accuracy/{ACCEPT_MARGIN:g} "
+            "and no finer grid reduces it (a solve that did not converge, or a tolerance "
+            "raised to the round-off floor: see result.message)"
+        )
+    return text + f"the loop stops at {MAX_LEVELS} grids or n = {MAX_N}"
 
 
 def sweep_to_accuracy(

@@ -136,6 +136,7 @@ def test_causes_are_stable_keys(psd, theory):
         "plastic",
         "exponential_range",
         "narrow_contact",
+        "truncated_domain",
         "resolution",
     )
     r = solve_line_contact(psd, E_STAR, 0.01, 1.5e6, theory=theory, n=256, warn=False)
@@ -181,6 +182,32 @@ def test_resolution_warns_on_a_coarse_grid():
     fine = solve_line_contact(psd, *NEEDLE[1:], n=2048, warn=False)
     assert fine.diagnostics["resolution_ok"]
     assert d["fwhm_cells"] == pytest.approx(coarse.fwhm / coarse.dx, rel=1e-12)
+
+
+@pytest.mark.parametrize("geometry", ["cylinder", "sphere"])
+def test_a_domain_that_cuts_the_contact_warns(psd, theory, geometry):
+    """A domain given as the Hertz half-width at alpha = 1: the pressure at its edge is ~0.8
+    p0, p0 is 30 % (cylinder) or 300 % (sphere) off, the FWHM is NaN, yet the solve
+    converges; the default domain's edge pressure is below 1e-14."""
+    if geometry == "cylinder":
+        model = fl.LineContact(psd, E_STAR, 0.01, n=128, theory=theory, warn=False)
+        load = load_for(1.0)
+        cut = {"half_width": fl.hertz_line_contact(E_STAR, 0.01, load).a}
+    else:
+        model = fl.PointContact(psd, E_STAR, 0.01, n=64, theory=theory, warn=False)
+        load = 1.0  # N, alpha ~ 0.3
+        cut = {"domain_radius": fl.hertz_point_contact(E_STAR, 0.01, load).a}
+    kind = type(model)
+    truncated = kind(psd, E_STAR, 0.01, n=model.n, theory=theory, warn=False, **cut).solve(load)
+    assert truncated.converged and truncated.edge_pressure > 0.1
+    with pytest.warns(ValidityWarning, match=f"edge of the domain.*widen {next(iter(cut))}"):
+        d = assess(truncated, theory)
+    assert d["warning_causes"][-1] == "truncated_domain" and not d["domain_ok"]
+    assert "resolution" not in d["warning_causes"]  # a NaN FWHM is the domain's doing
+    default = model.solve(load)
+    assert default.edge_pressure < fl.diagnostics.EDGE_LIMIT * 1e-6
+    assert default.diagnostics["domain_ok"]
+    assert "truncated_domain" not in default.diagnostics["warning_causes"]
 
 
 def test_no_numpy_runtime_warnings():

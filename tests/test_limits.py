@@ -187,6 +187,24 @@ def test_validation(func, args, name):
     assert "> 0" in msg or "finite" in msg  # the allowed range or the finiteness requirement
 
 
+@pytest.mark.parametrize(
+    "func,args,name",
+    [
+        (hertz_line_contact, (E_STAR, RADIUS, 5e-324), "a = 0.0"),
+        (hertz_line_contact, (E_STAR, RADIUS, 1e300), "p0 = inf"),
+        (hertz_line_contact, (E_STAR, 1e-300, 1e4), "p0 = inf"),
+        (gaussian_line_contact, (5e-324, RADIUS, 1e4), "s = 0.0"),
+        (penetration, (5e-324, 1e4), "delta = inf"),
+        (alpha, (1e-6, E_STAR, 5e-324), "delta = 0.0"),
+    ],
+)
+def test_unrepresentable_results_are_value_errors(func, args, name):
+    """Inputs each > 0 whose closed form under- or overflows float64: a ValueError naming the
+    inputs and the quantity, not a 0, an inf or a ZeroDivisionError."""
+    with pytest.raises(ValueError, match=f"not representable in float64 \\(.*{name}"):
+        func(*args)
+
+
 def test_wrong_type_is_a_type_error():
     with pytest.raises(TypeError, match="E_star must be a real number"):
         alpha(1e-6, "abc", 1e4)

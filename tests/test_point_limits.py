@@ -101,6 +101,17 @@ def test_p0_ratio_asymptote_is_gaussian_over_hertz():
         (lambda: gaussian_point_contact(1e-6, RADIUS, -2.0), "load must be > 0 N"),
         (lambda: p0_ratio_gaussian_sphere([1.0, -1.0], 0.5), "alpha"),
         (lambda: p0_ratio_gaussian_sphere(1.0, 0.0), "gamma_u"),
+        # each input > 0 but the result under- or overflows (was a ZeroDivisionError)
+        (lambda: hertz_point_contact(E_STAR, RADIUS, 5e-324), "load=5e-324 is not representable"),
+        (
+            lambda: hertz_point_contact(E_STAR, 5e-324, 1.0),
+            "radius=5e-324, .* is not representable",
+        ),
+        (lambda: gaussian_point_contact(5e-324, RADIUS, 1.0), "u0=5e-324, .* is not representable"),
+        (
+            lambda: gaussian_point_contact(1e-6, RADIUS, 1e308),
+            r"not representable in float64 \(p0 = ",
+        ),
     ],
 )
 def test_bad_input(call, match):

@@ -223,6 +223,21 @@ def test_sweep_with_accuracy_and_warning_once(monkeypatch):
         tight.solve(loads[0])
 
 
+def test_a_solve_that_does_not_converge_stops_the_loop():
+    """max_iter=2: every grid leaves a residual ~2e-3 > accuracy. The loop used to refine to
+    n = 24576 (12 grids) and blame the grid; it stops at the first grids, and the warning
+    names the solver."""
+    psd = PAPER[0]
+    lc = fl.LineContact(psd, E_STAR, RADIUS, accuracy=1e-4, max_iter=2)
+    with pytest.warns(resolution.AccuracyWarning, match="solver's residual .* no finer grid"):
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore", fl.ConvergenceWarning)  # expected: max_iter=2
+            res = lc.solve(load_for_alpha(1.0, psd.h_rms))
+    est = res.error_estimate
+    assert not res.converged and not est.met and est.solver > 1e-4
+    assert len(est.levels) <= 2 and est.n <= 1024
+
+
 def test_model_with_accuracy_pickles():
     lc = fl.LineContact(PAPER[2], E_STAR, RADIUS, accuracy=1e-3, warn=False)
     back = pickle.loads(pickle.dumps(lc))
