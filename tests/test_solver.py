@@ -20,10 +20,10 @@ RTOL_HERTZ = 5e-3  # p0 and a against Hertz at default n (issue: 0.5 %)
 RTOL_GAUSS = 1e-2  # eq. 14 and w/s of the Gaussian limit at alpha >= 100 (issue: 1 %)
 RTOL_CONTINUATION = 1e-7  # a sweep (warm starts) against independent solves, tol 1e-8 in u/u0
 #: FFT convolutions per solve, every alpha in [1e-4, 1e3] on the five hard surfaces, by n
-#: (two-level compiled solver, aggregates by ln D, 32 / 64 of them below / from n = 8192; the
-#: cold start with the exponential law's tail outside Hertz's contact; measured maxima
-#: 25 / 33 / 47 / 61, +~7%; issue 13's target is 30)
-CONVOLUTION_BUDGET = {256: 27, 1024: 36, 4096: 50, 16384: 65}
+#: (two-level compiled solver, aggregates by ln D, 32 / 64 / 128 of them below n = 4096 / below
+#: n = 16384 / from there; the cold start with the exponential law's tail outside Hertz's
+#: contact; measured maxima 25 / 33 / 41 / 53, +~7%; issue 13's target is 30)
+CONVOLUTION_BUDGET = {256: 27, 1024: 36, 4096: 44, 16384: 57}
 #: first Newton residual (u/u0) of a cold start at alpha <= 0.01: with the tail outside the
 #: Hertz contact against the Gaussian tail alone (n = 256, surface 1: 11 / 8.4 / 4.9 against
 #: 1.2e4 / 1.3e3 / 1.6e2)
