@@ -1,4 +1,4 @@
-"""Convolution counts over the 160 count scenes, and warm solve times: ``python -m bench.count_grid``.
+"""Convolutions over the 160 count scenes, and warm solve times: ``python -m bench.count_grid``.
 
 The scenes of ``tests/test_solver.py::test_convolution_budget``: five hard surfaces (the paper's
 three, H = 0.3, q1/q0 = 1e10) x the eight alphas 1e-4..1e3 of ``bench.conftest.ALPHAS`` x n =
