@@ -292,7 +292,8 @@ def markdown(m: dict) -> list[str]:
         "Every FFT convolution of length 2n (K products and the preconditioner's circulant "
         "solves), tol 1e-8, the largest over the 8 alphas 1e-4..1e3, per surface and n. The "
         "solver: compiled Newton (`fastline/_line_newton.py`), two-level preconditioner "
-        "(`fastline/_toeplitz_pcg.py`; 32 aggregates below n = 8192, 64 from there).\n"
+        "(`fastline/_toeplitz_pcg.py`; 32 aggregates below n = 4096, 64 below 16384, 128 "
+        "from there).\n"
     )
     L.append("| surface | " + " | ".join(f"n = {n}" for n in COUNT_NS) + " |")
     L.append("|---|" + "---|" * len(COUNT_NS))

@@ -36,6 +36,37 @@ increments falls from 5-32 (the circulant alone) to 1.3-4 (two-level, 32 aggrega
 when the Jacobi-weighted norm of the projected residual fell by ``rtol`` (known before the next
 preconditioner application, which is then saved), and returns the best iterate it saw.
 
+Spectrum against n (issue 13; ``python -m bench.spectrum``, surface 1, the 4th Newton system,
+rtol 1e-3, with 32 aggregates below n = 8192 and 64 from there, the solver before issue 13).
+Eigenvalues of ``B H`` on zero-load increments, dense at n = 1024 and 4096, Lanczos at 16384:
+
+======  =====================================  =====================================
+n       alpha = 1e-2                           alpha = 1e-3
+======  =====================================  =====================================
+1024    [0.55, 1.25], kappa 2.3, 5 CG its      [0.85, 1.13], kappa 1.3 (rtol 0.02)
+4096    [0.45, 2.15], kappa 4.7, 7 CG its      [0.43, 1.36], kappa 3.2, 4 CG its
+16384   [0.70, 6.75], kappa 9.7, 10 CG its     [0.22, 1.49], kappa 6.8, 7 CG its
+======  =====================================  =====================================
+
+The bulk is tight (at 4096: 50% of the eigenvalues within 0.99-1.03, 98% within 0.68-1.33); the
+ends are a spread of mirror pairs (the left and right rims), not a few deflatable outliers
+(16384, alpha 1e-2: 6.75, 5.47, 4.73, 4.26, ... at the top, 0.70, 0.73, 0.74, ... at the bottom).
+They all sit at the core's rim, ``D ~ CORE_THETA K00``. Inside it (D/K00 2-10), a mode smooth
+over more than ~D/K00 cells (the log kernel's energy above D) gets ``lambda -> S_i^2 = (K00 + d)
+/ (K00 + D_i) < 1`` from the scaled circulant; outside it (D/K00 10-20, the Jacobi cells of the
+wide block) Jacobi misses the same modes' log-kernel energy: lambda > 1. Those modes span
+40-650 cells (2-7 sign changes); the band they live in widens in cells with n, while the
+aggregates there are ~100-150 cells wide at n = 16384: the coarse space cannot resolve them
+unless nc grows like n. With 4-cell aggregates over the whole wide block (nc 2100 at n = 16384)
+kappa falls to 3.5, the bulk to [0.91, 1.42], and the top outliers move to the wide block's
+own rim (3.2 at D/K00 ~ 100), but the solve still takes 37 convolutions (CG 1, 2, 3, 4, 3).
+Each Newton step costs ``2 k + 2`` convolutions (k CG iterations, plus ``B 1``, the first
+preconditioner application and the line search's residual) and the hard scenes take 5 Newton
+steps: <= 30 needs at most 9 CG iterations over the five systems, i.e. the rtol-1e-3 system in
+<= 3, a per-iteration reduction <= 0.1, kappa <~ 1.5 at every n. This preconditioner reaches
+that only at n <= 1024 (simulated: 25 convolutions with 128 aggregates at n = 1024, alpha
+1e-2); at n = 16384 not even with the O(n^2) coarse level of 4-cell aggregates (37, above).
+
 Tried and not kept (FFT convolutions over the 160 scenes of the count test, 5 hard surfaces x 8
 alphas 1e-4..1e3 x n = 256..16384: 2976 with this module; issue 13):
 
@@ -53,6 +84,29 @@ alphas 1e-4..1e3 x n = 256..16384: 2976 with this module; issue 13):
   so the new system's Galerkin matrix needs no FFT) deflated from this system's CG: 2813, but
   worse at n = 1024 (worst 33 -> 35), for 2 x 16 extra vector passes per iteration;
 * the circulant's shift at 0.3x or 3x the geometric mean of D: worse at n = 1024 and 4096.
+
+Issue 13, kept: 64 aggregates from n = 4096, 128 from 16384
+(:func:`fastline.elastic.coarse_aggregates`): 2976 -> 2779 over the 160 scenes, per-n maxima
+25 / 33 / 47 / 61 -> 25 / 33 / 41 / 53, for +0-6% warm time at n = 4096 and +9% at 16384.
+Tried and not kept there ("simulated": every scene's recorded Newton systems re-solved by PCG
+with the variant, the Newton trajectory fixed, ``bench/spectrum.py``; exact for the solver):
+
+* 64 aggregates already at n = 1024: 648 -> 596, worst 33 -> 29, but +19% time at n = 1024
+  (3.0 -> 3.6 ms, three interleaved rounds); 128 at n = 8192: 809 (49) -> 740 (43) for +25%
+  time; nc = n / 64 (256 at 16384): worst 45, +65% time at 16384; n / 32: worst 41, 5x the time;
+* the core and wide blocks' thresholds (simulated; CORE_THETA 20, 30, 100 x WIDE_THETA 100,
+  1000): totals 2650-2906, but the maxima at n = 256-1024 rise (25 / 33 -> up to 29 / 39);
+* the aggregates concentrated in the rim band (a share of 0.5-0.7 of the density on a Gaussian
+  in log10 D around 3-30 K00, simulated on the worst scenes): from 6 fewer to 6 more
+  convolutions per scene; the number of aggregates matters, not where in the band they sit;
+* piecewise-linear (hat) coarse functions on the same nodes (simulated, nc 32 / 64): 0-4 fewer
+  per worst scene (16384, alpha 1e-2: 61 -> 57); not worth Galerkin matrices from third-order
+  prefix sums;
+* the additive two-level form ``B = S + C`` (no ``H P`` product per application, so nc could
+  grow at O(n) cost): far worse at any nc (16384, alpha 1e-2: 101-111 for nc 32-512);
+* the correlations ``(H P)^T z`` vectorised as strip sums, to afford more aggregates: 0.32-0.46
+  ns per cell and edge against 0.17-0.19 for the four chains (the combination ``H P c`` takes
+  0.09).
 
 Written in plain loops over arrays passed one by one (no tuples, no NumPy linear algebra, no
 sorting): Numba compiles that in a fraction of the time, and first-call compilation is a real

@@ -553,7 +553,8 @@ _CORE_MIN_CELLS = 8
 
 def coarse_aggregates(n: int) -> int:
     """Aggregates of the compiled solver's coarse space (:mod:`fastline._toeplitz_pcg`) on n
-    cells: 32 below n = 8192, 64 from there (at most a quarter of the wide block's cells).
+    cells: 32 below n = 4096, 64 below n = 16384, 128 from there (at most a quarter of the wide
+    block's cells).
 
     The slowest modes of the preconditioned system sit at the rim of the loaded core, which
     widens in cells with n, so a finer coarse space pays more at larger n; its cost per
@@ -573,8 +574,17 @@ def coarse_aggregates(n: int) -> int:
 
     (worst scene in brackets; times in ms.) Measured after the coarse products were fused
     (four aggregate edges per pass); before, 32 aggregates cost more time than they saved.
+
+    Issue 13 (convolutions per solve <= 30) moved the steps down to 64 from n = 4096 and 128
+    from n = 16384, trading time for count: over the same 40 scenes per n, today's solver
+    (``python -m bench.count_grid``), 4096: 787 (47) -> 710 (41), 16384: 967 (61) -> 847 (53);
+    warm time of surface 1's 8 alphas, three interleaved rounds, +6% at 4096 (14.0 -> 14.9 ms)
+    and +9% at 16384 (83 -> 91 ms). 8192 keeps 64: 128 there gave 809 (49) -> 740 (43) for
+    +25% time. The spectrum behind it is in :mod:`fastline._toeplitz_pcg`.
     """
-    return 32 if n < 8192 else 64
+    if n < 4096:
+        return 32
+    return 64 if n < 16384 else 128
 
 
 class BlockPreconditioner:

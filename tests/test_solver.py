@@ -23,10 +23,10 @@ RTOL_HARD_REFERENCE = 1e-9  # hertz (active set) against the dense solve, rel. t
 RTOL_HARD_CG = 1e-5  # constrained CG, which stops on the pressure change, against the same
 RTOL_CONTINUATION = 1e-7  # a sweep (warm starts) against independent solves, tol 1e-8 in u/u0
 #: FFT convolutions per solve, every alpha in [1e-4, 1e3] on the five hard surfaces, by n
-#: (two-level compiled solver, aggregates by ln D, 32 / 64 of them below / from n = 8192; the
-#: cold start with the exponential law's tail outside Hertz's contact; measured maxima
-#: 25 / 33 / 47 / 61, +~7%; issue 13's target is 30)
-CONVOLUTION_BUDGET = {256: 27, 1024: 36, 4096: 50, 16384: 65}
+#: (two-level compiled solver, aggregates by ln D, 32 / 64 / 128 of them below n = 4096 / below
+#: n = 16384 / from there; the cold start with the exponential law's tail outside Hertz's
+#: contact; measured maxima 25 / 33 / 41 / 53, +~7%; issue 13's target is 30)
+CONVOLUTION_BUDGET = {256: 27, 1024: 36, 4096: 44, 16384: 57}
 #: FFT convolutions of a hard (hertz) line contact, n = 256..16384 (active set from Hertz's
 #: profile, measured 9-22; constrained CG from a flat start took 131-605)
 HERTZ_CONVOLUTION_BUDGET = 30
