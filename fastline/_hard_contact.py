@@ -16,10 +16,10 @@ Two algorithms (:func:`hard_contact` chooses):
   operator's own compiled solver does it (:mod:`fastline._toeplitz_pcg` for the line contact:
   its two-level preconditioner was built for the near-hard core of high loads). Started from
   Hertz's profile, A settles in 1-2 steps on every grid measured. Line contact, tol 1e-8, loads
-  1e2-1e6 N/m: at most 18 / 11 / 24 / 11 FFT convolutions at n = 256 / 1024 / 4096 / 16384
+  1e2-1e6 N/m: at most 18 / 9 / 18 / 9 FFT convolutions at n = 256 / 1024 / 4096 / 16384
   (0.2 ms at n = 1024, 5 ms at 16384); constrained CG from the same start takes 55 / 89 / 119 /
   133 (from the flat start used before, 131-605), 6-14x the time, and stops with pressure
-  errors of 2e-7 to 1e-4 of p0 where the active set agrees with a dense direct solve to 1e-11
+  errors of 2e-7 to 1e-4 of p0 where the active set agrees with a dense direct solve to 2e-10
   (``python -m bench.hard``; tests/test_solver.py holds the count and the dense comparison).
 * :func:`constrained_cg` - the constrained conjugate gradient of I. A. Polonsky and
   L. M. Keer, Wear 231, 206 (1999): the geometries whose operator has no compiled Newton
