@@ -64,8 +64,9 @@ def capture(psd, alpha: float, n: int):
 
 
 class TwoLevel:
-    """The compiled preconditioner: the set-up of ``solve_newton_system`` redone with its own
-    compiled stages, and ``R B R`` by its ``_precondition``; ``nc_max`` as the solver's."""
+    """The compiled preconditioner: the set-up stages of ``solve_newton_system``
+    (``_smoother``, ``_coarse_level``), and ``R B R`` by its ``_precondition``; ``nc_max`` as
+    the solver's."""
 
     def __init__(self, op, D: np.ndarray, nc_max: int | None = None) -> None:
         n = self.n = D.shape[0]
@@ -73,33 +74,23 @@ class TwoLevel:
         self.scale, K00 = op._scale, op.diagonal
         self.K00, self.D = K00, D
         nc_max = elastic.coarse_aggregates(n) if nc_max is None else min(nc_max, n // 4)
-        self.minv = np.where(D > tp.FROZEN_THETA * K00, 0.0, 1.0 / (D + K00))
-        self.live = self.minv > 0.0
-        self.f0, self.f1 = tp._live_span(self.minv)
-        i0, i1 = tp._first_last(D, tp.CORE_THETA * K00)
-        self.S, self.cinv = np.zeros(n), np.zeros(n + 1)
-        if i1 - i0 < tp._CORE_MIN_CELLS:
-            i0 = i1 = 0
-        else:
-            shift = math.exp(np.mean(np.log(D[i0:i1])))
-            self.S[: i1 - i0] = np.sqrt((K00 + shift) / (K00 + D[i0:i1]))
-            self.cinv[:] = 1.0 / ((self.scale * strang + shift) * (2 * n))
-        self.i0, self.i1 = i0, i1
-        self.j0, self.j1 = tp._first_last(D, tp.WIDE_THETA * K00)
-        nc = min(nc_max, (self.j1 - self.j0) // 4)
-        self.nc = nc if nc >= 2 else 0
-        self.e = np.zeros(nc_max + 1, np.int64)
+        self.minv, self.S, self.cinv = np.zeros(n), np.zeros(n), np.zeros(n + 1)
         self.Tc, U = np.zeros(2 * n), np.zeros(2 * n + 1)
+        self.e = np.zeros(nc_max + 1, np.int64)
         self.L = np.zeros((max(nc_max, 1), max(nc_max, 1)))
-        if self.nc:
-            tp._aggregate_edges(D, K00, self.j0, self.j1, self.nc, self.e, np.zeros(n))
-            tp._coarse_matrices(
-                D, self.scale, prefix, self.j0, self.j1, self.nc, self.e, self.Tc, U, self.L
-            )
+        self.span = np.zeros(5, np.int64)
+        tp._smoother(D, K00, self.scale, strang, self.minv, self.S, self.cinv, self.span)
+        tp._coarse_level(
+            D, K00, self.scale, prefix, nc_max, self.e, self.Tc, U, self.L, np.zeros(n), self.span
+        )
+        self.f0, self.f1, self.i0, self.i1, self.nc = (int(v) for v in self.span)
+        self.j0, self.j1 = tp._first_last(D, tp.WIDE_THETA * K00)
+        self.live = self.minv > 0.0
         self.fft = _fftw.acquire(2 * n)  # kept for the life of the process (a script)
-        self.a, self.c = tp.aligned_buffers(2 * n)
-        self.work = np.zeros(3 * n + min(n, 64))
-        self.work[2 * n : 3 * n] = 1.0
+        a, c = tp.aligned_buffers(2 * n)
+        work = np.zeros(3 * n + min(n, 64))
+        work[2 * n : 3 * n] = 1.0
+        self.bufs = (a, c, work)
         self.g = np.zeros(2 * nc_max + 2)
         b1 = self.B(np.ones(n))
         self._b1, self._s1 = b1, b1.sum()
@@ -107,9 +98,9 @@ class TwoLevel:
     def B(self, y: np.ndarray) -> np.ndarray:
         out = np.empty(self.n)
         tp._precondition(
-            np.ascontiguousarray(y, dtype=np.float64), out, self.D, self.scale, self.minv,
-            self.f0, self.f1, self.i0, self.i1, self.S, self.cinv, self.nc, self.e, self.Tc,
-            self.L, *self.fft, self.a, self.c, self.work, self.g,
+            np.ascontiguousarray(y, dtype=np.float64), out, self.D, self.scale,
+            (self.minv, self.S, self.cinv, self.Tc), self.L, self.e, self.span,
+            tuple(self.fft), self.bufs, self.g,
         )  # fmt: skip
         return out
 

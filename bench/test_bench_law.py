@@ -64,7 +64,8 @@ def test_evaluate_per_cell(benchmark, scene):
     p, U, dU, gk, r = (np.empty(N) for _ in range(5))
     fft = _fftw.acquire(2 * N)
     try:
-        args = (v, np.nan, fft, kspec, 1e-10, gap, w, *forms["persson"], a, c, p, U, dU, gk, r)
+        state = (v.copy(), p, U, dU, gk, r)
+        args = (state, np.nan, fft, kspec, 1e-10, gap, w, forms["persson"], a, c)
         _, res, _ = benchmark(_evaluate, *args)
     finally:
         _fftw.release(2 * N)

@@ -91,22 +91,24 @@ def _law(kind, v, prm, A, B, C, E, u, dU):
 
 
 @numba.njit(**JIT)
-def _evaluate(v, u1_in, fft, kspec, scale, gap, w, kind, prm, A, B, C, E, a, c, p, U, dU, gk, r):
-    """Pressure, law, g + K p and the residual at v (one FFT convolution). ``u1_in`` NaN: the
-    load-weighted least-squares rigid approach. Returns ``(u1, ||r||_2, size)``, size the
-    largest term the residual subtracts (for the round-off floor)."""
+def _evaluate(state, u1_in, fft, kspec, scale, gap, w, law, a, c):
+    """Pressure, law, g + K p and the residual at the iterate ``state = (v, p, U, dU, gk, r)``
+    (v = ln p given; one FFT convolution). ``u1_in`` NaN: the load-weighted least-squares
+    rigid approach. Returns ``(u1, ||r||_2, size)``, size the largest term the residual
+    subtracts (for the round-off floor)."""
+    v, p = state[0], state[1]
     n = v.shape[0]
     floor = max(largest(v, -math.inf) - LN_FLOOR, _LN_TINY)  # see fastline._core.LN_FLOOR
     for i in range(n):
         p[i] = math.exp(v[i]) if v[i] > floor else 0.0
-    return _residual(
-        v, u1_in, fft, kspec, scale, gap, w, kind, prm, A, B, C, E, a, c, p, U, dU, gk, r
-    )
+    return _residual(state, u1_in, fft, kspec, scale, gap, w, law, a, c)
 
 
 @numba.njit(**JIT)
-def _residual(v, u1_in, fft, kspec, scale, gap, w, kind, prm, A, B, C, E, a, c, p, U, dU, gk, r):
+def _residual(state, u1_in, fft, kspec, scale, gap, w, law, a, c):
     """:func:`_evaluate` with the pressure ``p`` of v given."""
+    v, p, U, dU, gk, r = state
+    kind, prm, A, B, C, E = law
     fr2c, fc2r, pf, pb = fft
     n = v.shape[0]
     _law(kind, v, prm, A, B, C, E, U, dU)
@@ -156,38 +158,46 @@ def newton_line(
     :func:`workspace_size` ``(n)`` elements (contents irrelevant: every work array of the solve
     is a view into it, :func:`fastline._toeplitz_pcg.solve_newton_system`). Returns ``(u1,
     residual, status, steps, cg_iterations, k_applications, circulant_solves,
-    tol_effective)``."""
-    kind, prm, A, B, C, E = law
-    fr2c, fc2r, pf, pb = fft
+    tol_effective)``.
+
+    Each step: the Newton system (:func:`fastline._toeplitz_pcg.solve_newton_system`, to the
+    Eisenstat-Walker tolerance :func:`_forcing`), a step guard on ln p (:func:`_step_guard`),
+    Armijo backtracking on ||r|| (:func:`_line_search`); Numba inlines these stages
+    (``inline="always"``: as separately compiled functions they cost cold compile time,
+    :mod:`fastline._toeplitz_pcg`)."""
     n = v_io.shape[0]
     a, c = aligned_views(ws, 2 * n)
     o = 4 * n + ALIGN_PAD  # aligned_size(2 n)
-    v = ws[o + 0 * n : o + 1 * n]
-    p = ws[o + 1 * n : o + 2 * n]
-    U = ws[o + 2 * n : o + 3 * n]
-    dU = ws[o + 3 * n : o + 4 * n]
-    gk = ws[o + 4 * n : o + 5 * n]
-    r = ws[o + 5 * n : o + 6 * n]
-    v2 = ws[o + 6 * n : o + 7 * n]
-    p2 = ws[o + 7 * n : o + 8 * n]
-    U2 = ws[o + 8 * n : o + 9 * n]
-    dU2 = ws[o + 9 * n : o + 10 * n]
-    gk2 = ws[o + 10 * n : o + 11 * n]
-    r2 = ws[o + 11 * n : o + 12 * n]
+    # the iterate and the line search's trial, each (v, p, U, dU, gk, r): ln p, p, the law's
+    # u and du/dv, g + K p, the residual
+    state = (
+        ws[o + 0 * n : o + 1 * n],
+        ws[o + 1 * n : o + 2 * n],
+        ws[o + 2 * n : o + 3 * n],
+        ws[o + 3 * n : o + 4 * n],
+        ws[o + 4 * n : o + 5 * n],
+        ws[o + 5 * n : o + 6 * n],
+    )
+    trial = (
+        ws[o + 6 * n : o + 7 * n],
+        ws[o + 7 * n : o + 8 * n],
+        ws[o + 8 * n : o + 9 * n],
+        ws[o + 9 * n : o + 10 * n],
+        ws[o + 10 * n : o + 11 * n],
+        ws[o + 11 * n : o + 12 * n],
+    )
     D = ws[o + 12 * n : o + 13 * n]
     dp = ws[o + 13 * n : o + 14 * n]
     tail = ws[o + _HEAD_ARRAYS * n :]
     for i in range(n):
-        v[i] = v_io[i]
-    u1, phi, size = _evaluate(
-        v, math.nan, fft, kspec, scale, gap, w, kind, prm, A, B, C, E, a, c, p, U, dU, gk, r
-    )
+        state[0][i] = v_io[i]
+    u1, phi, size = _evaluate(state, math.nan, fft, kspec, scale, gap, w, law, a, c)
     kapps = 1
     steps = cg_total = circ = 0
     res_prev = eta = math.nan
     eta_cap = ETA_MAX
     while True:
-        res = largest_abs(r, 0.0) / u_ref
+        res = largest_abs(state[5], 0.0) / u_ref
         tol_eff = max(tol, ROUNDOFF_FACTOR * _EPS * size / u_ref)
         stalled = eta_cap < ETA_RETRY_MIN
         if stalled and tol_eff > tol and res < FLOOR_STALL * tol_eff:
@@ -195,90 +205,75 @@ def newton_line(
         if res < tol_eff or steps >= max_iter or stalled:
             status = 0 if res < tol_eff else (2 if stalled else 1)
             for i in range(n):  # loops, not v_io[:] = v: no broadcasting error path to compile
-                v_io[i] = v[i]
-                u_out[i] = U[i]
+                v_io[i] = state[0][i]
+                u_out[i] = state[2][i]
             return u1, res, status, steps, cg_total, kapps, circ, tol_eff
         steps += 1
-        for i in range(n):
-            D[i] = min(max(-dU[i], 1e-300 * u_ref) / max(p[i], 1e-300), 1e300)
+        _newton_diagonal(state[1], state[3], u_ref, D)
         eta = min(_forcing(res, res_prev, eta, tol_eff), eta_cap)
         res_prev = res
+        fr2c, fc2r, pf, pb = fft
         du1, its, ka, ci = solve_newton_system(
-            fr2c,
-            fc2r,
-            pf,
-            pb,
-            kspec,
-            strang,
-            prefix,
-            scale,
-            K00,
-            D,
-            w,
-            r,
-            eta,
-            MAX_CG,
-            nc,
-            dp,
-            tail,
-        )
+            fr2c, fc2r, pf, pb, kspec, strang, prefix, scale, K00, D, w, state[5], eta, MAX_CG,
+            nc, dp, tail,
+        )  # fmt: skip
         cg_total += its
         kapps += ka
         circ += ci
-        # step guard on ln p where it matters, then Armijo backtracking on ||r||
-        pmax = largest(p, 0.0)
-        gmax = 0.0
-        for i in range(n):
-            dp[i] /= max(p[i], 1e-300)  # dp -> dv
-            if p[i] > 1e-6 * pmax or dU[i] > -0.5 * u_ref:
-                gmax = max(gmax, abs(dp[i]))
-        t = min(1.0, DV_MAX / max(1e-300, gmax))
-        accepted = False
-        for _ in range(LINE_SEARCH_HALVINGS + 1):
-            for i in range(n):
-                v2[i] = v[i] + t * dp[i]
-            normalise_pressure_into(v2, load, w, p2)
-            u1n, phin, sizen = _residual(
-                v2,
-                u1 + t * du1,
-                fft,
-                kspec,
-                scale,
-                gap,
-                w,
-                kind,
-                prm,
-                A,
-                B,
-                C,
-                E,
-                a,
-                c,
-                p2,
-                U2,
-                dU2,
-                gk2,
-                r2,
-            )
-            kapps += 1
-            if phin < (1.0 - 1e-4 * t) * phi:
-                accepted = True
-                break
-            t *= 0.5
+        t = _step_guard(state[1], state[3], u_ref, dp)
+        accepted, t, trials, u1n, phin, sizen = _line_search(
+            state, trial, dp, t, u1, du1, phi, load, fft, kspec, scale, gap, w, law, a, c
+        )
+        kapps += trials
         if steps <= hist.shape[0]:
             hist[steps - 1, 0] = res
             hist[steps - 1, 1] = its
             hist[steps - 1, 2] = t if accepted else 0.0
         if accepted:
-            v, v2 = v2, v
-            p, p2 = p2, p
-            U, U2 = U2, U
-            dU, dU2 = dU2, dU
-            gk, gk2 = gk2, gk
-            r, r2 = r2, r
+            state, trial = trial, state
             u1, phi, size = u1n, phin, sizen
         else:  # not a descent direction: solve the step more accurately
             eta_cap = eta * 1e-3
+
+
+@numba.njit(**JIT, inline="always")
+def _newton_diagonal(p, dU, u_ref, D):
+    """``D = |du/dp| = -(du/dv) / p``, kept within [1e-300 u_ref / p, 1e300]."""
+    for i in range(p.shape[0]):
+        D[i] = min(max(-dU[i], 1e-300 * u_ref) / max(p[i], 1e-300), 1e300)
+
+
+@numba.njit(**JIT, inline="always")
+def _step_guard(p, dU, u_ref, dp):
+    """Turn the Newton step ``dp`` into ``dv = dp / p`` (in place) and return the step length
+    that moves ln p by at most ``DV_MAX`` where it matters (cells carrying load or in the
+    law's steep range)."""
+    pmax = largest(p, 0.0)
+    gmax = 0.0
+    for i in range(p.shape[0]):
+        dp[i] /= max(p[i], 1e-300)  # dp -> dv
+        if p[i] > 1e-6 * pmax or dU[i] > -0.5 * u_ref:
+            gmax = max(gmax, abs(dp[i]))
+    return min(1.0, DV_MAX / max(1e-300, gmax))
+
+
+@numba.njit(**JIT, inline="always")
+def _line_search(state, trial, dv, t, u1, du1, phi, load, fft, kspec, scale, gap, w, law, a, c):
+    """Armijo backtracking on ||r|| from step length ``t``: ``trial`` holds the iterate
+    ``v + t dv`` (its pressure renormalised to the load) of the last trial. Returns
+    ``(accepted, t, trials, u1, ||r||, size)`` of that trial (one FFT convolution each)."""
+    v, v2, p2 = state[0], trial[0], trial[1]
+    n = v.shape[0]
+    u1n = phin = sizen = math.nan
+    for k in range(LINE_SEARCH_HALVINGS + 1):
+        for i in range(n):
+            v2[i] = v[i] + t * dv[i]
+        normalise_pressure_into(v2, load, w, p2)
+        u1n, phin, sizen = _residual(trial, u1 + t * du1, fft, kspec, scale, gap, w, law, a, c)
+        if phin < (1.0 - 1e-4 * t) * phi:
+            return True, t, k + 1, u1n, phin, sizen
+        t *= 0.5
+    return False, t, LINE_SEARCH_HALVINGS + 1, u1n, phin, sizen
 
 
 @numba.njit(**JIT)

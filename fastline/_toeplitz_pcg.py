@@ -108,10 +108,15 @@ with the variant, the Newton trajectory fixed, ``bench/spectrum.py``; exact for 
   ns per cell and edge against 0.17-0.19 for the four chains (the combination ``H P c`` takes
   0.09).
 
-Written in plain loops over arrays passed one by one (no tuples, no NumPy linear algebra, no
-sorting): Numba compiles that in a fraction of the time, and first-call compilation is a real
-cost to users (the first version, with ``np.linalg.cholesky``, ``np.median`` and tuples of
-arrays, took 18 s to compile cold).
+Written in plain loops over arrays (no NumPy linear algebra, no sorting; arrays grouped only in
+homogeneous tuples): Numba compiles that in a fraction of the time, and first-call compilation
+is a real cost to users (the first version, with ``np.linalg.cholesky``, ``np.median`` and
+mixed tuples, took 18 s to compile cold). The solve's stages (:func:`_smoother`,
+:func:`_coarse_level`, :func:`_pcg_start`, :func:`_pcg`, :func:`_pcg_finish`) are inlined into
+:func:`solve_newton_system` by Numba (``inline="always"``): as separate compiled functions they
+cost ~2 s more of cold compilation (each is linked into its callers and optimised again there),
+inlined the same as one long function (CPU time of the first answer, empty cache, two
+interleaved rounds: 17.1-19.1 s before the split, 17.9-18.9 s inlined, 19.2-20.7 s not).
 
 Where the time goes (surface 1, alpha = 1e-2, per solve; a C clock around the stages, same
 run as the version before, issue 13). n = 4096 (6 Newton systems, 57 FFT convolutions, 22 CG
@@ -152,6 +157,9 @@ FROZEN_THETA = 1e10
 _STRIP = 64
 #: CG stops when its residual has not improved for this many iterations (round-off)
 _STAGNATION = 20
+#: entries of ``span``, the preconditioner's integers: the live span [f0, f1), the core
+#: [i0, i1), the number of aggregates
+_F0, _F1, _I0, _I1, _NC = 0, 1, 2, 3, 4
 
 
 # ----------------------------------------------------------------------------------------------
@@ -492,15 +500,65 @@ def _coarse_matrices(D, scale, prefix, j0, j1, nc, e, Tc, U, L):
             L[i, j] = acc / L[j, j]
 
 
+@numba.njit(**JIT, inline="always")
+def _smoother(D, K00, scale, strang, minv, S, cinv, span):
+    """Set up the smoother (module docstring): ``minv = 1/(D + K00)``, 0 on frozen cells; on
+    the loaded core ``[i0, i1)`` the scales ``S`` and ``cinv``, the spectrum of the inverse
+    Strang circulant of ``K + d I`` (d the geometric mean of D there; the FFT's 1/(2n)
+    included). Writes the live span ``f0, f1`` (:func:`_live_span`) and the core ``i0, i1``
+    (0, 0: none) into ``span``."""
+    n = D.shape[0]
+    for i in range(n):
+        minv[i] = 0.0 if D[i] > FROZEN_THETA * K00 else 1.0 / (D[i] + K00)
+    f0, f1 = _live_span(minv)
+    i0, i1 = _first_last(D, CORE_THETA * K00)
+    if i1 - i0 < _CORE_MIN_CELLS:
+        i0 = i1 = 0
+    else:
+        Dc = D[i0:i1]
+        logsum = 0.0
+        for i in range(i1 - i0):
+            logsum += math.log(Dc[i])
+        shift = math.exp(logsum / (i1 - i0))  # geometric mean of D on the core
+        for i in range(i1 - i0):
+            S[i] = math.sqrt((K00 + shift) / (K00 + Dc[i]))
+        for k in range(n + 1):
+            cinv[k] = 1.0 / ((scale * strang[k] + shift) * (2 * n))
+    span[_F0] = f0
+    span[_F1] = f1
+    span[_I0] = i0
+    span[_I1] = i1
+
+
+@numba.njit(**JIT, inline="always")
+def _coarse_level(D, K00, scale, prefix, nc_max, e, Tc, U, L, steps, span):
+    """Set up the coarse level on the wide block (cells with ``D < WIDE_THETA K00``): at most
+    ``nc_max`` aggregates, a quarter of its cells, none below two (:func:`_aggregate_edges`,
+    :func:`_coarse_matrices`). Writes their number into ``span``; ``steps``: work array of n
+    elements."""
+    j0, j1 = _first_last(D, WIDE_THETA * K00)
+    nc = min(nc_max, (j1 - j0) // 4)
+    if nc < 2:
+        nc = 0
+    else:
+        _aggregate_edges(D, K00, j0, j1, nc, e, steps)
+        _coarse_matrices(D, scale, prefix, j0, j1, nc, e, Tc, U, L)
+    span[_NC] = nc
+
+
 @numba.njit(**JIT)
-def _precondition(
-    y, out, D, scale, minv, f0, f1, i0, i1, S, cinv, nc, e, Tc, L, fr2c, fc2r, pf, pb, a, c, work, g
-):
+def _precondition(y, out, D, scale, pre, L, e, span, fft, bufs, g):
     """``out = R B R y`` (two-level, module docstring; R zeroes the frozen cells); returns the
-    number of FFT convolutions. ``[f0, f1)``: the span of the cells that are not frozen
-    (:func:`_live_span`), the only cells where the coarse products are needed (a third of the
-    grid is frozen in the scenes of the count test). ``a, c``: FFT buffers; ``g``
-    (2 nc + 2) and ``work`` (3n + _STRIP): work arrays, ``work[2n:3n]`` holding ones."""
+    number of FFT convolutions. ``pre = (minv, S, cinv, Tc)``, ``L``, ``e`` and ``span`` as
+    set up by :func:`_smoother` and :func:`_coarse_level`; the coarse products run over the
+    live span ``[f0, f1)`` only (a third of the grid is frozen in the scenes of the count
+    test). ``fft``: the plans (:func:`fastline._fftw.acquire`); ``bufs = (a, c, work)``: the FFT
+    buffers and a work array of 3n + _STRIP elements, ``work[2n:3n]`` holding ones; ``g``: work
+    array of 2 nc + 2 elements."""
+    minv, S, cinv, Tc = pre
+    fr2c, fc2r, pf, pb = fft
+    a, c, work = bufs
+    f0, f1, i0, i1, nc = span[_F0], span[_F1], span[_I0], span[_I1], span[_NC]
     n = y.shape[0]
     tmp, r1, ones = work[:n], work[n : 2 * n], work[2 * n : 3 * n]
     g1, g2 = g[: nc + 1], g[nc + 1 :]
@@ -558,136 +616,97 @@ def solve_newton_system(
 ):
     """Solve ``(D + K) dp + du1 = rhs``, ``sum(w dp) = 0`` (module docstring) into ``dp``.
 
-    Stages: set up the smoother and the coarse level, then projected PCG. Returns
-    ``(du1, iterations, k_applications, circulant_solves)``. (Plain loops: every NumPy
-    convenience costs compile time.) ``ws``: float64 work space of :func:`workspace_size`
-    ``(n)`` elements, its contents irrelevant; every n-sized work array is a view into it, so
-    that a caller that keeps it (one per thread) makes a solve allocation-free: fresh
-    allocations of this size come from the operating system page by page, which took 35-45%
-    of a solve at n >= 4096.
+    Stages: set up the smoother (:func:`_smoother`) and the coarse level
+    (:func:`_coarse_level`), start projected PCG (:func:`_pcg_start`), iterate (:func:`_pcg`),
+    finish (:func:`_pcg_finish`). Returns ``(du1, iterations, k_applications,
+    circulant_solves)``. ``ws``: float64 work space of :func:`workspace_size` ``(n)`` elements,
+    its contents irrelevant; every n-sized work array is a view into it, so that a caller that
+    keeps it (one per thread) makes a solve allocation-free: fresh allocations of this size
+    come from the operating system page by page, which took 35-45% of a solve at n >= 4096.
+    (Plain loops and homogeneous tuples of arrays: every NumPy convenience costs compile time.)
     """
     n = D.shape[0]
+    fft = (fr2c, fc2r, pf, pb)
+    # -- the work space: FFT buffers, work, smoother, coarse level, PCG vectors ---------------
     a, c = aligned_views(ws, 2 * n)
     o = 4 * n + ALIGN_PAD  # aligned_size(2 n)
-    work, g = ws[o : o + 3 * n + min(n, _STRIP)], np.empty(2 * nc_max + 2)
+    work = ws[o : o + 3 * n + min(n, _STRIP)]
     o += 3 * n + min(n, _STRIP)
-    tmp, ones, acc = work[:n], work[2 * n : 3 * n], work[3 * n :]
-    for i in range(n):
-        ones[i] = 1.0
-    # -- smoother: Jacobi (0 on frozen cells), scaled circulant on the core -------------------
     minv, S, cinv = ws[o : o + n], ws[o + n : o + 2 * n], ws[o + 2 * n : o + 3 * n + 1]
     o += 3 * n + 1
-    for i in range(n):
-        minv[i] = 0.0 if D[i] > FROZEN_THETA * K00 else 1.0 / (D[i] + K00)
-    f0, f1 = _live_span(minv)
-    i0, i1 = _first_last(D, CORE_THETA * K00)
-    if i1 - i0 < _CORE_MIN_CELLS:
-        i0 = i1 = 0
-    else:
-        Dc = D[i0:i1]
-        logsum = 0.0
-        for i in range(i1 - i0):
-            logsum += math.log(Dc[i])
-        shift = math.exp(logsum / (i1 - i0))  # geometric mean of D on the core
-        for i in range(i1 - i0):
-            S[i] = math.sqrt((K00 + shift) / (K00 + Dc[i]))
-        for k in range(n + 1):
-            cinv[k] = 1.0 / ((scale * strang[k] + shift) * (2 * n))
-    # -- coarse level: aggregates of the wide block, Cholesky of penalised P^T H P -------------
-    e = np.empty(nc_max + 1, np.int64)
-    j0, j1 = _first_last(D, WIDE_THETA * K00)
-    nc = min(nc_max, (j1 - j0) // 4)
-    if nc < 2:
-        nc = 0
-    Tc, U, L = ws[o : o + 2 * n], ws[o + 2 * n : o + 4 * n + 1], np.empty((nc_max, nc_max))
+    Tc, U = ws[o : o + 2 * n], ws[o + 2 * n : o + 4 * n + 1]
     o += 4 * n + 1
-    if nc > 0:  # (m1's space below, free until PCG, takes the steps of ln(D + K00))
-        _aggregate_edges(D, K00, j0, j1, nc, e, ws[o : o + n])
-        _coarse_matrices(D, scale, prefix, j0, j1, nc, e, Tc, U, L)
-    # -- projected PCG ----------------------------------------------------------------------
-    m1, z, d, Hd = (
-        ws[o : o + n],
-        ws[o + n : o + 2 * n],
-        ws[o + 2 * n : o + 3 * n],
-        ws[o + 3 * n : o + 4 * n],
+    cg = (
+        ws[o + 0 * n : o + 1 * n],  # m1 = B 1
+        ws[o + 1 * n : o + 2 * n],  # z, the preconditioned residual
+        ws[o + 2 * n : o + 3 * n],  # d, the search direction
+        ws[o + 3 * n : o + 4 * n],  # H d
+        ws[o + 4 * n : o + 5 * n],  # Jacobi weights of the stopping test
+        ws[o + 5 * n : o + 6 * n],  # the residual
+        ws[o + 6 * n : o + 7 * n],  # the best iterate
+        ws[o + 7 * n : o + 8 * n],  # its residual
     )
-    o += 4 * n
-    jac, res, best_dp, best_res = (
-        ws[o : o + n],
-        ws[o + n : o + 2 * n],
-        ws[o + 2 * n : o + 3 * n],
-        ws[o + 3 * n : o + 4 * n],
+    bufs, pre = (a, c, work), (minv, S, cinv, Tc)
+    span, e = np.zeros(5, np.int64), np.empty(nc_max + 1, np.int64)
+    L, g = np.empty((nc_max, nc_max)), np.empty(2 * nc_max + 2)
+    for i in range(2 * n, 3 * n):
+        work[i] = 1.0  # the ones segment
+    # -- set-up, then PCG --------------------------------------------------------------------
+    _smoother(D, K00, scale, strang, minv, S, cinv, span)
+    _coarse_level(D, K00, scale, prefix, nc_max, e, Tc, U, L, cg[0], span)  # (m1 free till PCG)
+    s_m1, s_jac, r0, circ = _pcg_start(D, w, rhs, scale, pre, L, e, span, fft, bufs, g, cg)
+    its, kapps, circ_loop = _pcg(
+        D, w, kspec, scale, rtol, maxit, s_m1, s_jac, r0, pre, L, e, span, fft, bufs, g, cg, dp
     )
+    du1 = _pcg_finish(D, w, minv, s_m1, s_jac, work, cg, dp)
+    return du1, its, kapps, circ + circ_loop
+
+
+@numba.njit(**JIT, inline="always")
+def _pcg_start(D, w, rhs, scale, pre, L, e, span, fft, bufs, g, cg):
+    """PCG's start from ``dp = 0``: ``m1 = B 1`` (the B-orthogonal projection onto zero load
+    subtracts multiples of it), the Jacobi weights, the residual, the first direction.
+    Returns ``(sum w m1, sum w minv, the first Jacobi residual norm, circulant solves)``."""
+    m1, z, d, _, jac, res, best_dp, best_res = cg
+    minv = pre[0]
+    work = bufs[2]
+    n = D.shape[0]
+    tmp, ones, acc = work[:n], work[2 * n : 3 * n], work[3 * n :]
     for i in range(n):
         tmp[i] = 1.0
-    circ = _precondition(
-        tmp,
-        m1,
-        D,
-        scale,
-        minv,
-        f0,
-        f1,
-        i0,
-        i1,
-        S,
-        cinv,
-        nc,
-        e,
-        Tc,
-        L,
-        fr2c,
-        fc2r,
-        pf,
-        pb,
-        a,
-        c,
-        work,
-        g,
-    )
+    circ = _precondition(tmp, m1, D, scale, pre, L, e, span, fft, bufs, g)
     for i in range(n):
         jac[i] = w[i] * minv[i]  # 0 on frozen cells: their residual is theirs alone
         res[i] = rhs[i]
     s_m1 = _wdot(w, m1, ones, acc)
     s_jac = _wdot(w, minv, ones, acc)
-    circ += _precondition(
-        res,
-        z,
-        D,
-        scale,
-        minv,
-        f0,
-        f1,
-        i0,
-        i1,
-        S,
-        cinv,
-        nc,
-        e,
-        Tc,
-        L,
-        fr2c,
-        fc2r,
-        pf,
-        pb,
-        a,
-        c,
-        work,
-        g,
-    )
+    circ += _precondition(res, z, D, scale, pre, L, e, span, fft, bufs, g)
     lam = _wdot(w, z, ones, acc) / s_m1
     for i in range(n):
         z[i] -= lam * m1[i]
         d[i] = z[i]
-        dp[i] = 0.0
         best_dp[i] = 0.0
         best_res[i] = res[i]
+    return s_m1, s_jac, _jacobi_norm(res, jac, s_jac, ones, tmp, acc), circ
+
+
+@numba.njit(**JIT, inline="always")
+def _pcg(D, w, kspec, scale, rtol, maxit, s_m1, s_jac, r0, pre, L, e, span, fft, bufs, g, cg, dp):
+    """Projected PCG from :func:`_pcg_start` until the Jacobi-weighted norm of the residual
+    fell by ``rtol`` (or stagnated, or ``maxit``); keeps the best iterate (by that norm) in
+    ``cg``. Returns ``(iterations, K products, circulant solves)``."""
+    m1, z, d, Hd, jac, res, best_dp, best_res = cg
+    fr2c, fc2r, pf, pb = fft
+    a, c, work = bufs
+    n = D.shape[0]
+    tmp, ones, acc = work[:n], work[2 * n : 3 * n], work[3 * n :]
+    for i in range(n):
+        dp[i] = 0.0
     rz = _wdot(w, res, z, acc)
-    r0 = _jacobi_norm(res, jac, s_jac, ones, tmp, acc)
     # the best iterate so far (by Jacobi residual) is what is returned: if round-off breaks CG
     # down at a tight tolerance (the log kernel's constant mode has a large negative energy, so
     # a tiny leak off zero load makes <d, H d> negative), nothing worse than it comes back
-    best, best_its, its, kapps = r0, 0, 0, 0
+    best, best_its, its, kapps, circ = r0, 0, 0, 0, 0
     while its < maxit and rz > 0.0:
         _convolve(d, n, kspec, fr2c, fc2r, pf, pb, a, c, Hd)
         kapps += 1
@@ -709,31 +728,7 @@ def solve_newton_system(
                 best_res[i] = res[i]
         if rn <= rtol * r0 or its - best_its >= _STAGNATION:
             break
-        circ += _precondition(
-            res,
-            z,
-            D,
-            scale,
-            minv,
-            f0,
-            f1,
-            i0,
-            i1,
-            S,
-            cinv,
-            nc,
-            e,
-            Tc,
-            L,
-            fr2c,
-            fc2r,
-            pf,
-            pb,
-            a,
-            c,
-            work,
-            g,
-        )
+        circ += _precondition(res, z, D, scale, pre, L, e, span, fft, bufs, g)
         lam = _wdot(w, z, ones, acc) / s_m1
         for i in range(n):
             z[i] -= lam * m1[i]
@@ -742,14 +737,23 @@ def solve_newton_system(
         for i in range(n):
             d[i] = z[i] + beta * d[i]
         rz = rz_new
-    # -- finish: the best iterate, back onto zero load, the frozen cells' Jacobi update ------
+    return its, kapps, circ
+
+
+@numba.njit(**JIT, inline="always")
+def _pcg_finish(D, w, minv, s_m1, s_jac, work, cg, dp):
+    """``dp`` = the best iterate, moved back onto zero load, with the Jacobi update on the
+    frozen cells; returns du1, the multiplier (the Jacobi-weighted mean of the residual)."""
+    m1, _, _, _, jac, _, best_dp, best_res = cg
+    n = D.shape[0]
+    ones, acc = work[2 * n : 3 * n], work[3 * n :]
     lam = _wdot(jac, best_res, ones, acc) / s_jac
     drift = _wdot(w, best_dp, ones, acc) / s_m1
     for i in range(n):
         dp[i] = best_dp[i] - drift * m1[i]
         if minv[i] == 0.0:
             dp[i] = (best_res[i] - lam) / D[i]
-    return lam, its, kapps, circ
+    return lam
 
 
 def prefix_sums(khat: np.ndarray) -> np.ndarray:

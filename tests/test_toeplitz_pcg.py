@@ -104,8 +104,9 @@ def test_two_level_preconditioner_is_the_dense_product(frozen):
     work[2 * N : 3 * N] = 1.0  # its ones segment
     a, c = np.empty(2 * N), np.empty(2 * N + 2)  # FFT buffers: unused without a core
     none = np.empty(0)
+    span = np.array([f0, f1, 0, 0, NC])  # live span, no core, NC aggregates
     ffts = _precondition(
-        y, out, D, SCALE, minv, f0, f1, 0, 0, none, none, NC, e, Tc, L, 0, 0, 0, 0, a, c, work, g
+        y, out, D, SCALE, (minv, none, none, Tc), L, e, span, (0, 0, 0, 0), (a, c, work), g
     )
     assert ffts == 0
     assert np.all(out[minv == 0.0] == 0.0)
