@@ -153,7 +153,7 @@ def _parallel_options(parser: argparse.ArgumentParser, default: str) -> None:
 
 def build_parser() -> argparse.ArgumentParser:
     """The ``fastline`` argument parser (commands ``paper``, ``profile``, ``sweep``,
-    ``batch``, ``leak``, ``psd``)."""
+    ``batch``, ``leak``, ``psd``, ``validate``), one function per command."""
     from fastline import __version__
 
     fmt = argparse.RawDescriptionHelpFormatter
@@ -161,6 +161,20 @@ def build_parser() -> argparse.ArgumentParser:
     parser.add_argument("--version", action="version", version=f"fastline {__version__}")
     sub = parser.add_subparsers(dest="command", metavar="COMMAND")
 
+    _paper_parser(sub, fmt)
+    _profile_parser(sub, fmt)
+    _sweep_parser(sub, fmt)
+    _batch_parser(sub, fmt)
+    leak_parser(sub, fmt)
+    psd_parser(sub, fmt)
+    from fastline.cli_validate import validate_parser
+
+    validate_parser(sub, fmt)
+    return parser
+
+
+def _paper_parser(sub, fmt) -> None:
+    """The ``paper`` command: the paper's figures."""
     p = sub.add_parser(
         "paper",
         help="reproduce the paper's Figs. 2-5 (a figure + CSV each)",
@@ -198,6 +212,9 @@ def build_parser() -> argparse.ArgumentParser:
     _numerics_options(p, model=False, geometry=True)
     _figure_options(p)
 
+
+def _profile_parser(sub, fmt) -> None:
+    """The ``profile`` command: one scene."""
     p = sub.add_parser(
         "profile",
         help="solve one scene: p(x), p0, widths, regime, diagnostics",
@@ -218,6 +235,9 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--plot", metavar="FILE", help="write a figure of p(x) with Hertz to FILE")
     _figure_options(p)
 
+
+def _sweep_parser(sub, fmt) -> None:
+    """The ``sweep`` command: a log-spaced series of loads."""
     p = sub.add_parser(
         "sweep",
         help="solve a log-spaced series of loads",
@@ -260,6 +280,9 @@ def build_parser() -> argparse.ArgumentParser:
         "the solver tolerance)",
     )
 
+
+def _batch_parser(sub, fmt) -> None:
+    """The ``batch`` command: a table of scenes from a CSV file."""
     p = sub.add_parser(
         "batch",
         help="solve a table of scenes from a CSV file (in parallel)",
@@ -277,13 +300,6 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("scenes", metavar="SCENES.csv", help="the scene table")
     p.add_argument("--out", required=True, metavar="FILE", help="write the results (CSV) to FILE")
     _parallel_options(p, "a local process per CPU")
-
-    leak_parser(sub, fmt)
-    psd_parser(sub, fmt)
-    from fastline.cli_validate import validate_parser
-
-    validate_parser(sub, fmt)
-    return parser
 
 
 # ----------------------------------------------------------------------------------------------
