@@ -36,7 +36,15 @@ from fastline import _solve_kernels as _kernels
 from fastline._core import ConvergenceWarning, normalise
 from fastline._hard_contact import hard_contact
 from fastline._solve_kernels import cold_start_into, cold_start_normalised, hermite_accumulate
-from fastline._validate import E_STAR_RANGE, RADIUS_RANGE, finite_scalar, in_span, integer, positive
+from fastline._validate import (
+    E_STAR_RANGE,
+    RADIUS_RANGE,
+    finite_scalar,
+    in_span,
+    integer,
+    positive,
+    real_array,
+)
 from fastline.diagnostics import assess, warn_once
 from fastline.laws import ExponentialLaw, PerssonLaw, PressureLaw, TabulatedLaw, check_law
 from fastline.persson import PerssonTheory
@@ -476,7 +484,11 @@ class ContactModel:
         return in_span(name, load, (lo * scale, hi * scale), unit)
 
     def _check_loads(self, loads) -> np.ndarray:
-        arr = np.asarray(loads if isinstance(loads, np.ndarray) else list(loads), dtype=float)
+        if isinstance(loads, Iterable) and not isinstance(
+            loads, np.ndarray | list | tuple | str | bytes
+        ):
+            loads = list(loads)  # a generator, a range...
+        arr = real_array("loads", loads)  # bools and strings refused, as solve refuses them
         if arr.ndim != 1 or arr.size == 0:
             raise ValueError(f"loads must be a non-empty 1-D sequence of loads in {self.LOAD_UNIT}")
         for f in arr:

@@ -44,6 +44,7 @@ from fastline._contact import (  # noqa: F401 (METHODS ... shared_theory: import
 )
 from fastline._core import ConvergenceWarning, Discretisation, dot
 from fastline._solve_kernels import line_cells, line_measures
+from fastline._validate import real_array
 from fastline.elastic import LogKernelOperator, _log_reference_shift
 from fastline.laws import PressureLaw
 from fastline.limits import (
@@ -608,7 +609,7 @@ def profile(
 def _per_load(
     attr: str, psd: PSD | None, E_star: float, radius: float, load: ArrayLike, options: dict
 ) -> float | np.ndarray:
-    loads = np.asarray(load, dtype=np.float64)
+    loads = real_array("load", load)  # bools and strings refused, as solve refuses them
     lc = LineContact(psd, E_star, radius, **options)
     if loads.ndim == 0:
         return float(getattr(lc.solve(float(loads)), attr))
