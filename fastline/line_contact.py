@@ -519,6 +519,7 @@ class LineContact(ContactModel):
         separation, real = self._separation_and_area(out)
         p0, s, w, total = _measures(x, p, dx) if measures is None else measures
         op = grid.disc.op
+        alpha = self._alpha(hz.delta)
         return LineContactResult(
             x=x,
             pressure=p,
@@ -529,14 +530,14 @@ class LineContact(ContactModel):
             fwhm=w,
             w_over_s=w / s,
             p0_ratio=p0 / hz.p0,
-            alpha=self._alpha(hz.delta),
+            alpha=alpha,
             delta=hz.delta,
             u1=out.u1 + _log_reference_shift(hz.load, dx, self.E_star, self.radius),
             converged=bool(out.converged),
             iterations=int(out.iterations),
             convolutions=int(op.convolutions),
             residual=float(out.residual),
-            message=out.message,
+            message=self._message(out, alpha),
             model=self.model,
             method=self.method,
             load=hz.load,
