@@ -51,6 +51,8 @@ def real_array(name: str, value) -> np.ndarray:
     None entries (in a list, a NumPy array or alone), the array-valued twin of
     :func:`finite_scalar`'s type checks. No other check: for evaluations that accept any real
     value (the pressure laws' protocol); :func:`finite_array` adds the range checks."""
+    if type(value) is np.ndarray and value.dtype.kind in _REAL_KINDS:  # the solvers' own
+        return value.astype(np.float64, copy=False)
     if isinstance(value, list | tuple):  # keep each entry's type: [1e4, True] is not floats
         arr = np.array(value, dtype=object)
     else:
