@@ -293,6 +293,37 @@ def _evaluate(disc: Discretisation, law, v: np.ndarray, u1: float | None) -> _It
     return _Iterate(v, p, U, dU, u1, gk, r, float(np.linalg.norm(r)), size)
 
 
+def law_fault(law, v: np.ndarray, U: np.ndarray, dU: np.ndarray) -> str | None:
+    """What is wrong when the law's separation ``U`` or slope ``dU`` at ``v = ln p`` is not
+    finite (NaN or inf), in words naming the law and the pressures; None when all are finite."""
+    bad = ~(np.isfinite(U) & np.isfinite(dU))
+    if not bad.any():
+        return None
+    with np.errstate(over="ignore"):
+        p = np.exp(v[bad])
+    i = int(np.flatnonzero(bad)[0])
+    return (
+        f"the pressure law {type(law).__name__} returned non-finite values (NaN/inf) at "
+        f"{int(bad.sum())} of {bad.size} pressures, p = {p.min():.3g} to {p.max():.3g} Pa "
+        f"(e.g. u = {float(U[i]):.3g} m, du/dln p = {float(dU[i]):.3g} m at p = {p[0]:.3g} Pa)"
+    )
+
+
+def _start(disc: Discretisation, law, v: np.ndarray) -> _Iterate:
+    """:func:`_evaluate` at the start ``v``, and a ValueError naming the law when it is not
+    finite there, before any work: the solve could only end in a NaN residual (a law must be
+    finite for every p > 0)."""
+    with np.errstate(invalid="ignore", over="ignore"):  # inf - inf: the error below says it
+        it = _evaluate(disc, law, v, None)
+    fault = law_fault(law, it.v, it.U, it.dU)
+    if fault is not None:
+        raise ValueError(
+            f"model: at the start of the solve, {fault}; a pressure law must give a finite u and "
+            "a finite slope du/dln p < 0 for every p > 0 (fastline.laws.PressureLaw)"
+        )
+    return it
+
+
 def roundoff_floor(size: float, u_ref: float) -> float:
     """Smallest residual (in units of ``u_ref``) that can be told from round-off.
 
@@ -305,7 +336,7 @@ def roundoff_floor(size: float, u_ref: float) -> float:
     return ROUNDOFF_FACTOR * np.finfo(np.float64).eps * size / u_ref
 
 
-def _line_search(disc, law, it: _Iterate, dv, du1) -> tuple[_Iterate, float]:
+def _line_search(disc, law, it: _Iterate, dv, du1) -> tuple[_Iterate, float, str | None]:
     """Backtracking on ``||r||`` (Armijo) from the step allowed by ``DV_MAX``.
 
     The guard limits the change of ln p where it matters: where the pressure is within 1e-6 of
@@ -313,17 +344,21 @@ def _line_search(disc, law, it: _Iterate, dv, du1) -> tuple[_Iterate, float]:
     ``du/dln p ~ -u0``; in the far tails u_law is linear in ln p and a large change is
     harmless. Returns the new iterate and the step length, or the old iterate and 0 when
     ``LINE_SEARCH_HALVINGS`` halvings give no decrease: the direction is then not a descent
-    direction.
+    direction. The third value: :func:`law_fault` of the first trial where the law was not
+    finite, when the search failed (None otherwise).
     """
     guard = (it.p > 1e-6 * it.p.max()) | (it.dU > -0.5 * law.u0)
     t = min(1.0, DV_MAX / max(1e-300, float(np.max(np.abs(dv[guard])))))
+    fault = None
     for _ in range(LINE_SEARCH_HALVINGS + 1):
         v_new = normalise(it.v + t * dv, disc.load, disc.weights)
         new = _evaluate(disc, law, v_new, it.u1 + t * du1)
         if new.phi < (1.0 - 1e-4 * t) * it.phi:
-            return new, t
+            return new, t, None
+        if fault is None and not math.isfinite(new.phi):
+            fault = law_fault(law, new.v, new.U, new.dU)
         t *= 0.5
-    return it, 0.0
+    return it, 0.0, fault
 
 
 def _message(ok: bool, res: float, tol: float, tol_eff: float, work: str, stalled=False) -> str:
@@ -389,10 +424,11 @@ def newton(
     fast = _newton_compiled(disc, law, v, tol, max_iter, form)
     if fast is not None:
         return fast
-    it = _evaluate(disc, law, v, None)
+    it = _start(disc, law, v)
     steps = cg_total = 0
     res_prev = eta = math.nan
     eta_cap = ETA_MAX
+    fault = None  # the law's non-finite values that stopped the last line search
     history: list[tuple[float, int, float]] = []  # (residual, CG iterations, step length)
     while True:
         res = float(np.max(np.abs(it.r))) / u_ref
@@ -406,6 +442,9 @@ def newton(
             ok = res < tol_eff
             message = _message(ok, res, tol, tol_eff, f"{steps} Newton steps", stalled)
             info = {"cg_iterations": cg_total, "newton_history": history, "tol_effective": tol_eff}
+            if fault is not None and not ok:
+                message = message.replace("(line search failed)", f"(line search failed: {fault})")
+                info["law_fault"] = fault
             return Outcome(it.v, it.u1, res, ok, steps, message, info, it.p)
         steps += 1
         psafe = np.maximum(it.p, 1e-300)
@@ -414,7 +453,7 @@ def newton(
         res_prev = res
         dp, du1, cg_its = _newton_direction(disc, D, it.r, eta)
         cg_total += cg_its
-        it, t = _line_search(disc, law, it, dp / psafe, du1)
+        it, t, fault = _line_search(disc, law, it, dp / psafe, du1)
         history.append((res, cg_its, t))
         if t == 0.0:  # not a descent direction: solve the step more accurately
             eta_cap = eta * 1e-3
@@ -465,7 +504,7 @@ def picard(
     after ``max_iter`` sweeps, or when it stagnates: less than ``PICARD_STAGNATION`` relative
     progress over the last ``PICARD_WINDOW`` sweeps.
     """
-    it = _evaluate(disc, law, v, None)
+    it = _start(disc, law, v)
     u1 = it.u1
     best = [math.inf]  # best residual after each accepted sweep
     sweeps = 0
@@ -489,9 +528,28 @@ def picard(
             disc, law, normalise((1.0 - omega) * it.v + omega * v_law, disc.load, disc.weights), u1
         )
         new_res = float(np.max(np.abs(new.r))) / law.u0
+        if not math.isfinite(new_res):  # the law (or its inverse) gave NaN or inf: stop here
+            return _picard_fault(law, it, new, v_law, res, tol, tol_eff, sweeps, omega)
         if new_res > res and omega > 1e-6:
             omega *= 0.5  # reject the sweep, retry with more damping
             continue
         it = new
         best.append(min(best[-1], new_res))
         omega = min(0.5, 1.2 * omega)
+
+
+def _picard_fault(law, it: _Iterate, new: _Iterate, v_law, res, tol, tol_eff, sweeps, omega):
+    """The not-converged :class:`Outcome` of a fixed point whose sweep met non-finite values of
+    the law (``v_law``: ln p of its inverse at the sweep's separations), at the last finite
+    iterate ``it``, with a message naming the law."""
+    fault = None if not np.all(np.isfinite(v_law)) else law_fault(law, new.v, new.U, new.dU)
+    if fault is None:  # the inverse failed first
+        fault = (
+            f"the pressure law {type(law).__name__} returned non-finite values (NaN/inf) of "
+            "ln p(u), its inverse (log_pressure or pressure)"
+        )
+    message = _message(False, res, tol, tol_eff, f"{sweeps} sweeps").replace(
+        "(max_iter)", f"({fault})"
+    )
+    info = {"damping": omega, "law_fault": fault}
+    return Outcome(it.v, it.u1, res, False, sweeps, message, info, it.p)

@@ -26,11 +26,51 @@ def _refuse_complex(name: str, value) -> None:
         raise TypeError(f"{name} must be real, got complex values ({np.asarray(value).dtype})")
 
 
+#: entries an array of numbers refuses, and how a message names them: NumPy would read True as
+#: 1.0 and "1e4" as 1e4, and None as NaN (the scalar checks, :func:`finite_scalar`, refuse them)
+_NOT_NUMBERS = {bool: "a bool", np.bool_: "a bool", str: "a string", bytes: "a string"}
+#: array kinds (``dtype.kind``) that hold real numbers
+_REAL_KINDS = "fiu"
+
+
+def _refuse_entries(name: str, arr: np.ndarray) -> None:
+    """A TypeError naming ``name`` for an object array holding bools, strings, None or complex
+    numbers (what :func:`real_array` refuses); other entries are left to the float conversion."""
+    for x in arr.flat:
+        what = _NOT_NUMBERS.get(type(x))
+        if what is None and x is None:
+            what = "None"
+        elif what is None and isinstance(x, complex | np.complexfloating):
+            raise TypeError(f"{name} must be real, got complex values ({x!r})")
+        if what is not None:
+            raise TypeError(f"{name} must hold real numbers, not {what} ({x!r})")
+
+
 def real_array(name: str, value) -> np.ndarray:
-    """``value`` as a float64 array; a TypeError naming ``name`` for complex input. No other
-    check: for evaluations that accept any real value (the pressure laws' protocol)."""
-    _refuse_complex(name, value)
-    return np.asarray(value, dtype=np.float64)
+    """``value`` as a float64 array; a TypeError naming ``name`` for complex, bool, string or
+    None entries (in a list, a NumPy array or alone), the array-valued twin of
+    :func:`finite_scalar`'s type checks. No other check: for evaluations that accept any real
+    value (the pressure laws' protocol); :func:`finite_array` adds the range checks."""
+    if type(value) is np.ndarray and value.dtype.kind in _REAL_KINDS:  # the solvers' own
+        return value.astype(np.float64, copy=False)
+    if isinstance(value, list | tuple):  # keep each entry's type: [1e4, True] is not floats
+        arr = np.array(value, dtype=object)
+    else:
+        arr = np.asarray(value)
+    kind = arr.dtype.kind
+    if kind == "O":
+        _refuse_entries(name, arr)
+    elif kind == "c":
+        raise TypeError(f"{name} must be real, got complex values ({arr.dtype})")
+    elif kind not in _REAL_KINDS:
+        what = {"b": "bools", "U": "strings", "S": "strings"}.get(kind, f"{arr.dtype} values")
+        raise TypeError(f"{name} must hold real numbers, not {what} ({arr.dtype})")
+    try:
+        return np.asarray(arr, dtype=np.float64)
+    except TypeError:
+        raise TypeError(f"{name} must hold real numbers, got {type(value).__name__}") from None
+    except ValueError:  # a ragged nesting of sequences
+        raise ValueError(f"{name} must be an array of real numbers") from None
 
 
 def finite_scalar(name: str, value) -> float:
@@ -73,12 +113,9 @@ def in_range(name: str, value, lo: float, hi: float, lo_open=True, hi_open=False
 
 
 def finite_array(name: str, value, ndim: int | None = None) -> np.ndarray:
-    """A float64 array with no NaN or inf (a TypeError for complex input)."""
-    _refuse_complex(name, value)
-    try:
-        arr = np.asarray(value, dtype=np.float64)
-    except (TypeError, ValueError):
-        raise ValueError(f"{name} must be an array of real numbers") from None
+    """A float64 array with no NaN or inf (a TypeError for complex, bool, string or None
+    entries: :func:`real_array`)."""
+    arr = real_array(name, value)
     if ndim is not None and arr.ndim != ndim:
         raise ValueError(f"{name} must be {ndim}-dimensional, got shape {arr.shape}")
     if not np.all(np.isfinite(arr)):

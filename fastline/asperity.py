@@ -57,7 +57,7 @@ from numpy.polynomial import chebyshev as _cheb
 from numpy.typing import ArrayLike
 
 from fastline._jit import JIT
-from fastline._validate import E_STAR_RANGE, in_span, positive
+from fastline._validate import E_STAR_RANGE, in_span, positive, real_array
 from fastline.laws import PressureLaw
 from fastline.spectra import PSD
 
@@ -299,7 +299,7 @@ def _gw_lnp(u, lnK, mean, std, tail, tab, out):
 def summit_integral(t: ArrayLike) -> np.ndarray:
     """``F_{3/2}(t) = int_t^inf (z - t)^(3/2) phi(z) dz`` (compiled; relative error < 1e-11
     against quadrature, tests/test_asperity.py), vectorised over finite t."""
-    t = np.asarray(t, dtype=np.float64)
+    t = real_array("t", t)
     if not np.all(np.isfinite(t)):
         raise ValueError("t must be finite")
     flat = np.ascontiguousarray(t.ravel())
@@ -382,14 +382,14 @@ class GreenwoodWilliamsonLaw(PressureLaw):
         return self._lnK, s.height_mean, s.height_std, self._tail, _tables()
 
     def separation_and_slope(self, v: ArrayLike) -> tuple[np.ndarray, np.ndarray]:
-        v = np.asarray(v, dtype=np.float64)
+        v = real_array("v", v)
         flat = np.ascontiguousarray(v.ravel())
         u, d = np.empty_like(flat), np.empty_like(flat)
         _gw_u(flat, *self._args(), u, d)
         return u.reshape(v.shape), d.reshape(v.shape)
 
     def log_pressure(self, u: ArrayLike) -> np.ndarray:
-        u = np.asarray(u, dtype=np.float64)
+        u = real_array("u", u)
         flat = np.ascontiguousarray(u.ravel())
         out = np.empty_like(flat)
         _gw_lnp(flat, *self._args(), out)
@@ -401,7 +401,7 @@ class GreenwoodWilliamsonLaw(PressureLaw):
     def real_area(self, p: ArrayLike) -> np.ndarray:
         """``pi eta beta sigma_s F_1(t)`` at the separation of pressure p, capped at 1 (GW
         does not know full contact)."""
-        p = np.asarray(p, dtype=np.float64)
+        p = real_array("p", p)
         with np.errstate(divide="ignore"):
             u, _ = self.separation_and_slope(np.log(np.maximum(p, 1e-300)))
         s = self.statistics

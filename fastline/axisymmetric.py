@@ -73,7 +73,7 @@ import numpy as np
 from numpy.typing import ArrayLike
 
 from fastline._jit import JIT
-from fastline._validate import integer, positive
+from fastline._validate import integer, positive, real_array
 
 __all__ = [
     "BalancingPreconditioner",
@@ -151,7 +151,7 @@ def disc_interaction(a: ArrayLike, c: ArrayLike) -> np.ndarray:
         ``8 pi max^3 G(min/max)`` in L^3 (module docstring); 0 where a disc has radius 0.
         ``Phi(a, a) = 16 pi a^3 / 3``.
     """
-    a, c = np.broadcast_arrays(np.asarray(a, dtype=float), np.asarray(c, dtype=float))
+    a, c = np.broadcast_arrays(real_array("a", a), real_array("c", c))
     lo, hi = np.minimum(a, c), np.maximum(a, c)
     safe = np.where(hi > 0.0, hi, 1.0)
     m = (lo / safe) ** 2

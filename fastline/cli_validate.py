@@ -9,11 +9,12 @@ parsing and printing only.
 
 from __future__ import annotations
 
+import argparse
 import math
 import os
 import sys
 import time
-from typing import TYPE_CHECKING, Any
+from typing import Any
 
 from fastline.cli import (
     CLIError,
@@ -29,9 +30,6 @@ from fastline.cli import (
     _variant_option,
 )
 from fastline.cli_sphere import GEOMETRIES
-
-if TYPE_CHECKING:
-    import argparse
 
 __all__ = ["validate_parser", "cmd_validate", "VALIDATE_DEFAULTS"]
 
@@ -54,6 +52,8 @@ GEOMETRY_DEFAULTS: dict[str, dict[str, Any]] = {
 }
 #: largest BEM grid accepted (cells): about 1.5 GB of working arrays
 MAX_CELLS = 2**24
+#: fewest BEM realisations: the comparison is in units of their standard error (one has none)
+MIN_REALIZATIONS = 2
 
 DESCRIPTION = """\
 Check the theory against an exact (boundary-element) simulation of the same scene on random
@@ -174,7 +174,12 @@ def validate_parser(sub: argparse._SubParsersAction, fmt: type[argparse.HelpForm
     )
     b = p.add_argument_group("boundary elements")
     b.add_argument(
-        "--realizations", type=_count, default=8, metavar="K", help="random surfaces (8)"
+        "--realizations",
+        type=_realizations,
+        default=8,
+        metavar="K",
+        help=f"random surfaces (8; at least {MIN_REALIZATIONS}: the differences are in units "
+        "of their standard error)",
     )
     b.add_argument("--seed", type=int, default=0, metavar="S", help="root seed (0)")
     b.add_argument(
@@ -208,6 +213,18 @@ def validate_parser(sub: argparse._SubParsersAction, fmt: type[argparse.HelpForm
     p.add_argument("--csv", metavar="FILE", help="write the profiles (or flat results) to FILE")
     p.add_argument("--plot", metavar="FILE", help="write a figure to FILE")
     _figure_options(p)
+
+
+def _realizations(text: str) -> int:
+    """--realizations: an integer >= MIN_REALIZATIONS (one surface has no standard error, and
+    every z of the table would be NaN)."""
+    k = _count(text)
+    if k < MIN_REALIZATIONS:
+        raise argparse.ArgumentTypeError(
+            f"must be >= {MIN_REALIZATIONS}, got {text!r}: the theory is compared in units of "
+            "the BEM's standard error over the realisations, which one realisation does not have"
+        )
+    return k
 
 
 # ----------------------------------------------------------------------------------------------

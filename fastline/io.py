@@ -594,10 +594,19 @@ def write_leak_csv(
     write_csv(path, columns, rows, info, title=title)
 
 
+def _resistance_columns(leak: LeakResult) -> tuple[float, float]:
+    """``share_in_fwhm, resistance_width`` of a leak sweep's row: NaN (a missing value, as the
+    printed table's "-") when sealed, where the resistance is infinite and where it sits means
+    nothing."""
+    if leak.sealed:
+        return math.nan, math.nan
+    return leak.share_in_fwhm, leak.resistance_width
+
+
 def leak_sweep_rows(results: Iterable, leaks: Iterable) -> list[tuple]:
     """One row of :data:`LEAK_SWEEP_COLUMNS` per (LineContactResult, LeakResult) pair (of
     :data:`POINT_LEAK_SWEEP_COLUMNS` per (PointContactResult, LeakResult) pair: the same
-    numbers, the load in N)."""
+    numbers, the load in N); share_in_fwhm and resistance_width_m NaN at sealed loads."""
     return [
         (
             r.load,
@@ -606,8 +615,7 @@ def leak_sweep_rows(results: Iterable, leaks: Iterable) -> list[tuple]:
             k.Q,
             k.conductance,
             k.sealed,
-            k.share_in_fwhm,
-            k.resistance_width,
+            *_resistance_columns(k),
             k.diagnostics["min_gap"],
             r.converged,
         )
@@ -624,8 +632,8 @@ def write_leak_sweep_csv(
 
     ``results`` and ``leaks`` are the solves and their leak rates, in the same order; the
     leak's inputs (:func:`leak_metadata`, from the first) are added to ``meta``. At sealed
-    loads Q and min_gap_m are 0, and share_in_fwhm and resistance_width_m describe the sealed
-    strips (where the resistance is infinite).
+    loads Q and min_gap_m are 0, and share_in_fwhm and resistance_width_m are ``nan`` (the
+    resistance is infinite: where it sits means nothing; the printed table shows "-").
     """
     leaks = list(leaks)
     if not leaks:

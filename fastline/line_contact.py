@@ -44,6 +44,7 @@ from fastline._contact import (  # noqa: F401 (METHODS ... shared_theory: import
 )
 from fastline._core import ConvergenceWarning, Discretisation, dot
 from fastline._solve_kernels import line_cells, line_measures
+from fastline._validate import real_array
 from fastline.elastic import LogKernelOperator, _log_reference_shift
 from fastline.laws import PressureLaw
 from fastline.limits import (
@@ -518,6 +519,7 @@ class LineContact(ContactModel):
         separation, real = self._separation_and_area(out)
         p0, s, w, total = _measures(x, p, dx) if measures is None else measures
         op = grid.disc.op
+        alpha = self._alpha(hz.delta)
         return LineContactResult(
             x=x,
             pressure=p,
@@ -528,14 +530,14 @@ class LineContact(ContactModel):
             fwhm=w,
             w_over_s=w / s,
             p0_ratio=p0 / hz.p0,
-            alpha=self._alpha(hz.delta),
+            alpha=alpha,
             delta=hz.delta,
             u1=out.u1 + _log_reference_shift(hz.load, dx, self.E_star, self.radius),
             converged=bool(out.converged),
             iterations=int(out.iterations),
             convolutions=int(op.convolutions),
             residual=float(out.residual),
-            message=out.message,
+            message=self._message(out, alpha),
             model=self.model,
             method=self.method,
             load=hz.load,
@@ -608,7 +610,7 @@ def profile(
 def _per_load(
     attr: str, psd: PSD | None, E_star: float, radius: float, load: ArrayLike, options: dict
 ) -> float | np.ndarray:
-    loads = np.asarray(load, dtype=np.float64)
+    loads = real_array("load", load)  # bools and strings refused, as solve refuses them
     lc = LineContact(psd, E_star, radius, **options)
     if loads.ndim == 0:
         return float(getattr(lc.solve(float(loads)), attr))

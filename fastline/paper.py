@@ -35,6 +35,8 @@ from typing import TYPE_CHECKING, Any, Literal
 import numpy as np
 from numpy.typing import ArrayLike
 
+from fastline._validate import real_array
+
 if TYPE_CHECKING:  # annotations only: the solvers load on first use
     from fastline.variants import Variant, VariantName
 
@@ -102,7 +104,7 @@ def load_for_alpha(
     With the Hertz penetration ``delta = 4 f_N / (pi E*)`` (paper eq. 9),
     ``f_N = (pi/4) h_rms E* / alpha``. Works on arrays of alpha.
     """
-    return math.pi / 4.0 * h_rms * E_star / np.asarray(alpha, dtype=np.float64)[()]
+    return math.pi / 4.0 * h_rms * E_star / real_array("alpha", alpha)[()]
 
 
 def paper_loads(num: int = 40) -> np.ndarray:
@@ -240,7 +242,7 @@ def sphere_load_for_alpha(
     With the Hertz penetration ``delta = a^2 / R`` and ``a^3 = 3 F R / (4 E*)``,
     ``F = (4/3) E* R^(1/2) delta^(3/2)``, ``delta = h_rms / alpha``. Works on arrays of alpha.
     """
-    delta = h_rms / np.asarray(alpha, dtype=np.float64)
+    delta = h_rms / real_array("alpha", alpha)
     return (4.0 / 3.0 * E_star * math.sqrt(radius) * delta**1.5)[()]
 
 

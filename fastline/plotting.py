@@ -23,6 +23,8 @@ from typing import TYPE_CHECKING, Literal, TypeAlias
 import numpy as np
 from numpy.typing import ArrayLike
 
+from fastline._validate import real_array
+
 if TYPE_CHECKING:  # annotations only: matplotlib and the solvers load on first use
     from matplotlib.axes import Axes
     from matplotlib.figure import Figure
@@ -153,12 +155,12 @@ def plot_psd(
     """
     if not isinstance(psds, Mapping):
         psds = {None: psds}
-    fig, ax, own = _figure(ax)
     if q is None:
         lo = min(p.q0 for p in psds.values())
         hi = max(p.q1 for p in psds.values())
         q = np.geomspace(lo, hi, 400)
-    q = np.asarray(q, dtype=np.float64)
+    q = real_array("q", q)  # before the figure: a bad q leaves none open
+    fig, ax, own = _figure(ax)
     for label, psd in psds.items():
         C = psd(q)
         live = C > 0.0
@@ -517,7 +519,7 @@ def plot_leak_sweep(
     -------
     matplotlib.figure.Figure
     """
-    f = np.asarray(loads, dtype=np.float64)
+    f = real_array("loads", loads)
     leaks = list(leaks)
     if f.ndim != 1 or f.size != len(leaks) or f.size == 0:
         raise ValueError(

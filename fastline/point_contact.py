@@ -396,6 +396,7 @@ class PointContact(ContactModel):
         s = _radial_std(p, dr, hz.load)
         w = fwhm(x, pd, p0)
         op = grid.disc.op
+        alpha = self._alpha(hz.delta)
         return PointContactResult(
             r=r,
             pressure=p,
@@ -406,7 +407,7 @@ class PointContact(ContactModel):
             fwhm=w,
             w_over_s=w / s,
             p0_ratio=p0 / hz.p0,
-            alpha=self._alpha(hz.delta),
+            alpha=alpha,
             delta=hz.delta,
             hertz_radius=hz.a,
             u1=float(out.u1),
@@ -414,7 +415,7 @@ class PointContact(ContactModel):
             iterations=int(out.iterations),
             convolutions=int(op.convolutions),
             residual=float(out.residual),
-            message=out.message,
+            message=self._message(out, alpha),
             model=self.model,
             method=self.method,
             load=hz.load,

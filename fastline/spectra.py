@@ -33,6 +33,7 @@ from fastline._validate import (
     in_range,
     in_span,
     positive,
+    real_array,
 )
 
 __all__ = ["PSD", "SelfAffinePSD", "TabulatedPSD", "SumPSD", "effective_modulus"]
@@ -86,7 +87,7 @@ class PSD:
     # -- derived quantities (shared) ------------------------------------------------------------
     def cumulative(self, q: ArrayLike) -> np.ndarray:
         """``A(q) = pi int_0^q q'^3 C(q') dq'`` (dimensionless), docs/theory.md section 3."""
-        q = np.asarray(q, dtype=np.float64)
+        q = real_array("q", q)
         return math.pi * self._moment(3, q)
 
     @property
@@ -152,7 +153,7 @@ class SelfAffinePSD(PSD):
 
     def __call__(self, q: ArrayLike) -> np.ndarray:
         """C(q) in m^4 for q in 1/m (vectorised)."""
-        q = np.asarray(q, dtype=np.float64)
+        q = real_array("q", q)
         ratio = np.maximum(q, self.qr) / self.qr
         c = self.C0 * ratio ** (-2.0 * (1.0 + self.hurst))
         return np.where((q >= self.q0) & (q <= self.q1), c, 0.0)
@@ -247,7 +248,7 @@ class TabulatedPSD(PSD):
 
     def __call__(self, q: ArrayLike) -> np.ndarray:
         """C(q) in m^4 for q in 1/m (vectorised), log-log interpolated."""
-        q = np.asarray(q, dtype=np.float64)
+        q = real_array("q", q)
         i = self._index(q)
         qc = np.clip(q, self.q[0], self.q[-1])  # no 0 ** -slope (q = 0 of an FFT grid) outside
         c = self.C[i] * (qc / self.q[i]) ** self._slope[i]

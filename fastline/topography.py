@@ -40,7 +40,7 @@ import numpy as np
 from numpy.typing import ArrayLike
 
 from fastline._abel import inverse_abel
-from fastline._validate import WAVENUMBER_RANGE, finite_scalar, integer, positive
+from fastline._validate import WAVENUMBER_RANGE, finite_scalar, integer, positive, real_array
 from fastline.io import _read_table
 from fastline.spectra import PSD, SelfAffinePSD, TabulatedPSD
 
@@ -639,8 +639,8 @@ def psd_from_profile(
 def _table(
     name_q: str, q: ArrayLike, name_c: str, C: ArrayLike, *, positive_values: bool
 ) -> tuple[np.ndarray, np.ndarray]:
-    q = np.asarray(q, dtype=np.float64)
-    C = np.asarray(C, dtype=np.float64)
+    q = real_array(name_q, q)
+    C = real_array(name_c, C)
     if q.ndim != 1 or C.shape != q.shape:
         raise ValueError(f"{name_q} and {name_c} must be 1-dimensional and of equal length")
     if q.size < 3:
@@ -1394,8 +1394,8 @@ def convert_psd(
             f"{from_!r} is a {d_from}D and {to!r} a {d_to}D spectrum: they are not related point "
             "by point; use isotropic_from_1d (the inverse Abel transform) for 1D -> 2D"
         )
-    C = np.asarray(C, dtype=np.float64)
-    q = np.asarray(q, dtype=np.float64)
+    C = real_array("C", C)
+    q = real_array("q", q)
     if C.shape != q.shape:
         raise ValueError(f"C and q must have the same shape, got {C.shape} and {q.shape}")
     if not (np.all(np.isfinite(C)) and np.all(C >= 0.0)):

@@ -264,6 +264,24 @@ def test_sweep_is_the_designers_curve(sweep_run):
     assert f"leaks below it: {f[~sealed].max():.4g} N/m" in out
 
 
+@pytest.mark.parametrize("run_name", ["sweep_run", "ball_sweep_run"])
+def test_sweep_csv_leaves_where_the_resistance_sits_empty_when_sealed(run_name, request):
+    """The printed table shows "-" for share in FWHM and 90% width at sealed loads (the
+    resistance is infinite); the CSV has NaN there (it wrote 1.0 and a width), the leaking
+    loads' values as printed."""
+    _, out, _, csv_path, _ = request.getfixturevalue(run_name)
+    _, cols = read_csv(csv_path)
+    sealed = cols["sealed"] == 1
+    share, width = cols["share_in_fwhm"], cols["resistance_width_m"]
+    assert sealed.any() and (~sealed).any()
+    assert np.all(np.isnan(share[sealed])) and np.all(np.isnan(width[sealed]))
+    assert np.all((share[~sealed] > 0.0) & (share[~sealed] <= 1.0))
+    assert np.all(width[~sealed] > 0.0)
+    rows = [ln for ln in out.splitlines() if ln.rstrip().endswith(("yes", "NO"))]
+    for line, is_sealed, s, w in zip(rows, sealed, share, width, strict=True):
+        assert (f"{'-':>9}{'-':>15}" in line) if is_sealed else (f"{s:>9.3f}{w:>15.4g}" in line)
+
+
 def test_sweep_figure(sweep_run):
     svg = sweep_run[4]
     assert svg.read_bytes()[:5] == MAGIC["svg"]

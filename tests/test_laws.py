@@ -236,3 +236,80 @@ def test_bad_user_law(law, exc, match):
         check_law(law)
     with pytest.raises(exc, match=match):
         fl.LineContact(PSD, E_STAR, RADIUS, model=law)
+
+
+# ---- a user law that is not finite: the error or the message names it --------------------------
+P_CUT = 5e8  # Pa: NaNAbove fails above it, beyond check_law's probes (1e2, 1e5, 1e8 Pa)
+#: loads whose start iterate reaches P_CUT (Hertz p0 6.5e8 Pa on the line, 1.2e9 Pa on the
+#: sphere) and loads whose solution stays below it
+LOAD_ABOVE_CUT = {"line": 1e7, "point": 1e4}
+LOAD_BELOW_CUT = {"line": 1e6, "point": 100.0}
+
+
+class NaNAbove(fl.PressureLaw):
+    """An exponential law (u linear in ln p, decay length u0) that returns ``bad`` (NaN or
+    inf) above P_CUT: a user's law with a hole in its domain."""
+
+    u0 = 4e-6
+
+    def __init__(self, bad=np.nan):
+        self.bad = bad
+
+    def separation_and_slope(self, v):
+        v = np.asarray(v, dtype=np.float64)
+        ok = v < np.log(P_CUT)
+        with np.errstate(invalid="ignore"):
+            u = np.where(ok, self.u0 * (np.log(1e9) - v), self.bad)
+            return u, np.where(ok, -self.u0, self.bad)
+
+
+class FailsMidSolve(NaNAbove):
+    """Finite at its first evaluation on the solver's ``n`` cells (the start), NaN at every
+    later one: a law that breaks where the iteration goes."""
+
+    def __init__(self, n):
+        super().__init__()
+        self.n, self.calls = n, 0
+
+    def separation_and_slope(self, v):
+        u, d = super().separation_and_slope(v)
+        if np.size(v) == self.n:
+            self.calls += 1
+            if self.calls > 1:
+                return np.full_like(u, np.nan), np.full_like(d, np.nan)
+        return u, d
+
+
+def _model(geometry, law, **kw):
+    if geometry == "line":
+        return fl.LineContact(PSD, E_STAR, RADIUS, model=law, n=64, warn=False, **kw)
+    return fl.PointContact(PSD, E_STAR, RADIUS, model=law, n=32, warn=False, **kw)
+
+
+@pytest.mark.parametrize("method", ["newton", "picard"])
+@pytest.mark.parametrize("bad", [np.nan, np.inf])
+@pytest.mark.parametrize("geometry", ["line", "point"])
+def test_nonfinite_law_at_the_start_is_a_value_error(geometry, bad, method):
+    """Before: a result with "residual nan" that did not say why."""
+    model = _model(geometry, NaNAbove(bad), method=method)
+    with pytest.raises(ValueError, match=r"^model: .*NaNAbove returned non-finite values"):
+        model.solve(LOAD_ABOVE_CUT[geometry])
+    if method == "newton":  # finite where the solution lies (Picard: see the test below)
+        assert model.solve(LOAD_BELOW_CUT[geometry]).converged
+
+
+@pytest.mark.parametrize("geometry", ["line", "point"])
+def test_law_failing_mid_solve_is_named_in_the_message(geometry):
+    n = 64 if geometry == "line" else 32
+    res = _model(geometry, FailsMidSolve(n)).solve(LOAD_BELOW_CUT[geometry])
+    assert not res.converged
+    assert "line search failed: the pressure law FailsMidSolve returned non-finite" in res.message
+    assert "FailsMidSolve" in res.diagnostics["law_fault"]
+
+
+def test_fixed_point_stops_at_a_nonfinite_law():
+    """Picard inverts the law (the base class's Newton on u(ln p)), which walks into the NaN
+    above P_CUT on the sphere: it stops at once, naming the law (it used to run on NaN)."""
+    res = _model("point", NaNAbove(), method="picard", max_iter=20).solve(LOAD_BELOW_CUT["point"])
+    assert not res.converged and res.iterations < 20
+    assert "the pressure law NaNAbove returned non-finite values" in res.message

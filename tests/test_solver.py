@@ -11,7 +11,7 @@ import pytest
 from naive import line_contact_exponential, line_contact_hard
 
 import fastline as fl
-from fastline import _hard_contact
+from fastline import _contact, _hard_contact
 
 # tiered tolerances
 RTOL_FORCE = 1e-10  # force balance (enforced exactly by the log-sum-exp normalisation)
@@ -371,6 +371,29 @@ def test_residual_floor_at_tiny_alpha():
         assert res.converged and res.residual < res.diagnostics["tol_effective"]
         assert res.diagnostics["tol_effective"] > 1e-8
         assert "round-off floor" in res.message
+
+
+def test_unconverged_solve_at_tiny_alpha_suggests_hertz():
+    """Deep in the smooth-contact limit (alpha = 1e-9 < HERTZ_HINT_ALPHA; R = 1 km keeps the
+    load in range) a solve that stops short (here after one Newton step; on some grids Newton
+    stalls there by itself) tells the user to use model="hertz"; the same message elsewhere
+    does not."""
+    psd, radius, alpha = SURFACES["surface1"], 1e3, 1e-9
+    f = fl.paper.load_for_alpha(alpha, psd.h_rms, E_STAR)
+    force = fl.paper.sphere_load_for_alpha(alpha, psd.h_rms, E_STAR, radius)
+    line = fl.LineContact(psd, E_STAR, radius, n=64, max_iter=1, warn=False)
+    point = fl.PointContact(psd, E_STAR, radius, n=32, max_iter=1, warn=False)
+    for res in (line.solve(f), line.sweep([f, 1.2 * f])[1], point.solve(force)):
+        assert not res.converged and res.alpha < _contact.HERTZ_HINT_ALPHA
+        assert "use model='hertz'" in res.message
+    # the advice holds: the smooth contact solves there, and the rough one is Hertz's
+    hertz = fl.LineContact(None, E_STAR, radius, n=64, model="hertz").solve(f)
+    rough = fl.LineContact(psd, E_STAR, radius, n=64, warn=False).solve(f)
+    assert hertz.converged and rough.converged and "hertz" not in rough.message
+    assert rough.p0 == pytest.approx(hertz.p0, rel=RTOL_HERTZ)
+    stopped = fl.LineContact(psd, E_STAR, RADIUS, n=64, max_iter=1, warn=False)
+    res = stopped.solve(fl.paper.load_for_alpha(1.0, psd.h_rms, E_STAR))
+    assert not res.converged and "hertz" not in res.message
 
 
 def test_picard_stops_and_never_nan():

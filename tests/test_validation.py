@@ -228,6 +228,9 @@ def test_cli_leak_on_a_dask_scheduler(tmp_path, capsys):
         (["--variant", "persson"], "invalid choice"),
         (["--gamma", 0.01], "gamma"),
         (["--psd", "x.txt", "--hurst", 0.7], "--psd cannot be combined"),
+        # one realisation has no standard error: every z would be NaN ("+- nan" before)
+        (["--realizations", 1], "--realizations: must be >= 2"),
+        (["--leak", "--pressure", 1e4, "--realizations", 1], "--realizations: must be >= 2"),
     ],
 )
 def test_cli_rejects(argv, message, capsys):

@@ -64,7 +64,7 @@ import pyfftw
 from numpy.typing import ArrayLike
 
 from fastline._jit import JIT
-from fastline._validate import integer, positive
+from fastline._validate import integer, positive, real_array
 
 __all__ = ["ElasticHalfSpace", "love_coefficient", "ALIAS_ORDER"]
 
@@ -109,8 +109,8 @@ def love_coefficient(
     dx = positive("dx", dx, "m")
     dy = positive("dy", dy, "m")
     E_star = positive("E_star", E_star, "Pa")
-    X = np.asarray(X, dtype=np.float64)
-    Y = np.asarray(Y, dtype=np.float64)
+    X = real_array("X", X)
+    Y = real_array("Y", Y)
     xa, xb = -0.5 * dx - X, 0.5 * dx - X
     ya, yb = -0.5 * dy - Y, 0.5 * dy - Y
     val = _corner(xb, yb) - _corner(xa, yb) - _corner(xb, ya) + _corner(xa, ya)
