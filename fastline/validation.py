@@ -226,7 +226,7 @@ def validate_line_contact(
     gamma : float, optional
         Parameter of the Persson variants (default: each variant's own).
     realizations, seed : int
-        BEM surfaces and root seed (:func:`fastline.bem.run_ensemble`; >= 2 for error bars).
+        BEM surfaces (>= 2: the error bars) and root seed (:func:`fastline.bem.run_ensemble`).
     executor : None, "serial", str, concurrent.futures.Executor or dask Client
         Where the realisations run, as for :func:`fastline.sweep`: a dask scheduler address
         (``"tcp://host:8786"``) or Client, any executor (default: this process;
@@ -331,10 +331,16 @@ def _check_inputs(psd, models, realizations, seed) -> tuple[str, ...]:
     """The checks shared by the cylinder and the sphere, before any work; the models."""
     if not isinstance(psd, PSD):
         raise TypeError(f"psd must be a fastline PSD, got {type(psd).__name__}")
-    integer("realizations", realizations, 1)
+    _check_ensemble(realizations, seed)
+    return _check_models(models)
+
+
+def _check_ensemble(realizations, seed) -> None:
+    """At least two BEM realisations (the differences are in units of the ensemble's standard
+    error, which one realisation does not have) and a seed."""
+    integer("realizations", realizations, 2, why=" (the error bars need two or more)")
     if not isinstance(seed, np.random.SeedSequence):
         integer("seed", seed, 0)
-    return _check_models(models)
 
 
 def _theory_results(contact, psd, E_star, radius, load, models, gamma, n):
@@ -457,6 +463,7 @@ def validate_flat_contact(
     if not isinstance(psd, PSD):
         raise TypeError(f"psd must be a fastline PSD, got {type(psd).__name__}")
     models = _check_models(models)
+    _check_ensemble(realizations, seed)
     E_star = positive("E_star", E_star, "Pa")
     p = np.atleast_1d(positive_array("pressures", pressures)).ravel()
     laws = {m: law_of(m, psd, E_star, gamma) for m in models}

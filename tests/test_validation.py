@@ -136,6 +136,15 @@ def test_library_rejects():
         validation.validate_flat_contact("psd", E_STAR, 1e4)
     with pytest.raises(ValueError, match="pressures"):
         validation.validate_flat_contact(psd, E_STAR, [1e4, -1.0])
+    for call in (  # one realisation has no error bar to measure the differences in
+        lambda: validation.validate_line_contact(psd, E_STAR, RADIUS, 1.0, realizations=1),
+        lambda: validation.validate_point_contact(psd, E_STAR, RADIUS, 1e-3, realizations=1),
+        lambda: validation.validate_flat_contact(psd, E_STAR, 1e4, realizations=1),
+    ):
+        with pytest.raises(ValueError, match="realizations must be an integer >= 2"):
+            call()
+    with pytest.raises(ValueError, match="seed"):
+        validation.validate_flat_contact(psd, E_STAR, 1e4, seed=-1)
     flat = bem.flat_contact_scene(psd, E_STAR, 1e4, periods=1)
     with pytest.raises(ValueError, match="cylinder scene"):
         validation.validate_line_contact(psd, E_STAR, RADIUS, 1.0, scene=flat)
