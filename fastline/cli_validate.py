@@ -96,6 +96,17 @@ def validate_parser(sub: argparse._SubParsersAction, fmt: type[argparse.HelpForm
         description=DESCRIPTION,
         epilog=EPILOG,
     )
+    _spectrum_group(p)
+    _scene_group(p)
+    _theory_group(p)
+    _bem_group(p)
+    p.add_argument("--csv", metavar="FILE", help="write the profiles (or flat results) to FILE")
+    p.add_argument("--plot", metavar="FILE", help="write a figure to FILE")
+    _figure_options(p)
+
+
+def _spectrum_group(p: argparse.ArgumentParser) -> None:
+    """The roughness spectrum: self-affine with roll-off, or measured (``--psd``)."""
     g = p.add_argument_group(
         "roughness spectrum",
         "Self-affine spectrum with roll-off (as for profile) or a measured one (--psd). "
@@ -107,6 +118,10 @@ def validate_parser(sub: argparse._SubParsersAction, fmt: type[argparse.HelpForm
     g.add_argument("--qr", type=_positive, metavar="1/M", help="roll-off wavenumber [1/m]")
     g.add_argument("--q1", type=_positive, metavar="1/M", help="cut-off wavenumber q1 [1/m]")
     g.add_argument("--psd", metavar="FILE", help="measured isotropic spectrum (q [1/m], C [m^4])")
+
+
+def _scene_group(p: argparse.ArgumentParser) -> None:
+    """Material and scene: E*, geometry, radius, the load (or alpha), or the flat contact."""
     m = p.add_argument_group("material and scene")
     m.add_argument("--E-star", type=_positive, metavar="PA", help="E* [Pa] (default 10e6)")
     m.add_argument(
@@ -150,6 +165,10 @@ def validate_parser(sub: argparse._SubParsersAction, fmt: type[argparse.HelpForm
         metavar="PA",
         help="nominal pressures of the flat contact [Pa] (with --leak)",
     )
+
+
+def _theory_group(p: argparse.ArgumentParser) -> None:
+    """The theory's variants, gamma, the Greenwood-Williamson law and its grid."""
     t = p.add_argument_group("theory")
     _variant_option(t)
     t.add_argument(
@@ -172,6 +191,10 @@ def validate_parser(sub: argparse._SubParsersAction, fmt: type[argparse.HelpForm
         help="theory grid: cells across the cylinder's domain (1024), or from the sphere's "
         "axis (512)",
     )
+
+
+def _bem_group(p: argparse.ArgumentParser) -> None:
+    """The boundary-element ensemble: realisations, seed, where they run, resolution."""
     b = p.add_argument_group("boundary elements")
     b.add_argument(
         "--realizations",
@@ -210,9 +233,6 @@ def validate_parser(sub: argparse._SubParsersAction, fmt: type[argparse.HelpForm
         help="cell length along the axis (flat: both ways) in 2 pi/q0 (default 2; not for "
         "the sphere, whose patch is sized from the contact)",
     )
-    p.add_argument("--csv", metavar="FILE", help="write the profiles (or flat results) to FILE")
-    p.add_argument("--plot", metavar="FILE", help="write a figure to FILE")
-    _figure_options(p)
 
 
 def _realizations(text: str) -> int:
