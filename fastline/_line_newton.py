@@ -50,6 +50,9 @@ _EPS = float(np.finfo(np.float64).eps)
 #: n-sized work arrays of :func:`newton_line` itself (iterate and trial: v, p, U, dU, gk, r each;
 #: D and dp)
 _HEAD_ARRAYS = 14
+#: the arrays of an iterate (``state`` and ``trial`` of :func:`newton_line`): ln p, p, the law's
+#: u and du/dv, g + K p, the residual
+_V, _P, _U, _DU, _GK, _R = 0, 1, 2, 3, 4, 5
 
 
 def workspace_size(n: int) -> int:
@@ -96,7 +99,7 @@ def _evaluate(state, u1_in, fft, kspec, scale, gap, w, law, a, c):
     (v = ln p given; one FFT convolution). ``u1_in`` NaN: the load-weighted least-squares
     rigid approach. Returns ``(u1, ||r||_2, size)``, size the largest term the residual
     subtracts (for the round-off floor)."""
-    v, p = state[0], state[1]
+    v, p = state[_V], state[_P]
     n = v.shape[0]
     floor = max(largest(v, -math.inf) - LN_FLOOR, _LN_TINY)  # see fastline._core.LN_FLOOR
     for i in range(n):
@@ -190,14 +193,14 @@ def newton_line(
     dp = ws[o + 13 * n : o + 14 * n]
     tail = ws[o + _HEAD_ARRAYS * n :]
     for i in range(n):
-        state[0][i] = v_io[i]
+        state[_V][i] = v_io[i]
     u1, phi, size = _evaluate(state, math.nan, fft, kspec, scale, gap, w, law, a, c)
     kapps = 1
     steps = cg_total = circ = 0
     res_prev = eta = math.nan
     eta_cap = ETA_MAX
     while True:
-        res = largest_abs(state[5], 0.0) / u_ref
+        res = largest_abs(state[_R], 0.0) / u_ref
         tol_eff = max(tol, ROUNDOFF_FACTOR * _EPS * size / u_ref)
         stalled = eta_cap < ETA_RETRY_MIN
         if stalled and tol_eff > tol and res < FLOOR_STALL * tol_eff:
@@ -205,22 +208,22 @@ def newton_line(
         if res < tol_eff or steps >= max_iter or stalled:
             status = 0 if res < tol_eff else (2 if stalled else 1)
             for i in range(n):  # loops, not v_io[:] = v: no broadcasting error path to compile
-                v_io[i] = state[0][i]
-                u_out[i] = state[2][i]
+                v_io[i] = state[_V][i]
+                u_out[i] = state[_U][i]
             return u1, res, status, steps, cg_total, kapps, circ, tol_eff
         steps += 1
-        _newton_diagonal(state[1], state[3], u_ref, D)
+        _newton_diagonal(state[_P], state[_DU], u_ref, D)
         eta = min(_forcing(res, res_prev, eta, tol_eff), eta_cap)
         res_prev = res
         fr2c, fc2r, pf, pb = fft
         du1, its, ka, ci = solve_newton_system(
-            fr2c, fc2r, pf, pb, kspec, strang, prefix, scale, K00, D, w, state[5], eta, MAX_CG,
+            fr2c, fc2r, pf, pb, kspec, strang, prefix, scale, K00, D, w, state[_R], eta, MAX_CG,
             nc, dp, tail,
         )  # fmt: skip
         cg_total += its
         kapps += ka
         circ += ci
-        t = _step_guard(state[1], state[3], u_ref, dp)
+        t = _step_guard(state[_P], state[_DU], u_ref, dp)
         accepted, t, trials, u1n, phin, sizen = _line_search(
             state, trial, dp, t, u1, du1, phi, load, fft, kspec, scale, gap, w, law, a, c
         )
@@ -262,7 +265,7 @@ def _line_search(state, trial, dv, t, u1, du1, phi, load, fft, kspec, scale, gap
     """Armijo backtracking on ||r|| from step length ``t``: ``trial`` holds the iterate
     ``v + t dv`` (its pressure renormalised to the load) of the last trial. Returns
     ``(accepted, t, trials, u1, ||r||, size)`` of that trial (one FFT convolution each)."""
-    v, v2, p2 = state[0], trial[0], trial[1]
+    v, v2, p2 = state[_V], trial[_V], trial[_P]
     n = v.shape[0]
     u1n = phin = sizen = math.nan
     for k in range(LINE_SEARCH_HALVINGS + 1):
