@@ -415,12 +415,15 @@ class ContactModel:
         start = None if initial is None else self._rescaled_start(grid, initial)
         return self._solve_on(grid, start, self.warn)
 
-    def _solve_on(self, grid, start: np.ndarray | None, warn: bool):
-        """Run the core from ``start`` (ln p; None: cold) and finish the result. The validity
-        diagnostics are made now when they may warn, else on first access to the result's
-        ``diagnostics`` (:class:`DeferredFields`)."""
+    def _solve_on(self, grid, start: np.ndarray | None, warn: bool, counts: dict | None = None):
+        """Run the core from ``start`` (ln p; None: cold) and finish the result (``counts``:
+        more entries of its solver counts in ``diagnostics``). The validity diagnostics are
+        made now when they may warn, else on first access to the result's ``diagnostics``
+        (:class:`DeferredFields`)."""
         outcome = self._run(grid, start)
         result = self._result(grid, outcome)
+        if counts:
+            result.diagnostics.update(counts)
         if not result.converged and warn:
             warnings.warn(NOT_CONVERGED, ConvergenceWarning, stacklevel=4)
         if warn:
