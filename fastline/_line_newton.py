@@ -171,24 +171,8 @@ def newton_line(
     n = v_io.shape[0]
     a, c = aligned_views(ws, 2 * n)
     o = 4 * n + ALIGN_PAD  # aligned_size(2 n)
-    # the iterate and the line search's trial, each (v, p, U, dU, gk, r): ln p, p, the law's
-    # u and du/dv, g + K p, the residual
-    state = (
-        ws[o + 0 * n : o + 1 * n],
-        ws[o + 1 * n : o + 2 * n],
-        ws[o + 2 * n : o + 3 * n],
-        ws[o + 3 * n : o + 4 * n],
-        ws[o + 4 * n : o + 5 * n],
-        ws[o + 5 * n : o + 6 * n],
-    )
-    trial = (
-        ws[o + 6 * n : o + 7 * n],
-        ws[o + 7 * n : o + 8 * n],
-        ws[o + 8 * n : o + 9 * n],
-        ws[o + 9 * n : o + 10 * n],
-        ws[o + 10 * n : o + 11 * n],
-        ws[o + 11 * n : o + 12 * n],
-    )
+    state = _iterate_views(ws, o, n)  # the iterate, and the line search's trial
+    trial = _iterate_views(ws, o + 6 * n, n)
     D = ws[o + 12 * n : o + 13 * n]
     dp = ws[o + 13 * n : o + 14 * n]
     tail = ws[o + _HEAD_ARRAYS * n :]
@@ -237,6 +221,21 @@ def newton_line(
             u1, phi, size = u1n, phin, sizen
         else:  # not a descent direction: solve the step more accurately
             eta_cap = eta * 1e-3
+
+
+@numba.njit(**JIT, inline="always")
+def _iterate_views(ws, o, n):
+    """The arrays of an iterate, ``(v, p, U, dU, gk, r)`` (ln p, p, the law's u and du/dv,
+    g + K p, the residual; indices ``_V`` ... ``_R``): six views of n elements into ``ws`` from
+    offset ``o``."""
+    return (
+        ws[o : o + n],
+        ws[o + n : o + 2 * n],
+        ws[o + 2 * n : o + 3 * n],
+        ws[o + 3 * n : o + 4 * n],
+        ws[o + 4 * n : o + 5 * n],
+        ws[o + 5 * n : o + 6 * n],
+    )
 
 
 @numba.njit(**JIT, inline="always")
