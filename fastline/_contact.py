@@ -412,8 +412,16 @@ class ContactModel:
                 f"initial must be a {self.RESULT.__name__} or None, got {type(initial).__name__}"
             )
         grid = self._grid(load)
-        start = None if initial is None else self._rescaled_start(grid, initial)
-        return self._solve_on(grid, start, self.warn)
+        if initial is not None:
+            return self._solve_on(grid, self._rescaled_start(grid, initial), self.warn)
+        start, counts = self._coarse_start(grid, load)
+        return self._solve_on(grid, start, self.warn, counts)
+
+    def _coarse_start(self, grid, load: float) -> tuple[np.ndarray | None, dict | None]:
+        """A cold solve's start from a coarser grid (ln p on ``grid``, and the work it took
+        for the result's ``diagnostics``), or ``(None, None)``: the cold start of
+        :meth:`_run`. None here; a geometry may nest (:class:`fastline.LineContact`)."""
+        return None, None
 
     def _solve_on(self, grid, start: np.ndarray | None, warn: bool, counts: dict | None = None):
         """Run the core from ``start`` (ln p; None: cold) and finish the result (``counts``:
@@ -427,7 +435,9 @@ class ContactModel:
         if not result.converged and warn:
             warnings.warn(NOT_CONVERGED, ConvergenceWarning, stacklevel=4)
         if warn:
-            result.diagnostics.update(assess(result, self._theory, self.hardness, warn=True))
+            # warnings point at the caller of the geometry's solve, as NOT_CONVERGED's above
+            found = assess(result, self._theory, self.hardness, warn=True, stacklevel=4)
+            result.diagnostics.update(found)
         else:
             self._defer_diagnostics(result)
         return result

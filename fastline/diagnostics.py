@@ -271,6 +271,7 @@ def assess(
     *,
     psd: PSD | None = None,
     warn: bool = True,
+    stacklevel: int = 1,
 ) -> dict:
     """Regime and validity checks of a solved line or point contact.
 
@@ -291,6 +292,8 @@ def assess(
     warn : bool
         Emit one :class:`ValidityWarning` per cause found (they are listed in the result
         either way). The regime is information, never a warning.
+    stacklevel : int
+        Where the warnings point: 1 the caller of ``assess``, 2 its caller, and so on.
 
     Returns
     -------
@@ -340,7 +343,9 @@ def assess(
     out["warning_messages"] = {c: msgs[c] for c in causes}
     out["warnings"] = [msgs[c] for c in causes]
     for c in causes if warn else ():
-        warnings.warn(f"fastline: {_headline(c, result)}", ValidityWarning, stacklevel=3)
+        warnings.warn(
+            f"fastline: {_headline(c, result)}", ValidityWarning, stacklevel=stacklevel + 1
+        )
     return out
 
 

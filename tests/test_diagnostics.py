@@ -265,3 +265,23 @@ def test_a_loop_of_solves_warns_once_per_cause():
     assert len(emitted) == len(set(causes)) and len(set(emitted)) == len(emitted)
     details = {r.diagnostics["warning_messages"]["narrow_contact"] for r in results}
     assert len(details) == len(loads)  # the numbers differ from scene to scene
+
+
+@pytest.mark.parametrize("model", ["line", "point"])
+def test_warnings_of_a_solve_point_at_its_caller(psd, theory, model):
+    """A model's ``solve`` that warns (here: stopped after one Newton step, so both a
+    ConvergenceWarning and ValidityWarnings) points every warning at the line that called
+    ``solve``, not inside fastline; so does :func:`assess` called directly."""
+    if model == "line":
+        contact = fl.LineContact(psd, E_STAR, 1.0, theory=theory, n=256, max_iter=1)
+        load = load_for(1.0)
+    else:
+        contact = fl.PointContact(psd, E_STAR, 1e-2, theory=theory, n=128, max_iter=1)
+        load = 1.0
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        result = contact.solve(load)
+        assess(result, theory)
+    kinds = {w.category for w in caught}
+    assert {fl.ConvergenceWarning, ValidityWarning} <= kinds
+    assert {w.filename for w in caught} == {__file__}, [(w.filename, w.lineno) for w in caught]
