@@ -45,7 +45,7 @@ from fastline._validate import (
     positive,
     real_array,
 )
-from fastline.diagnostics import assess, warn_once
+from fastline.diagnostics import assess, outside_stacklevel, warn_once
 from fastline.laws import ExponentialLaw, PerssonLaw, PressureLaw, TabulatedLaw, check_law
 from fastline.persson import PerssonTheory
 from fastline.spectra import PSD
@@ -432,11 +432,11 @@ class ContactModel:
         result = self._result(grid, outcome)
         if counts:
             result.diagnostics.update(counts)
-        if not result.converged and warn:
-            warnings.warn(NOT_CONVERGED, ConvergenceWarning, stacklevel=4)
-        if warn:
-            # warnings point at the caller of the geometry's solve, as NOT_CONVERGED's above
-            found = assess(result, self._theory, self.hardness, warn=True, stacklevel=4)
+        if warn:  # the warnings point at the user's line that led here
+            level = outside_stacklevel()
+            if not result.converged:
+                warnings.warn(NOT_CONVERGED, ConvergenceWarning, stacklevel=level)
+            found = assess(result, self._theory, self.hardness, warn=True, stacklevel=level)
             result.diagnostics.update(found)
         else:
             self._defer_diagnostics(result)
@@ -497,9 +497,9 @@ class ContactModel:
                 f"fastline: {len(failed)} of {len(results)} solves did not converge "
                 f"(loads {loads} {self.LOAD_UNIT}); see each result's message",
                 ConvergenceWarning,
-                stacklevel=4,
+                stacklevel=outside_stacklevel(),
             )
-        warn_once(results, stacklevel=4)
+        warn_once(results, stacklevel=outside_stacklevel())
 
     def _load_scale(self) -> float:
         """The unit of ``LOAD_RANGE`` in N/m or N (``E* R`` for a line contact)."""

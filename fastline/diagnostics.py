@@ -38,6 +38,8 @@ SI units throughout: Pa, m, N/m (N for a point contact).
 from __future__ import annotations
 
 import math
+import os
+import sys
 import warnings
 from collections.abc import Iterable
 from typing import TYPE_CHECKING
@@ -432,7 +434,24 @@ def summarise_warnings(results: Iterable) -> list[tuple[str, str]]:
     return out
 
 
-def warn_once(results: Iterable, *, stacklevel: int = 2) -> list[str]:
+#: the package's directory: frames there are fastline's own (:func:`outside_stacklevel`)
+_PACKAGE_DIR = os.path.dirname(os.path.abspath(__file__)) + os.sep
+
+
+def outside_stacklevel() -> int:
+    """The ``stacklevel`` that makes a warning emitted by the caller of this function point at
+    the first frame outside fastline: the user's line, however many of fastline's functions lie
+    between (``solve_line_contact`` -> ``LineContact.solve`` -> ...). Python 3.12's
+    ``skip_file_prefixes`` does this in ``warnings.warn``; fastline supports 3.10."""
+    frame = sys._getframe(1)
+    level = 1
+    while frame is not None and frame.f_code.co_filename.startswith(_PACKAGE_DIR):
+        frame = frame.f_back
+        level += 1
+    return level
+
+
+def warn_once(results: Iterable, *, stacklevel: int = 1) -> list[str]:
     """Emit one :class:`ValidityWarning` per cause found in ``results``; returns the causes.
 
     Use after a loop of solves made with ``warn=False`` (a sweep over loads) so that each
@@ -442,7 +461,7 @@ def warn_once(results: Iterable, *, stacklevel: int = 2) -> list[str]:
     ----------
     results : iterable of LineContactResult
     stacklevel : int
-        Passed to :func:`warnings.warn` (2: the caller of ``warn_once``).
+        Where the warnings point: 1 the caller of ``warn_once``, 2 its caller, and so on.
     """
     summary = summarise_warnings(results)
     for _cause, msg in summary:

@@ -271,7 +271,8 @@ def test_a_loop_of_solves_warns_once_per_cause():
 def test_warnings_of_a_solve_point_at_its_caller(psd, theory, model):
     """A model's ``solve`` that warns (here: stopped after one Newton step, so both a
     ConvergenceWarning and ValidityWarnings) points every warning at the line that called
-    ``solve``, not inside fastline; so does :func:`assess` called directly."""
+    ``solve``, not inside fastline; so do :func:`assess` and ``warn_once`` called directly,
+    ``sweep`` and ``solve_line_contact``."""
     if model == "line":
         contact = fl.LineContact(psd, E_STAR, 1.0, theory=theory, n=256, max_iter=1)
         load = load_for(1.0)
@@ -282,6 +283,10 @@ def test_warnings_of_a_solve_point_at_its_caller(psd, theory, model):
         warnings.simplefilter("always")
         result = contact.solve(load)
         assess(result, theory)
+        fl.diagnostics.warn_once([result])
+        contact.sweep([load, 2.0 * load])
+        if model == "line":
+            fl.solve_line_contact(psd, E_STAR, 1.0, load, theory=theory, n=256, max_iter=1)
     kinds = {w.category for w in caught}
     assert {fl.ConvergenceWarning, ValidityWarning} <= kinds
     assert {w.filename for w in caught} == {__file__}, [(w.filename, w.lineno) for w in caught]
