@@ -52,7 +52,8 @@ GEOMETRY_DEFAULTS: dict[str, dict[str, Any]] = {
 }
 #: largest BEM grid accepted (cells): about 1.5 GB of working arrays
 MAX_CELLS = 2**24
-#: fewest BEM realisations: the comparison is in units of their standard error (one has none)
+#: fewest BEM realisations: fastline.validation.MIN_REALIZATIONS (that module loads the BEM, not
+#: wanted to build the parser; tests/test_validation.py holds the two equal)
 MIN_REALIZATIONS = 2
 
 DESCRIPTION = """\

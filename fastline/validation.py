@@ -59,6 +59,8 @@ __all__ = [
 ]
 
 GW = "greenwood-williamson"
+#: fewest BEM realisations: every difference is in units of their standard error (one has none)
+MIN_REALIZATIONS = 2
 #: the laws a validation can compare: the variants of the Persson theory and the GW law
 MODELS = (*VARIANTS, GW)
 #: the critical-junction thresholds compared in a flat validation (Persson; Bruggeman)
@@ -336,9 +338,8 @@ def _check_inputs(psd, models, realizations, seed) -> tuple[str, ...]:
 
 
 def _check_ensemble(realizations, seed) -> None:
-    """At least two BEM realisations (the differences are in units of the ensemble's standard
-    error, which one realisation does not have) and a seed."""
-    integer("realizations", realizations, 2, why=" (the error bars need two or more)")
+    """At least ``MIN_REALIZATIONS`` BEM realisations and a seed."""
+    integer("realizations", realizations, MIN_REALIZATIONS, why=" (the error bars need them)")
     if not isinstance(seed, np.random.SeedSequence):
         integer("seed", seed, 0)
 

@@ -16,7 +16,7 @@ import numpy as np
 import pytest
 
 import fastline as fl
-from fastline import bem, validation
+from fastline import bem, cli_validate, validation
 from fastline.cli import main
 from fastline.io import read_csv
 from fastline.variants import VARIANTS
@@ -136,6 +136,7 @@ def test_library_rejects():
         validation.validate_flat_contact("psd", E_STAR, 1e4)
     with pytest.raises(ValueError, match="pressures"):
         validation.validate_flat_contact(psd, E_STAR, [1e4, -1.0])
+    assert cli_validate.MIN_REALIZATIONS == validation.MIN_REALIZATIONS == 2
     for call in (  # one realisation has no error bar to measure the differences in
         lambda: validation.validate_line_contact(psd, E_STAR, RADIUS, 1.0, realizations=1),
         lambda: validation.validate_point_contact(psd, E_STAR, RADIUS, 1e-3, realizations=1),
