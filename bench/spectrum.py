@@ -4,7 +4,7 @@ Solves one scene through the Python Newton loop (the compiled Newton-system solv
 :mod:`fastline._toeplitz_pcg` for each system; same steps and CG counts as the compiled loop),
 records every Newton system, and analyses one of them: the eigenvalues of ``B H`` on zero-load
 increments of the cells that are not frozen (``H = D + K``, ``B`` the two-level preconditioner
-with the B-orthogonal projection, exactly as the compiled CG applies it), where the slowest
+with the projection onto zero load, exactly as the compiled CG applies it), where the slowest
 modes live, and how many CG iterations variants of the preconditioner would need on that system
 (simulated PCG with the compiled loop's stopping rule; the Newton trajectory is kept fixed).
 
@@ -92,22 +92,23 @@ class TwoLevel:
         work[2 * n : 3 * n] = 1.0
         self.bufs = (a, c, work)
         self.g = np.zeros(2 * nc_max + 2)
-        b1 = self.B(np.ones(n))
-        self._b1, self._s1 = b1, b1.sum()
+        v = self.B(np.ones(n), circulant=False)  # the projection's direction, as the solver's
+        self._v, self._sv = v, v.sum()
 
-    def B(self, y: np.ndarray) -> np.ndarray:
+    def B(self, y: np.ndarray, circulant: bool = True) -> np.ndarray:
         out = np.empty(self.n)
         tp._precondition(
-            np.ascontiguousarray(y, dtype=np.float64), out, self.D, self.scale,
+            np.ascontiguousarray(y, dtype=np.float64), 0.0, out, self.D, self.scale,
             (self.minv, self.S, self.cinv, self.Tc), self.L, self.e, self.span,
-            tuple(self.fft), self.bufs, self.g,
+            tuple(self.fft), self.bufs, self.g, circulant,
         )  # fmt: skip
         return out
 
     def Bp(self, y: np.ndarray) -> np.ndarray:
-        """B with the B-orthogonal projection onto zero load (uniform weights)."""
-        z = self.B(y)
-        return z - self._b1 * (z.sum() / self._s1)
+        """``Pi B Pi*`` with the solver's projection onto zero load along ``v = B~ 1``
+        (:func:`fastline._toeplitz_pcg._projected_precondition`; uniform weights)."""
+        z = self.B(y - self._v.dot(y) / self._sv)
+        return z - self._v * (z.sum() / self._sv)
 
     def H(self, x: np.ndarray) -> np.ndarray:
         out = np.empty(self.n)
@@ -164,8 +165,9 @@ def dense_spectrum(pc: TwoLevel):
     eye = np.eye(n)
     Bm = np.array([pc.B(eye[i]) for i in live]).T[live]
     Bm = 0.5 * (Bm + Bm.T)
-    b1 = Bm.sum(axis=1)
-    Bp = Bm - np.outer(b1, b1) / b1.sum()
+    v = pc._v[live]
+    Pi = np.eye(m) - np.outer(v, np.ones(m)) / v.sum()  # the solver's projection (Bp)
+    Bp = Pi @ Bm @ Pi.T
     idx = np.arange(n)
     H = pc.scale * influence_coefficients(n)[np.abs(idx[:, None] - idx[None, :])]
     H[np.diag_indices(n)] += pc.D

@@ -10,7 +10,8 @@ times, on this machine, in the same run (CPU time of this thread, best of severa
 * one Newton system (:func:`fastline._toeplitz_pcg.solve_newton_system`) on the converged
   iterate's diagonal D with a random right-hand side, stopped after 0, 4 and 8 CG iterations,
   with the solver's coarse level and without it (``nc = 0``): the set-up (0 iterations:
-  smoother, coarse level, ``B 1`` and the first preconditioner application) and the cost of
+  smoother, coarse level, the projection's direction ``B~ 1`` and the first preconditioner
+  application) and the cost of
   one CG iteration (the slope), each beside its FFT convolutions.
 
 Options: ``--n 512 4096``, ``--alpha 1e-2 1``.

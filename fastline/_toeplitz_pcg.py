@@ -7,7 +7,7 @@ Each Newton step of :func:`fastline._core.newton` solves
 K the Toeplitz log-kernel compliance (:mod:`fastline.elastic`), D = |du_law/dp| > 0 diagonal.
 This module does it in one compiled call, FFTs included (:mod:`fastline._fftw`):
 projected conjugate gradients in the inner product ``<a, b> = sum w a b`` with the
-M-orthogonal projection onto zero-load increments (du1 is the multiplier), preconditioned by
+projection onto zero-load increments (du1 is the multiplier), preconditioned by
 a two-level method:
 
 * smoother: Jacobi ``1/(D + K00)``, except on the loaded core (cells from the first to the last
@@ -60,9 +60,9 @@ aggregates there are ~100-150 cells wide at n = 16384: the coarse space cannot r
 unless nc grows like n. With 4-cell aggregates over the whole wide block (nc 2100 at n = 16384)
 kappa falls to 3.5, the bulk to [0.91, 1.42], and the top outliers move to the wide block's
 own rim (3.2 at D/K00 ~ 100), but the solve still takes 37 convolutions (CG 1, 2, 3, 4, 3).
-Each Newton step costs ``2 k + 2`` convolutions (k CG iterations, plus ``B 1``, the first
+Each Newton step cost ``2 k + 2`` convolutions (k CG iterations, plus ``B 1``, the first
 preconditioner application and the line search's residual) and the hard scenes take 5 Newton
-steps: <= 30 needs at most 9 CG iterations over the five systems, i.e. the rtol-1e-3 system in
+steps: <= 30 needed at most 9 CG iterations over the five systems, i.e. the rtol-1e-3 system in
 <= 3, a per-iteration reduction <= 0.1, kappa <~ 1.5 at every n. This preconditioner reaches
 that only at n <= 1024 (simulated: 25 convolutions with 128 aggregates at n = 1024, alpha
 1e-2); at n = 16384 not even with the O(n^2) coarse level of 4-cell aggregates (37, above).
@@ -84,6 +84,15 @@ alphas 1e-4..1e3 x n = 256..16384: 2976 with this module; issue 13):
   so the new system's Galerkin matrix needs no FFT) deflated from this system's CG: 2813, but
   worse at n = 1024 (worst 33 -> 35), for 2 x 16 extra vector passes per iteration;
 * the circulant's shift at 0.3x or 3x the geometric mean of D: worse at n = 1024 and 4096.
+
+Issue 13, kept: the projection onto zero load along ``B~ 1`` (the preconditioner without its
+circulant, no FFT) in the symmetric form ``Pi B Pi*`` (:func:`_projected_precondition`) instead
+of the B-orthogonal ``Pi B`` along ``B 1`` (one circulant solve per Newton system): each Newton
+step now costs ``2 k + 1``. Over the 160 count scenes 2230 -> 1976 convolutions, per-n maxima
+25 / 33 / 29 / 33 -> 21 / 28 / 27 / 29 (the same CG counts, system for system, in the
+simulation). Why the kept ``B 1`` of the previous system (below) failed and this does not: a
+v other than ``B 1`` in the one-sided form ``Pi B`` makes the preconditioner unsymmetric; in
+the two-sided form any v keeps it symmetric.
 
 Issue 13, kept: 64 aggregates from n = 4096, 128 from 16384
 (:func:`fastline.elastic.coarse_aggregates`): 2976 -> 2779 over the 160 scenes, per-n maxima
@@ -535,14 +544,16 @@ def _coarse_level(D, K00, scale, prefix, nc_max, e, Tc, U, L, steps, span):
 
 
 @numba.njit(**JIT)
-def _precondition(y, out, D, scale, pre, L, e, span, fft, bufs, g):
-    """``out = R B R y`` (two-level, module docstring; R zeroes the frozen cells); returns the
-    number of FFT convolutions. ``pre = (minv, S, cinv, Tc)``, ``L``, ``e`` and ``span`` as
-    set up by :func:`_smoother` and :func:`_coarse_level`; the coarse products run over the
-    live span ``[f0, f1)`` only (a third of the grid is frozen in the scenes of the count
-    test). ``fft``: the plans (:func:`fastline._fftw.acquire`); ``bufs = (a, c, work)``: the FFT
-    buffers and a work array of 3n + _STRIP elements, ``work[2n:3n]`` holding ones; ``g``: work
-    array of 2 nc + 2 elements."""
+def _precondition(y, shift, out, D, scale, pre, L, e, span, fft, bufs, g, circulant):
+    """``out = R B R (y - shift)`` (two-level, module docstring; R zeroes the frozen cells);
+    returns the number of FFT convolutions. ``circulant`` False: Jacobi on the core too (no
+    FFT; the direction of the zero-load projection, :func:`_pcg_start`). ``pre = (minv, S,
+    cinv, Tc)``, ``L``, ``e`` and ``span`` as set up by :func:`_smoother` and
+    :func:`_coarse_level`; the coarse products run over the live span ``[f0, f1)`` only (a
+    third of the grid is frozen in the scenes of the count test). ``fft``: the plans
+    (:func:`fastline._fftw.acquire`); ``bufs = (a, c, work)``: the FFT buffers and a work array
+    of 3n + _STRIP elements, ``work[2n:3n]`` holding ones; ``g``: work array of 2 nc + 2
+    elements."""
     minv, S, cinv, Tc = pre
     fr2c, fc2r, pf, pb = fft
     a, c, work = bufs
@@ -551,7 +562,7 @@ def _precondition(y, out, D, scale, pre, L, e, span, fft, bufs, g):
     tmp, r1, ones = work[:n], work[n : 2 * n], work[2 * n : 3 * n]
     g1, g2 = g[: nc + 1], g[nc + 1 :]
     for i in range(n):  # R y, and the coarse right-hand side P^T R y
-        r1[i] = y[i] if minv[i] > 0.0 else 0.0
+        r1[i] = y[i] - shift if minv[i] > 0.0 else 0.0
     for k in range(nc):
         g1[k] = _segment_sum(r1, ones, e[k], e[k + 1])
     if nc > 0:  # r1 = R y - H P c1: the edge windows of Tc, then the diagonal
@@ -568,7 +579,7 @@ def _precondition(y, out, D, scale, pre, L, e, span, fft, bufs, g):
     for i in range(n):  # smoother: Jacobi, and the scaled circulant on the core
         out[i] = minv[i] * r1[i]
     ffts = 0
-    m = i1 - i0
+    m = i1 - i0 if circulant else 0
     if m > 0:
         for i in range(m):
             tmp[i] = S[i] * r1[i0 + i] if minv[i0 + i] > 0.0 else 0.0
@@ -625,7 +636,7 @@ def solve_newton_system(
     Tc, U = ws[o : o + 2 * n], ws[o + 2 * n : o + 4 * n + 1]
     o += 4 * n + 1
     cg = (
-        ws[o + 0 * n : o + 1 * n],  # m1 = B 1
+        ws[o + 0 * n : o + 1 * n],  # m1 = B~ 1, the zero-load projection's direction
         ws[o + 1 * n : o + 2 * n],  # z, the preconditioned residual
         ws[o + 2 * n : o + 3 * n],  # d, the search direction
         ws[o + 3 * n : o + 4 * n],  # H d
@@ -652,30 +663,52 @@ def solve_newton_system(
 
 @numba.njit(**JIT, inline="always")
 def _pcg_start(D, w, rhs, scale, pre, L, e, span, fft, bufs, g, cg):
-    """PCG's start from ``dp = 0``: ``m1 = B 1`` (the B-orthogonal projection onto zero load
-    subtracts multiples of it), the Jacobi weights, the residual, the first direction.
+    """PCG's start from ``dp = 0``: ``m1``, the direction of the projection onto zero load
+    (:func:`_projected_precondition`), the Jacobi weights, the residual, the first direction.
     Returns ``(sum w m1, sum w minv, the first Jacobi residual norm, circulant solves)``."""
-    m1, z, d, _, jac, res, best_dp, best_res = cg
+    m1, z, d, Hd, jac, res, best_dp, best_res = cg
     minv = pre[0]
     work = bufs[2]
     n = D.shape[0]
     tmp, ones, acc = work[:n], work[2 * n : 3 * n], work[3 * n :]
     for i in range(n):
         tmp[i] = 1.0
-    circ = _precondition(tmp, m1, D, scale, pre, L, e, span, fft, bufs, g)
+    _precondition(tmp, 0.0, m1, D, scale, pre, L, e, span, fft, bufs, g, False)  # no FFT
     for i in range(n):
         jac[i] = w[i] * minv[i]  # 0 on frozen cells: their residual is theirs alone
         res[i] = rhs[i]
     s_m1 = _wdot(w, m1, ones, acc)
     s_jac = _wdot(w, minv, ones, acc)
-    circ += _precondition(res, z, D, scale, pre, L, e, span, fft, bufs, g)
-    lam = _wdot(w, z, ones, acc) / s_m1
+    circ = _projected_precondition(res, z, w, m1, s_m1, D, scale, pre, L, e, span, fft, bufs, g)
     for i in range(n):
-        z[i] -= lam * m1[i]
         d[i] = z[i]
         best_dp[i] = 0.0
         best_res[i] = res[i]
     return s_m1, s_jac, _jacobi_norm(res, jac, s_jac, ones, tmp, acc), circ
+
+
+@numba.njit(**JIT, inline="always")
+def _projected_precondition(res, z, w, v, s_v, D, scale, pre, L, e, span, fft, bufs, g):
+    """``z = Pi B Pi* res`` (one FFT convolution; returns the count): B the two-level
+    preconditioner (:func:`_precondition`), ``Pi = I - v w^T / s_v`` the projection onto zero
+    load (``sum w z = 0``) along ``v``, ``Pi* = I - 1 (w v)^T / s_v`` its adjoint in the
+    inner product ``sum w a b`` (``s_v = sum w v``).
+
+    ``Pi B Pi*`` is symmetric and positive on residuals modulo constants (the load's
+    multiplier) for any v with ``s_v > 0``, so v is free; ``v = B 1`` gives the B-orthogonal
+    projection (``Pi B Pi* = Pi B``), the best one. Here ``v = B~ 1``, B~ the same two-level
+    preconditioner with Jacobi on the core instead of the circulant (no FFT): on the Newton
+    systems of the worst count scenes (n = 1024 alpha 1e-2 and 1e-1, n = 4096 and 16384 alpha
+    1e-3 and 1e-2) every system took the same number of CG iterations as with ``B 1``
+    (simulated, the Newton trajectory fixed), which cost one circulant solve per system. A
+    constant v (``P B P``, the w-orthogonal projection) took ~1.5x the iterations."""
+    acc, ones = bufs[2][3 * res.shape[0] :], bufs[2][2 * res.shape[0] : 3 * res.shape[0]]
+    shift = _wdot(w, v, res, acc) / s_v  # Pi* res = res - shift
+    circ = _precondition(res, shift, z, D, scale, pre, L, e, span, fft, bufs, g, True)
+    lam = _wdot(w, z, ones, acc) / s_v
+    for i in range(res.shape[0]):
+        z[i] -= lam * v[i]
+    return circ
 
 
 @numba.njit(**JIT, inline="always")
@@ -716,10 +749,9 @@ def _pcg(D, w, kspec, scale, rtol, maxit, s_m1, s_jac, r0, pre, L, e, span, fft,
                 best_res[i] = res[i]
         if rn <= rtol * r0 or its - best_its >= _STAGNATION:
             break
-        circ += _precondition(res, z, D, scale, pre, L, e, span, fft, bufs, g)
-        lam = _wdot(w, z, ones, acc) / s_m1
-        for i in range(n):
-            z[i] -= lam * m1[i]
+        circ += _projected_precondition(
+            res, z, w, m1, s_m1, D, scale, pre, L, e, span, fft, bufs, g
+        )
         rz_new = _wdot(w, res, z, acc)
         beta = rz_new / rz
         for i in range(n):

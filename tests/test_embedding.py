@@ -30,8 +30,13 @@ RTOL_SAME_TABLE = 1e-15  # compiled callables vs the methods reading the same ta
 #: (sweep 495/516/714, independent 979/988/1194 convolutions, degree-4 predictor); with the
 #: cubic predictor the sweeps cost 575/590/764 (36% on surface 3) once the cold start's tail
 #: had made independent solves cheaper (they were 1064/1086/1291). Surface 3's guard is one
-#: point under the target: its margin is 2 convolutions of 1194
-SWEEP_SAVING_MIN = {"surface1": 0.40, "surface2": 0.40, "surface3": 0.39}
+#: point under the target: its margin is 2 convolutions of 1194. Issue 13's zero-load projection
+#: without a circulant solve saves one convolution per Newton step, more of them in independent
+#: (cold) solves than in a sweep's 2-3 steps from a prediction: sweeps 470/473/629, independent
+#: 886/897/1014, 47% / 47% / 38.0% (surface 3 below the 40% target, each absolute count lower).
+SWEEP_SAVING_MIN = {"surface1": 0.40, "surface2": 0.40, "surface3": 0.37}
+#: ... and the sweeps' convolutions themselves (measured 470/473/629, +5%)
+SWEEP_CONVOLUTIONS_MAX = {"surface1": 495, "surface2": 497, "surface3": 660}
 
 E_STAR, RADIUS = 1.33e9, 0.01
 PAPER_LOADS = np.geomspace(1e3, 1.5e6, 50)
@@ -65,8 +70,9 @@ def test_sweep_equals_independent_and_costs_less(psd, name):
         assert s.converged and s.load == a.load
         assert s.p0_ratio == pytest.approx(a.p0_ratio, rel=RTOL_CONTINUATION)
         assert s.w_over_s == pytest.approx(a.w_over_s, rel=RTOL_CONTINUATION)
-    saving = 1.0 - sum(r.convolutions for r in swept) / sum(r.convolutions for r in alone)
-    assert saving >= SWEEP_SAVING_MIN[name]
+    total = sum(r.convolutions for r in swept)
+    assert total <= SWEEP_CONVOLUTIONS_MAX[name]
+    assert 1.0 - total / sum(r.convolutions for r in alone) >= SWEEP_SAVING_MIN[name]
 
 
 def test_warm_start_from_neighbour(lc):

@@ -78,13 +78,12 @@ def test_aggregates_are_mirror_symmetric_and_dense_where_d_changes(nc):
     assert widths[0] < widths[nc // 2] and widths[-1] < widths[nc // 2]
 
 
-@pytest.mark.parametrize("frozen", [0, 7])
-def test_two_level_preconditioner_is_the_dense_product(frozen):
-    """Jacobi smoother (no core) and the coarse correction, ``H P c`` and ``(H P)^T z`` from the
-    prefix sums, against the dense two-level operator
-    ``B = C + (I - C H) M (I - H C)``, ``C = P (L L^T)^-1 P^T``, ``M = diag(1/(D + K00))``,
-    with ``frozen`` cells at each end (M and R zero there; the coarse products then run over
-    the span between them only)."""
+def _two_level(frozen):
+    """The compiled preconditioner on the scene with ``frozen`` cells at each end, without
+    a circulant (no FFT plans needed), and its dense reference
+    ``B = C + (I - C H) M (I - H C)``, ``C = P (L L^T)^-1 P^T``, ``M = diag(1/(D + K00))``:
+    ``(apply(y, shift=0, core=None, circulant=True), B, minv)``; ``core = (i0, i1)`` declares
+    a loaded core, whose circulant ``circulant=False`` must leave out."""
     K, D, e, Tc, L = _scene()
     HP, P = naive.coarse_operator(D, K, e)
     Lf = np.tril(L)
@@ -94,23 +93,78 @@ def test_two_level_preconditioner_is_the_dense_product(frozen):
     minv[N - frozen :] = 0.0
     f0, f1 = _live_span(minv)
     assert (f0, f1) == (frozen, N - frozen)
-    y = np.random.default_rng(3).standard_normal(N)
-    Ry = np.where(minv > 0.0, y, 0.0)
-    c1 = np.linalg.solve(A, P.T @ Ry)
-    z1 = minv * (Ry - HP @ c1)
-    want = z1 + P @ (c1 - np.linalg.solve(A, HP.T @ z1))
-    out = np.empty(N)
+    R = np.diag((minv > 0.0).astype(float))
+    C, HC = P @ np.linalg.solve(A, P.T), HP @ np.linalg.solve(A, P.T)  # H P: N x NC
+    B = R @ (C + (np.eye(N) - HC.T) @ np.diag(minv) @ (np.eye(N) - HC)) @ R
     work, g = np.empty(3 * N + _STRIP), np.empty(2 * NC + 2)
     work[2 * N : 3 * N] = 1.0  # its ones segment
-    a, c = np.empty(2 * N), np.empty(2 * N + 2)  # FFT buffers: unused without a core
+    a, c = np.empty(2 * N), np.empty(2 * N + 2)  # FFT buffers: unused without a circulant
     none = np.empty(0)
-    span = np.array([f0, f1, 0, 0, NC])  # live span, no core, NC aggregates
-    ffts = _precondition(
-        y, out, D, SCALE, (minv, none, none, Tc), L, e, span, (0, 0, 0, 0), (a, c, work), g
-    )
-    assert ffts == 0
+
+    def apply(y, shift=0.0, core=None, circulant=True):
+        i0, i1 = core or (0, 0)
+        span = np.array([f0, f1, i0, i1, NC])  # live span, core, NC aggregates
+        out = np.empty(N)
+        pre = (minv, none, none, Tc)
+        ffts = _precondition(
+            y, shift, out, D, SCALE, pre, L, e, span, (0, 0, 0, 0), (a, c, work), g, circulant
+        )
+        assert ffts == 0
+        return out
+
+    return apply, B, minv
+
+
+@pytest.mark.parametrize("frozen", [0, 7])
+def test_two_level_preconditioner_is_the_dense_product(frozen):
+    """Jacobi smoother (no core) and the coarse correction, ``H P c`` and ``(H P)^T z`` from the
+    prefix sums, against the dense two-level operator, with ``frozen`` cells at each end (M
+    and R zero there; the coarse products then run over the span between them only)."""
+    apply, B, minv = _two_level(frozen)
+    y = np.random.default_rng(3).standard_normal(N)
+    want = B @ y
+    out = apply(y)
     assert np.all(out[minv == 0.0] == 0.0)
     np.testing.assert_allclose(out, want, rtol=0.0, atol=RTOL_COARSE * np.abs(want).max())
+
+
+def test_preconditioner_without_circulant_and_with_a_shift():
+    """``circulant=False`` leaves a declared core to Jacobi (the zero-load projection's
+    direction ``B~ 1``, no FFT), and ``shift`` is subtracted from y first (``Pi* r``)."""
+    apply, B, _ = _two_level(5)
+    y = np.random.default_rng(4).standard_normal(N)
+    want = B @ (y - 0.3)
+    out = apply(y, shift=0.3, core=(40, 110), circulant=False)
+    np.testing.assert_allclose(out, want, rtol=0.0, atol=RTOL_COARSE * np.abs(want).max())
+
+
+@pytest.mark.parametrize("direction", ["B1", "random"])
+def test_zero_load_projection_is_symmetric_along_any_direction(direction):
+    """``Pi B Pi*`` (:func:`_projected_precondition`) column by column against the dense
+    operator: symmetric, blind to constants (the load's multiplier), its output on zero load;
+    along ``v = B 1`` it equals the B-orthogonal ``Pi B`` the solver used before."""
+    apply, B, minv = _two_level(5)
+    live = (minv > 0.0).astype(float)
+    w = np.full(N, 0.7)  # uniform cell weights, as the line contact's
+    rng = np.random.default_rng(5)
+    v = B @ np.ones(N) if direction == "B1" else rng.uniform(0.5, 1.5, N) * live
+    s_v = float(w @ v)
+
+    def proj(r):
+        shift = float((w * v) @ r) / s_v
+        z = apply(r, shift=shift)
+        return z - v * (float(w @ z) / s_v)
+
+    M = np.array([proj(col) for col in np.eye(N)]).T
+    scale = np.abs(M).max()
+    np.testing.assert_allclose(M, M.T, rtol=0.0, atol=RTOL_COARSE * scale)
+    y = rng.standard_normal(N)
+    assert np.abs(M @ np.ones(N)).max() <= RTOL_COARSE * scale * N
+    assert abs(w @ (M @ y)) <= RTOL_COARSE * scale * N * np.abs(y).max()
+    if direction == "B1":
+        z = B @ y
+        want = z - v * (w @ z) / s_v
+        np.testing.assert_allclose(M @ y, want, rtol=0.0, atol=RTOL_COARSE * np.abs(want).max())
 
 
 def test_coarse_factor_is_galerkin_matrix_plus_a_constant_mode_penalty():
