@@ -553,8 +553,8 @@ _CORE_MIN_CELLS = 8
 
 def coarse_aggregates(n: int) -> int:
     """Aggregates of the compiled solver's coarse space (:mod:`fastline._toeplitz_pcg`) on n
-    cells: 32 below n = 4096, 64 below n = 16384, 128 from there (at most a quarter of the wide
-    block's cells).
+    cells: 16 below n = 512, 32 below n = 4096, 64 below n = 16384, 128 from there (at most a
+    quarter of the wide block's cells).
 
     The slowest modes of the preconditioned system sit at the rim of the loaded core, which
     widens in cells with n, so a finer coarse space pays more at larger n; its cost per
@@ -581,7 +581,17 @@ def coarse_aggregates(n: int) -> int:
     warm time of surface 1's 8 alphas, three interleaved rounds, +6% at 4096 (14.0 -> 14.9 ms)
     and +9% at 16384 (83 -> 91 ms). 8192 keeps 64: 128 there gave 809 (49) -> 740 (43) for
     +25% time. The spectrum behind it is in :mod:`fastline._toeplitz_pcg`.
+
+    Once the zero-load projection no longer cost a circulant solve per Newton step, the count
+    had room below 30 at small n, and 16 aggregates pay there. Over the 40 scenes per n, today's
+    solver, convolutions (worst) and summed best-of-5 CPU time of the warm solves, two
+    interleaved rounds: n = 256: 498 (21), 4.9-5.3 ms with 32; 525 (25), 4.4-4.5 ms with 16;
+    575 (28) with 8; 768 (41) with none. n = 512: 531 (26), 7.6 ms with 32; 577 (30),
+    7.0-7.4 ms with 16 (kept at 32: the count at its limit). n = 1024: 575 (28), 14-18 ms with
+    32; 658 (38), 15.7-15.8 ms with 16.
     """
+    if n < 512:
+        return 16
     if n < 4096:
         return 32
     return 64 if n < 16384 else 128

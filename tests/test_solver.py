@@ -23,11 +23,11 @@ RTOL_HARD_REFERENCE = 1e-9  # hertz (active set) against the dense solve, rel. t
 RTOL_HARD_CG = 1e-5  # constrained CG, which stops on the pressure change, against the same
 RTOL_CONTINUATION = 1e-7  # a sweep (warm starts) against independent solves, tol 1e-8 in u/u0
 #: FFT convolutions per solve, every alpha in [1e-4, 1e3] on the five hard surfaces, by n
-#: (two-level compiled solver, aggregates by ln D, 32 / 64 / 128 of them below n = 4096 / below
-#: n = 16384 / from there; the cold start with the exponential law's tail outside Hertz's
+#: (two-level compiled solver, aggregates by ln D, 16 / 32 / 64 / 128 of them below n = 512 /
+#: 4096 / 16384 / from there; the cold start with the exponential law's tail outside Hertz's
 #: contact; from n = 4096 nested from n/8 cells, whose convolutions are not in the count; the
 #: zero-load projection along the preconditioner without its circulant): issue 13's target, 30,
-#: at every n (measured maxima 21 / 28 / 27 / 29)
+#: at every n (measured maxima 25 / 28 / 27 / 29)
 CONVOLUTION_BUDGET = {256: 30, 1024: 30, 4096: 30, 16384: 30}
 #: the nested solve (n = 4096 from 512 cells) against the cold one: both to tol 1e-8 in u/u0
 RTOL_NESTED = 1e-7
