@@ -57,10 +57,15 @@ LN_FLOOR = 460.0
 _LN_TINY = math.log(1e-290)
 ETA_MAX, ETA_FLOOR = 0.1, 1e-3  # inexact-Newton forcing term bounds
 #: first Newton step's forcing: ``min(ETA_MAX, ETA0_SCALE * res0)``. A start already close to
-#: the solution (a sweep's prediction, res0 ~ 1e-3) is solved to ~1e-2 instead of 1e-1, which
-#: saves a Newton step: the paper's 50-load sweeps 1089 -> 1054 convolutions on surface 3; cold
-#: starts (res0 > 0.02) keep ETA_MAX.
-ETA0_SCALE = 5.0
+#: the solution (a sweep's prediction, res0 ~ 1e-3) is solved more accurately than ETA_MAX, which
+#: saves a Newton step: with 5, the paper's 50-load sweeps 1089 -> 1054 convolutions on surface
+#: 3; cold starts (res0 > 0.2) keep ETA_MAX. Since each Newton system lost its circulant solve
+#: of ``B 1`` (issue 13) a tighter first step pays: 0.5 (the ETA_RES_SCALE floor itself, so
+#: ETA_FLOOR binds below res0 = 2e-3) against 5: the 50-load sweeps 470 / 473 / 629 -> 470 /
+#: 468 / 609 convolutions, the 64-load sweeps at n = 256 553 / 553 / 561 -> 554 / 548 / 562,
+#: the sphere's 20-load sweeps and the 160 count scenes (nested starts included) unchanged;
+#: 2 and 1 fell between (2: 468 / 469 / 617 on the 50-load sweeps).
+ETA0_SCALE = 0.5
 #: every step's forcing is at least ``min(ETA_MAX, ETA_RES_SCALE * res)`` (eta ~ ||F||, which
 #: keeps Newton's quadratic rate: Dembo, Eisenstat & Steihaug, SIAM J. Numer. Anal. 19, 400
 #: (1982)). Eisenstat-Walker alone asks ``eta = 1e-3`` at the second step of a cold start at
