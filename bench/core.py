@@ -270,7 +270,7 @@ def targets(m: dict, cold: float, warm: float) -> list[tuple[str, float, float, 
             "sweep: >= 40% fewer convolutions than independent solves (paper's 50-load sweeps)",
             0.4 / max(saving, 1e-9),
             1.0,
-            f"min {100 * saving:.0f}% fewer",
+            f"min {100 * saving:.1f}% fewer",
         ),
         (
             f"batched sweep ({BATCH_LOADS} loads, n = {BATCH_N}): per load <= 1.5x its FFT work",
