@@ -87,7 +87,7 @@ PREDICTOR_MAX_STEP = math.log(1.5)
 #: cost 43 / 43 / 36 % fewer convolutions than independent solves (domain alone: 36 / 36 / 17
 #: %, with cold starts below alpha 5e-3); with the core interpolated by cubic Hermite
 #: (:func:`hermite_slopes`) instead of linearly, 46 / 47 / 40 %, and with the first Newton
-#: step's forcing scaled to the start's residual (``fastline._core.ETA0_SCALE``) 49 / 47 / 42 %.
+#: step's forcing scaled to the start's residual (``fastline._core.ETA_RES_SCALE``) 49 / 47 / 42 %.
 #: With degree 4 (``SWEEP_PREDICTOR_ORDER``) a deeper core, (5, 10), did better than (3, 10):
 #: 495 / 516 / 714 against 506 / 513 / 732 convolutions on the 50-load sweeps.
 CORE_DEPTH = (5.0, 10.0)

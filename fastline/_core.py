@@ -56,16 +56,6 @@ LN_FLOOR = 460.0
 #: and absolutely below 1e-290 Pa
 _LN_TINY = math.log(1e-290)
 ETA_MAX, ETA_FLOOR = 0.1, 1e-3  # inexact-Newton forcing term bounds
-#: first Newton step's forcing: ``min(ETA_MAX, ETA0_SCALE * res0)``. A start already close to
-#: the solution (a sweep's prediction, res0 ~ 1e-3) is solved more accurately than ETA_MAX, which
-#: saves a Newton step: with 5, the paper's 50-load sweeps 1089 -> 1054 convolutions on surface
-#: 3; cold starts (res0 > 0.2) keep ETA_MAX. Since each Newton system lost its circulant solve
-#: of ``B 1`` (issue 13) a tighter first step pays: 0.5 (the ETA_RES_SCALE floor itself, so
-#: ETA_FLOOR binds below res0 = 2e-3) against 5: the 50-load sweeps 470 / 473 / 629 -> 470 /
-#: 468 / 609 convolutions, the 64-load sweeps at n = 256 553 / 553 / 561 -> 554 / 548 / 562,
-#: the sphere's 20-load sweeps and the 160 count scenes (nested starts included) unchanged;
-#: 2 and 1 fell between (2: 468 / 469 / 617 on the 50-load sweeps).
-ETA0_SCALE = 0.5
 #: every step's forcing is at least ``min(ETA_MAX, ETA_RES_SCALE * res)`` (eta ~ ||F||, which
 #: keeps Newton's quadratic rate: Dembo, Eisenstat & Steihaug, SIAM J. Numer. Anal. 19, 400
 #: (1982)). Eisenstat-Walker alone asks ``eta = 1e-3`` at the second step of a cold start at
@@ -74,6 +64,14 @@ ETA0_SCALE = 0.5
 #: iterations for nothing. Over the 160 count scenes (5 hard surfaces, alpha 1e-4..1e3,
 #: n 256..16384) the total fell 4643 -> 4446 convolutions with 0.5 (2: 4459; 0.25 with the
 #: aggregates of :func:`fastline._toeplitz_pcg._aggregate_edges`: 1% more than 0.5).
+#: The first step has no Eisenstat-Walker history and takes these floors alone: a start already
+#: close to the solution (a sweep's prediction, res0 ~ 1e-3) is solved to ETA_FLOOR instead of
+#: ETA_MAX, which saves a Newton step. (It had a rule of its own, ``min(ETA_MAX, 5 res0)``: the
+#: paper's 50-load sweeps 1089 -> 1054 convolutions on surface 3 against ETA_MAX. Since each
+#: Newton system lost its circulant solve of ``B 1`` (issue 13) the floors alone do better: the
+#: 50-load sweeps 470 / 473 / 629 -> 470 / 468 / 609 convolutions, the 64-load sweeps at n = 256
+#: 553 / 553 / 561 -> 554 / 548 / 562, the sphere's 20-load sweeps and the 160 count scenes,
+#: nested starts included, unchanged; 2 res0 and 1 res0 fell between, 617 and 611 on surface 3.)
 ETA_RES_SCALE = 0.5
 MAX_CG = 400
 #: largest change of ln p per Newton step where p > 1e-6 max(p) (2 cost 5% more convolutions
@@ -208,8 +206,8 @@ def _forcing(res: float, res_prev: float, eta_prev: float, tol: float) -> float:
     tighter than ``ETA_RES_SCALE * res`` either (far from the solution a tight inner solve buys
     nothing).
     """
-    if math.isnan(res_prev):
-        eta = min(ETA_MAX, ETA0_SCALE * res)
+    if math.isnan(res_prev):  # the first step: the floors below alone
+        eta = 0.0
     else:
         eta = 0.9 * (res / res_prev) ** 2
         if 0.9 * eta_prev**2 > 0.1:

@@ -27,7 +27,6 @@ import numpy as np
 from fastline._core import (
     _LN_TINY,
     DV_MAX,
-    ETA0_SCALE,
     ETA_FLOOR,
     ETA_MAX,
     ETA_RES_SCALE,
@@ -282,8 +281,8 @@ def _line_search(state, trial, dv, t, u1, du1, phi, load, fft, kspec, scale, gap
 def _forcing(res, res_prev, eta_prev, tol):
     """Eisenstat-Walker choice 2, floored at ``ETA_RES_SCALE * res``
     (:func:`fastline._core._forcing`)."""
-    if res_prev != res_prev:
-        eta = min(ETA_MAX, ETA0_SCALE * res)
+    if res_prev != res_prev:  # the first step: the floors below alone
+        eta = 0.0
     else:
         eta = 0.9 * (res / res_prev) ** 2
         if 0.9 * eta_prev * eta_prev > 0.1:

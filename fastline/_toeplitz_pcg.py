@@ -674,9 +674,7 @@ def _pcg_start(D, w, rhs, scale, pre, L, e, span, fft, bufs, g, cg):
     work = bufs[2]
     n = D.shape[0]
     tmp, ones, acc = work[:n], work[2 * n : 3 * n], work[3 * n :]
-    for i in range(n):
-        tmp[i] = 1.0
-    _precondition(tmp, 0.0, m1, D, scale, pre, L, e, span, fft, bufs, g, False)  # no FFT
+    _precondition(ones, 0.0, m1, D, scale, pre, L, e, span, fft, bufs, g, False)  # no FFT
     for i in range(n):
         jac[i] = w[i] * minv[i]  # 0 on frozen cells: their residual is theirs alone
         res[i] = rhs[i]
@@ -705,11 +703,12 @@ def _projected_precondition(res, z, w, v, s_v, D, scale, pre, L, e, span, fft, b
     1e-3 and 1e-2) every system took the same number of CG iterations as with ``B 1``
     (simulated, the Newton trajectory fixed), which cost one circulant solve per system. A
     constant v (``P B P``, the w-orthogonal projection) took ~1.5x the iterations."""
-    acc, ones = bufs[2][3 * res.shape[0] :], bufs[2][2 * res.shape[0] : 3 * res.shape[0]]
+    n = res.shape[0]
+    ones, acc = bufs[2][2 * n : 3 * n], bufs[2][3 * n :]
     shift = _wdot(w, v, res, acc) / s_v  # Pi* res = res - shift
     circ = _precondition(res, shift, z, D, scale, pre, L, e, span, fft, bufs, g, True)
     lam = _wdot(w, z, ones, acc) / s_v
-    for i in range(res.shape[0]):
+    for i in range(n):
         z[i] -= lam * v[i]
     return circ
 

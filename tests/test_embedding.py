@@ -33,8 +33,8 @@ RTOL_SAME_TABLE = 1e-15  # compiled callables vs the methods reading the same ta
 #: point under the target: its margin is 2 convolutions of 1194. Issue 13's zero-load projection
 #: without a circulant solve saves one convolution per Newton step, more of them in independent
 #: (cold) solves than in a sweep's 2-3 steps from a prediction: sweeps 470/473/629, independent
-#: 886/897/1014 (38.0 % on surface 3); with the first step's forcing 0.5 res0 (was 5 res0,
-#: fastline._core.ETA0_SCALE) the sweeps 470/468/609: 47 % / 48 % / 39.9 %
+#: 886/897/1014 (38.0 % on surface 3); with the first step's forcing at the floors alone (was
+#: 5 res0; fastline._core.ETA_RES_SCALE) the sweeps 470/468/609: 47 % / 48 % / 39.9 %
 SWEEP_SAVING_MIN = {"surface1": 0.40, "surface2": 0.40, "surface3": 0.39}
 #: ... and the sweeps' convolutions themselves (measured 470/468/609, +5%)
 SWEEP_CONVOLUTIONS_MAX = {"surface1": 494, "surface2": 492, "surface3": 640}

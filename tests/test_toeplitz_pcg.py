@@ -20,6 +20,7 @@ from fastline._toeplitz_pcg import (
     _jacobi_norm,
     _live_span,
     _precondition,
+    _projected_precondition,
     _segment_sum,
     _subtract_edge_combination,
     _wdot,
@@ -82,8 +83,9 @@ def _two_level(frozen):
     """The compiled preconditioner on the scene with ``frozen`` cells at each end, without
     a circulant (no FFT plans needed), and its dense reference
     ``B = C + (I - C H) M (I - H C)``, ``C = P (L L^T)^-1 P^T``, ``M = diag(1/(D + K00))``:
-    ``(apply(y, shift=0, core=None, circulant=True), B, minv)``; ``core = (i0, i1)`` declares
-    a loaded core, whose circulant ``circulant=False`` must leave out."""
+    ``(apply(y, shift=0, core=None, circulant=True), project(r, w, v), B, minv)``; ``core =
+    (i0, i1)`` declares a loaded core, whose circulant ``circulant=False`` must leave out;
+    ``project`` is :func:`_projected_precondition` along v with cell weights w."""
     K, D, e, Tc, L = _scene()
     HP, P = naive.coarse_operator(D, K, e)
     Lf = np.tril(L)
@@ -112,7 +114,17 @@ def _two_level(frozen):
         assert ffts == 0
         return out
 
-    return apply, B, minv
+    def project(r, w, v):
+        span = np.array([f0, f1, 0, 0, NC])
+        z, s_v = np.empty(N), float(w @ v)
+        pre = (minv, none, none, Tc)
+        ffts = _projected_precondition(
+            r, z, w, v, s_v, D, SCALE, pre, L, e, span, (0, 0, 0, 0), (a, c, work), g
+        )
+        assert ffts == 0
+        return z
+
+    return apply, project, B, minv
 
 
 @pytest.mark.parametrize("frozen", [0, 7])
@@ -120,7 +132,7 @@ def test_two_level_preconditioner_is_the_dense_product(frozen):
     """Jacobi smoother (no core) and the coarse correction, ``H P c`` and ``(H P)^T z`` from the
     prefix sums, against the dense two-level operator, with ``frozen`` cells at each end (M
     and R zero there; the coarse products then run over the span between them only)."""
-    apply, B, minv = _two_level(frozen)
+    apply, _, B, minv = _two_level(frozen)
     y = np.random.default_rng(3).standard_normal(N)
     want = B @ y
     out = apply(y)
@@ -131,7 +143,7 @@ def test_two_level_preconditioner_is_the_dense_product(frozen):
 def test_preconditioner_without_circulant_and_with_a_shift():
     """``circulant=False`` leaves a declared core to Jacobi (the zero-load projection's
     direction ``B~ 1``, no FFT), and ``shift`` is subtracted from y first (``Pi* r``)."""
-    apply, B, _ = _two_level(5)
+    apply, _, B, _ = _two_level(5)
     y = np.random.default_rng(4).standard_normal(N)
     want = B @ (y - 0.3)
     out = apply(y, shift=0.3, core=(40, 110), circulant=False)
@@ -143,19 +155,13 @@ def test_zero_load_projection_is_symmetric_along_any_direction(direction):
     """``Pi B Pi*`` (:func:`_projected_precondition`) column by column against the dense
     operator: symmetric, blind to constants (the load's multiplier), its output on zero load;
     along ``v = B 1`` it equals the B-orthogonal ``Pi B`` the solver used before."""
-    apply, B, minv = _two_level(5)
+    _, project, B, minv = _two_level(5)
     live = (minv > 0.0).astype(float)
     w = np.full(N, 0.7)  # uniform cell weights, as the line contact's
     rng = np.random.default_rng(5)
     v = B @ np.ones(N) if direction == "B1" else rng.uniform(0.5, 1.5, N) * live
     s_v = float(w @ v)
-
-    def proj(r):
-        shift = float((w * v) @ r) / s_v
-        z = apply(r, shift=shift)
-        return z - v * (float(w @ z) / s_v)
-
-    M = np.array([proj(col) for col in np.eye(N)]).T
+    M = np.array([project(col, w, v) for col in np.eye(N)]).T
     scale = np.abs(M).max()
     np.testing.assert_allclose(M, M.T, rtol=0.0, atol=RTOL_COARSE * scale)
     y = rng.standard_normal(N)
