@@ -20,7 +20,7 @@ import warnings
 
 import fastline as fl
 from bench.conftest import E_STAR, RADIUS, load_for_alpha, surfaces
-from fastline import resolution
+from fastline.contact import resolution
 
 ALPHAS = (1e-3, 1e-2, 0.1, 1.0, 10.0, 100.0, 1e3)
 ORDER_NS = (256, 512, 1024, 2048, 4096)

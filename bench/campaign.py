@@ -18,7 +18,7 @@ import warnings
 import numpy as np
 
 import fastline as fl
-from fastline.paper import E_STAR, RADIUS, load_for_alpha
+from fastline.reports.paper import E_STAR, RADIUS, load_for_alpha
 
 NS = (128, 512, 2048, 8192)
 

@@ -1,6 +1,6 @@
 """Shared scene and fixtures for the fastline benchmarks (paper section 3 scene).
 
-The scene itself (surfaces, E*, R, ``load_for_alpha``) is defined once, in :mod:`fastline.paper`.
+The scene itself (surfaces, E*, R, ``load_for_alpha``) is defined once, in :mod:`fastline.reports.paper`.
 """
 
 from __future__ import annotations
@@ -9,7 +9,7 @@ import numpy as np
 import pytest
 
 import fastline as fl
-from fastline.paper import E_STAR, RADIUS, load_for_alpha, surfaces
+from fastline.reports.paper import E_STAR, RADIUS, load_for_alpha, surfaces
 
 __all__ = ["ALPHAS", "E_STAR", "PICARD_CAP", "RADIUS", "SWEEP_LOADS", "load_for_alpha", "surfaces"]
 

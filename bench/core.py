@@ -19,12 +19,12 @@ import numpy as np
 import fastline as fl
 from bench.conftest import E_STAR, RADIUS, load_for_alpha
 from bench.gil import gil_held, parallel_speedups
-from fastline import _fftw
-from fastline._line_newton import _law
-from fastline._toeplitz_pcg import _convolve
-from fastline.elastic import _compiled_tables
-from fastline.line_contact import NESTED_FACTOR, NESTED_MIN_N
-from fastline.paper import SURFACES, surfaces
+from fastline._lib import fftw as _fftw
+from fastline.contact.line import NESTED_FACTOR, NESTED_MIN_N
+from fastline.contact.line_newton import _law
+from fastline.elastic.line import compiled_tables
+from fastline.elastic.pcg import _convolve
+from fastline.reports.paper import SURFACES, surfaces
 
 ALPHAS = (1e-4, 1e-3, 1e-2, 0.1, 1.0, 10.0, 100.0, 1e3)
 COUNT_NS = (256, 1024, 4096, 16384)
@@ -56,7 +56,7 @@ def _conv_loop(x, spec, f1, f2, pf, pb, a, c, out, reps):
 
 def convolution_time(n: int) -> float:
     """One FFT convolution of length 2n as the solver does it (compiled loop, the floor)."""
-    kspec = _compiled_tables(n)[0]
+    kspec = compiled_tables(n)[0]
     a, c = _fftw.aligned_buffers(2 * n)
     x, out = np.random.default_rng(0).random(n), np.empty(n)
     reps = max(20, int(2e5 / n))
@@ -69,7 +69,7 @@ def convolution_time(n: int) -> float:
 
 def counts() -> tuple[dict, dict]:
     """Convolutions per solve, every hard surface, alpha and n: those of length 2n, and those
-    of the nested start on n/8 cells (:data:`fastline.line_contact.NESTED_MIN_N`; 0 below)."""
+    of the nested start on n/8 cells (:data:`fastline.contact.line.NESTED_MIN_N`; 0 below)."""
     out, nested = {}, {}
     for n in COUNT_NS:
         for name, psd in HARD.items():
@@ -135,8 +135,8 @@ def batched(conv_t: dict) -> dict:
     ``BATCH_ROUNDS`` interleaved rounds) of ``LineContact.sweep`` (one compiled call), of its
     compiled call alone, of the Python continuation loop it replaced, and of independent warm
     solves; convolutions per load; the FFT work per load (convolutions x one convolution)."""
-    from fastline import _line_sweep
-    from fastline._contact import ContactModel
+    from fastline.contact import line_sweep as _line_sweep
+    from fastline.contact.model import ContactModel
 
     loads = [load_for_alpha(a) for a in np.geomspace(1e3, 1e-3, BATCH_LOADS)]
     lc = fl.LineContact(HARD["surface 1"], E_STAR, RADIUS, n=BATCH_N, warn=False)
@@ -329,7 +329,7 @@ def markdown(m: dict) -> list[str]:
     if nested:
         L.append(
             "\nFrom n = 4096 a cold solve starts from the same load's solution on n/8 cells "
-            "(nested iteration, `fastline.line_contact.NESTED_MIN_N`): 15-29% less time over "
+            "(nested iteration, `fastline.contact.line.NESTED_MIN_N`): 15-29% less time over "
             "these scenes at n = 4096-16384. Its convolutions, of length n/4 (about an eighth "
             "of the cost of one above each), are not in these counts: "
             + ", ".join(f"n = {n}: at most {max(c)}, {sum(c)} in all" for n, c in nested.items())
@@ -428,7 +428,7 @@ def markdown(m: dict) -> list[str]:
         "work on this shared machine, whose spread dominates these figures). Everything but a "
         "few tens of us of Python per solve runs without the GIL: the Newton iteration, the "
         "cold start, the load normalisation and the profile measures are compiled "
-        "(fastline._solve_kernels), the result's real-area profile and validity diagnostics are "
+        "(fastline.contact.kernels), the result's real-area profile and validity diagnostics are "
         "computed when first read.\n"
     )
     plo, pmid, phi = th["processes"]

@@ -16,7 +16,7 @@ import time
 import warnings
 
 import fastline as fl
-from fastline.paper import E_STAR, RADIUS, load_for_alpha, surfaces
+from fastline.reports.paper import E_STAR, RADIUS, load_for_alpha, surfaces
 
 ALPHAS = (1e-4, 1e-3, 1e-2, 0.1, 1.0, 10.0, 100.0, 1e3)
 NS = (256, 1024, 4096, 16384)
@@ -88,10 +88,10 @@ NESTED_NS = (4096, 8192, 16384)
 
 
 def nested_times() -> None:
-    """The 40 count scenes per n, cold and nested (:data:`fastline.line_contact.NESTED_MIN_N`)
+    """The 40 count scenes per n, cold and nested (:data:`fastline.contact.line.NESTED_MIN_N`)
     interleaved in this process: the summed best CPU time of each, and the scenes where nesting
     cost more than 5 %."""
-    import fastline.line_contact as lc_module
+    import fastline.contact.line as lc_module
 
     default = lc_module.NESTED_MIN_N
     try:

@@ -5,7 +5,7 @@ compiled kernel; the Python around the kernels (checks, result, diagnostics, the
 dispatch) holds the GIL and serialises them. Measured here:
 
 * **GIL-held time** of a warm ``LineContact.solve``: the Newton kernel
-  (:func:`fastline._line_newton.newton_line`, as :mod:`fastline.elastic` keeps it) is
+  (:func:`fastline.contact.line_newton.newton_line`, as :mod:`fastline.elastic.line` keeps it) is
   replaced by a compiled stub with the same argument types (the same dispatch cost) that
   replays the recorded outputs of the real one, so the stubbed solve takes the Python time
   plus the other kernels' compiled work; that work is timed alone in compiled loops and
@@ -34,9 +34,10 @@ import numba
 import numpy as np
 
 import fastline as fl
-from fastline import _solve_kernels as kernels
-from fastline import elastic
-from fastline.paper import E_STAR, RADIUS, load_for_alpha, surfaces
+from fastline.contact import kernels, line_newton
+from fastline.contact import line as _line_contact
+from fastline.contact import model as _contact
+from fastline.reports.paper import E_STAR, RADIUS, load_for_alpha, surfaces
 
 ALPHAS = (1.0, 1e-2)
 #: solves per thread run: ~0.1-0.2 s serial at n = 256 / 1024
@@ -77,13 +78,13 @@ def _replay(v_end, u_end, hist_end, scalars):
 def newton_replayed(lc: fl.LineContact, load: float):
     """Within: ``lc.solve(load)`` runs everything but the Newton iteration (module docstring).
     Yields the compiled kernels' arguments of one solve (name -> args, first call)."""
-    real, size = elastic._newton_kernel()
+    real = line_newton.newton_line
     calls: dict = {}
     spied = []
     for mod, name in (
-        (fl._contact, "cold_start_normalised"),
-        (fl.line_contact, "line_cells"),
-        (fl.line_contact, "line_measures"),
+        (_contact, "cold_start_normalised"),
+        (_line_contact, "line_cells"),
+        (_line_contact, "line_measures"),
         (kernels, "pressure_into"),
     ):
         fn = getattr(mod, name)
@@ -101,19 +102,19 @@ def newton_replayed(lc: fl.LineContact, load: float):
         calls.setdefault("newton_line", (args[11].copy(), args[16].copy(), args[15].copy(), out))
         return out
 
-    elastic._newton_line = record, size
+    line_newton.newton_line = record
     try:
         reference = lc.solve(load)
         for mod, name, fn in spied:
             setattr(mod, name, fn)
-        elastic._newton_line = _replay(*calls.pop("newton_line")), size
+        line_newton.newton_line = _replay(*calls.pop("newton_line"))
         replayed = lc.solve(load)
         assert np.array_equal(replayed.pressure, reference.pressure)
         yield calls
     finally:
         for mod, name, fn in spied:
             setattr(mod, name, fn)
-        elastic._newton_line = real, size
+        line_newton.newton_line = real
 
 
 @numba.njit(nogil=True)

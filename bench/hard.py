@@ -2,8 +2,8 @@
 
 ``python -m bench.hard`` prints the section of docs/performance.md that ``bench.report``
 writes. Line contact, E* and R of the report, loads 1e2 / 1e4 / 1e6 N/m, tol 1e-8: FFT
-convolutions and warm time per solve of :func:`fastline._hard_contact.hard_contact` (the
-active set) and of :func:`fastline._hard_contact.constrained_cg` from the same Hertz start,
+convolutions and warm time per solve of :func:`fastline.contact.hard.hard_contact` (the
+active set) and of :func:`fastline.contact.hard.constrained_cg` from the same Hertz start,
 and each one's largest pressure error against a solve to tol 1e-13 by the active set.
 """
 
@@ -16,7 +16,7 @@ import numpy as np
 
 import fastline as fl
 from bench.conftest import E_STAR, RADIUS
-from fastline import _hard_contact
+from fastline.contact import hard as _hard_contact
 
 NS = (256, 1024, 4096, 16384)
 LOADS = (1e2, 1e4, 1e6)

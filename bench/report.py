@@ -34,7 +34,7 @@ from bench.conftest import (  # noqa: E402
     surfaces,
 )
 from bench.test_bench_startup import STAGES, cold_and_warm  # noqa: E402
-from fastline.line_contact import solve_line_contact  # noqa: E402
+from fastline.contact.line import solve_line_contact  # noqa: E402
 
 ROOT = Path(__file__).resolve().parent.parent
 DOCS = ROOT / "docs"

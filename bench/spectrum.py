@@ -1,7 +1,7 @@
 """Spectrum of a line-contact solve's preconditioned Newton system: ``python -m bench.spectrum``.
 
 Solves one scene through the Python Newton loop (the compiled Newton-system solver of
-:mod:`fastline._toeplitz_pcg` for each system; same steps and CG counts as the compiled loop),
+:mod:`fastline.elastic.pcg` for each system; same steps and CG counts as the compiled loop),
 records every Newton system, and analyses one of them: the eigenvalues of ``B H`` on zero-load
 increments of the cells that are not frozen (``H = D + K``, ``B`` the two-level preconditioner
 with the projection onto zero load, exactly as the compiled CG applies it), where the slowest
@@ -12,7 +12,7 @@ modes live, and how many CG iterations variants of the preconditioner would need
     python -m bench.spectrum --n 16384 --alpha 1e-2 --step 4 --nc 64 128 256
     python -m bench.spectrum --n 16384 --alpha 1e-2 --solver-nc 64   # the solver before issue 13
 
-``--solver-nc`` replaces :func:`fastline.elastic.coarse_aggregates` for the whole run (the solve
+``--solver-nc`` replaces :func:`fastline.elastic.line.coarse_aggregates` for the whole run (the solve
 and the analysed preconditioner); ``--nc`` simulates other aggregate counts on the recorded
 systems.
 
@@ -33,10 +33,12 @@ import warnings
 import numpy as np
 
 import fastline as fl
-from fastline import _fftw, elastic
-from fastline import _toeplitz_pcg as tp
-from fastline.elastic import influence_coefficients
-from fastline.paper import E_STAR, RADIUS, load_for_alpha, surfaces
+from fastline._lib import fftw as _fftw
+from fastline.contact import line as _line_contact
+from fastline.elastic import line as elastic
+from fastline.elastic import pcg as tp
+from fastline.elastic.line import influence_coefficients
+from fastline.reports.paper import E_STAR, RADIUS, load_for_alpha, surfaces
 
 
 def capture(psd, alpha: float, n: int):
@@ -44,14 +46,14 @@ def capture(psd, alpha: float, n: int):
     system it solved (dicts of op, D, w, rhs, rtol, its)."""
     systems = []
     cls = elastic.LogKernelOperator
-    orig_newton, orig_solve = cls.newton_compiled, cls.solve_newton
+    orig_compiled, orig_solve = _line_contact.solve_compiled, cls.solve_newton
 
     def recording(self, D, w, rhs, rtol, maxit):
         out = orig_solve(self, D, w, rhs, rtol, maxit)
         systems.append(dict(op=self, D=D.copy(), w=w.copy(), rhs=rhs.copy(), rtol=rtol, its=out[2]))
         return out
 
-    cls.newton_compiled = lambda *a, **k: None
+    _line_contact.solve_compiled = lambda *a, **k: None
     cls.solve_newton = recording
     try:
         with warnings.catch_warnings():
@@ -59,7 +61,7 @@ def capture(psd, alpha: float, n: int):
             load = load_for_alpha(alpha, psd.h_rms, E_STAR)
             res = fl.solve_line_contact(psd, E_STAR, RADIUS, load, n=n, warn=False)
     finally:
-        cls.newton_compiled, cls.solve_newton = orig_newton, orig_solve
+        _line_contact.solve_compiled, cls.solve_newton = orig_compiled, orig_solve
     return res, systems
 
 
@@ -70,7 +72,7 @@ class TwoLevel:
 
     def __init__(self, op, D: np.ndarray, nc_max: int | None = None) -> None:
         n = self.n = D.shape[0]
-        self.kspec, strang, prefix = elastic._compiled_tables(n)
+        self.kspec, strang, prefix = elastic.compiled_tables(n)
         self.scale, K00 = op._scale, op.diagonal
         self.K00, self.D = K00, D
         nc_max = elastic.coarse_aggregates(n) if nc_max is None else min(nc_max, n // 4)
@@ -106,7 +108,7 @@ class TwoLevel:
 
     def Bp(self, y: np.ndarray) -> np.ndarray:
         """``Pi B Pi*`` with the solver's projection onto zero load along ``v = B~ 1``
-        (:func:`fastline._toeplitz_pcg._projected_precondition`; uniform weights)."""
+        (:func:`fastline.elastic.pcg._projected_precondition`; uniform weights)."""
         z = self.B(y - self._v.dot(y) / self._sv)
         return z - self._v * (z.sum() / self._sv)
 

@@ -17,7 +17,7 @@ import numpy as np
 
 import fastline as fl
 from bench.conftest import ALPHAS, E_STAR, RADIUS, load_for_alpha, surfaces
-from fastline.paper import sphere_load_for_alpha
+from fastline.reports.paper import sphere_load_for_alpha
 
 ERR_ALPHAS = (1e-3, 1e-2, 0.1, 1.0, 10.0, 100.0)
 ERR_NS = (128, 256, 512, 1024)

@@ -7,7 +7,7 @@ times, on this machine, in the same run (CPU time of this thread, best of severa
   times one convolution at that n (the FFT floor of the solve);
 * one evaluation of the pressure law with ``p = exp(v)`` over the grid (each Newton step and
   line-search trial needs one);
-* one Newton system (:func:`fastline._toeplitz_pcg.solve_newton_system`) on the converged
+* one Newton system (:func:`fastline.elastic.pcg.solve_newton_system`) on the converged
   iterate's diagonal D with a random right-hand side, stopped after 0, 4 and 8 CG iterations,
   with the solver's coarse level and without it (``nc = 0``): the set-up (0 iterations:
   smoother, coarse level, the projection's direction ``B~ 1`` and the first preconditioner
@@ -27,11 +27,13 @@ import numpy as np
 
 import fastline as fl
 from bench.core import HARD, convolution_time, cpu_best
-from fastline import _fftw, elastic
-from fastline._line_newton import _law
-from fastline._toeplitz_pcg import solve_newton_system
-from fastline._toeplitz_pcg import workspace_size as system_workspace
-from fastline.paper import E_STAR, RADIUS, load_for_alpha
+from fastline._lib import fftw as _fftw
+from fastline.contact import line_newton
+from fastline.contact.line_newton import _law
+from fastline.elastic import line as elastic
+from fastline.elastic.pcg import solve_newton_system
+from fastline.elastic.pcg import workspace_size as system_workspace
+from fastline.reports.paper import E_STAR, RADIUS, load_for_alpha
 
 CG_STEPS = (0, 4, 8)
 
@@ -39,19 +41,19 @@ CG_STEPS = (0, 4, 8)
 def recorded_solve(n: int, alpha: float):
     """(the model, its load, the Newton kernel's arguments of a solve, its start ln p)."""
     captured = {}
-    kernel, size = elastic._newton_kernel()
+    kernel = line_newton.newton_line
 
     def recording(*args):
         captured["args"], captured["v0"] = list(args), args[11].copy()
         return kernel(*args)
 
-    elastic._newton_line = (recording, size)
+    line_newton.newton_line = recording
     try:
         lc = fl.LineContact(HARD["surface 1"], E_STAR, RADIUS, n=n, warn=False)
         load = load_for_alpha(alpha)
         lc.solve(load)
     finally:
-        elastic._newton_line = (kernel, size)
+        line_newton.newton_line = kernel
     return lc, load, captured["args"], captured["v0"]
 
 
@@ -68,7 +70,7 @@ def _law_loop(kind, v, prm, A, B, C, E, u, dudv, reps):
 def measure(n: int, alpha: float) -> dict:
     """The figures of the module docstring for one scene (times in s)."""
     lc, load, args, v0 = recorded_solve(n, alpha)
-    kernel = elastic._newton_kernel()[0]
+    kernel = line_newton.newton_line
 
     def run_kernel():
         args[11][:] = v0
@@ -91,7 +93,7 @@ def measure(n: int, alpha: float) -> dict:
     m["law"] = cpu_best(lambda: _law_loop(kind, v, prm, A, B, C, E, u, dudv, reps), 5) / reps
     p = np.exp(v)
     D = np.minimum(np.maximum(-dudv, 1e-300 * args[10]) / np.maximum(p, 1e-300), 1e300)
-    kspec, strang, prefix = elastic._compiled_tables(n)
+    kspec, strang, prefix = elastic.compiled_tables(n)
     rhs = np.random.default_rng(1).standard_normal(n) * 1e-9
     dp, ws = np.empty(n), np.empty(system_workspace(n))
     fft = _fftw.acquire(2 * n)

@@ -1,7 +1,7 @@
 """The pressure law inside the compiled Newton solve, per grid cell (issue 13, target 1).
 
 Each Newton step and line-search trial evaluates the law once over the grid
-(:func:`fastline._line_newton._evaluate`: ``p = exp(v)``, the law's u and du/dv, one FFT
+(:func:`fastline.contact.line_newton._evaluate`: ``p = exp(v)``, the law's u and du/dv, one FFT
 convolution, the residual). Timed on the iterate of a converged solve (surface 1, alpha 1,
 n = 4096: a third of the cells lie below table T1, the rest inside it), so the branches are
 those a real solve takes. Divide the times by ``extra_info["cells"]`` for ns per cell; the
@@ -16,10 +16,10 @@ import pytest
 
 import fastline as fl
 from bench.conftest import E_STAR, RADIUS, load_for_alpha
-from fastline import _fftw
-from fastline._line_newton import _evaluate, _law
-from fastline.elastic import _compiled_tables
-from fastline.persson import _separation_and_slope
+from fastline._lib import fftw as _fftw
+from fastline.contact.line_newton import _evaluate, _law
+from fastline.elastic.line import compiled_tables
+from fastline.theory.persson import _separation_and_slope
 
 N = 4096
 
@@ -59,7 +59,7 @@ def test_evaluate_per_cell(benchmark, scene):
     """One residual evaluation: exp, the Persson law, one convolution of length 2n."""
     benchmark.group = "law-per-cell"
     v, gap, w, forms, _ = scene
-    kspec = _compiled_tables(N)[0]
+    kspec = compiled_tables(N)[0]
     a, c = _fftw.aligned_buffers(2 * N)
     p, U, dU, gk, r = (np.empty(N) for _ in range(5))
     fft = _fftw.acquire(2 * N)

@@ -11,7 +11,7 @@ from scipy.special import erfinv
 
 import fastline as fl
 from bench.conftest import E_STAR, RADIUS, load_for_alpha
-from fastline import leakage
+from fastline.leakage import flow as leakage
 
 N_PRESSURES = 10_000
 DP, ETA = 1e5, 1e-3  # Pa, Pa s (water)

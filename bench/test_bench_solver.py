@@ -8,7 +8,7 @@ import pytest
 
 import fastline as fl
 from bench.conftest import ALPHAS, E_STAR, PICARD_CAP, RADIUS, SWEEP_LOADS, load_for_alpha, surfaces
-from fastline.line_contact import solve_line_contact
+from fastline.contact.line import solve_line_contact
 
 
 @pytest.mark.filterwarnings("ignore:overflow encountered:RuntimeWarning")

@@ -7,7 +7,7 @@ import pytest
 
 import fastline as fl
 from bench.conftest import ALPHAS, E_STAR, RADIUS, surfaces
-from fastline.paper import sphere_load_for_alpha
+from fastline.reports.paper import sphere_load_for_alpha
 
 
 @pytest.mark.parametrize("n", [256, 512, 1024, 2048])

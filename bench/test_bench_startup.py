@@ -11,7 +11,7 @@ from typing import NamedTuple
 
 SCRIPT = (
     "import fastline as fl\n"
-    "from fastline.line_contact import solve_line_contact\n"
+    "from fastline.contact.line import solve_line_contact\n"
     "psd = fl.SelfAffinePSD(10e-6, 0.8, 1e3, 1e4, 1e9)\n"
     "r = solve_line_contact(psd, 1.33e9, 0.01, 1.0e4)\n"
     "print(r.p0_ratio)\n"
@@ -64,7 +64,7 @@ STAGED = (
     "import numba\n"
     "t.append(time.perf_counter())\n"
     "import fastline as fl\n"
-    "from fastline.line_contact import solve_line_contact\n"
+    "from fastline.contact.line import solve_line_contact\n"
     "t.append(time.perf_counter())\n"
     "from numba.core.registry import cpu_target\n"
     "cpu_target.target_context.refresh()\n"

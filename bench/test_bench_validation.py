@@ -1,4 +1,4 @@
-"""fastline.validation on the paper-like scene of docs/validation.md: the whole check at
+"""fastline.reports.validation on the paper-like scene of docs/validation.md: the whole check at
 alpha = 0.1 (8 BEM realisations on a process pool, 10368 x 256 cells each; ~4 min on 2 cores)
 and the theory side alone (all four laws).
 
@@ -15,7 +15,7 @@ from concurrent.futures import ProcessPoolExecutor
 import pytest
 
 import fastline as fl
-from fastline import validation
+from fastline.reports import validation
 
 E_STAR, RADIUS = 10e6, 32.8e-3
 Q0 = 2.0 * math.pi / 40e-6

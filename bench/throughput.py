@@ -37,7 +37,7 @@ from pathlib import Path
 import numpy as np
 
 import fastline as fl
-from fastline.paper import E_STAR, Q0, Q1, QR, RADIUS, SURFACES, load_for_alpha
+from fastline.reports.paper import E_STAR, Q0, Q1, QR, RADIUS, SURFACES, load_for_alpha
 
 ROOT = Path(__file__).resolve().parent.parent
 WORKERS = 2

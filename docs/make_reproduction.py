@@ -14,15 +14,15 @@ import sys
 import time
 
 import fastline as fl
-from fastline.cli import main
+from fastline.cli.app import main
 from fastline.io import write_csv
-from fastline.line_contact import solve_line_contact
-from fastline.paper import E_STAR as PAPER_E_STAR
-from fastline.paper import Q0 as PAPER_Q0
-from fastline.paper import QR as PAPER_QR
-from fastline.paper import RADIUS as PAPER_RADIUS
-from fastline.paper import SURFACES as PAPER_SURFACES
-from fastline.paper import load_for_alpha
+from fastline.contact.line import solve_line_contact
+from fastline.reports.paper import E_STAR as PAPER_E_STAR
+from fastline.reports.paper import Q0 as PAPER_Q0
+from fastline.reports.paper import QR as PAPER_QR
+from fastline.reports.paper import RADIUS as PAPER_RADIUS
+from fastline.reports.paper import SURFACES as PAPER_SURFACES
+from fastline.reports.paper import load_for_alpha
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 sys.path.insert(0, HERE)

@@ -19,7 +19,8 @@ import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 
 import fastline as fl  # noqa: E402
-from fastline import paper, plotting  # noqa: E402
+from fastline.reports import paper  # noqa: E402
+from fastline.reports import plotting
 
 OUT = Path(__file__).resolve().parent / "img"
 

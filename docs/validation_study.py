@@ -211,7 +211,7 @@ def lattice_study():
 def sphere_figure():
     from matplotlib.figure import Figure
 
-    from fastline.plotting import save_figure
+    from fastline.reports.plotting import save_figure
 
     psd = paper_like()
     fig = Figure(figsize=(5.6, 3.8))
@@ -252,7 +252,7 @@ def sphere_figure():
 def figures():
     from matplotlib.figure import Figure
 
-    from fastline.plotting import save_figure
+    from fastline.reports.plotting import save_figure
 
     shown = ("0.1", "1", "10")
     fig = Figure(figsize=(11.0, 3.6))

@@ -1,7 +1,7 @@
-"""``python -m fastline``: the command-line interface (see :mod:`fastline.cli`)."""
+"""``python -m fastline``: the command-line interface (see :mod:`fastline.cli.app`)."""
 
 import sys
 
-from fastline.cli import main
+from fastline.cli.app import main
 
 sys.exit(main())

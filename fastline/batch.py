@@ -56,7 +56,9 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 from numpy.typing import ArrayLike
 
-from fastline.variants import DEFAULT_VARIANT, VARIANTS
+from fastline._lib.executors import Engine, close_engine, open_engine
+from fastline.errors import SceneFailureWarning
+from fastline.theory.variants import DEFAULT_VARIANT, VARIANTS
 
 if TYPE_CHECKING:  # annotations only: pandas and dask are optional
     import pandas as pd
@@ -79,10 +81,6 @@ __all__ = [
     "LOAD_UNITS",
     "CACHE_SIZES",
 ]
-
-
-class SceneFailureWarning(UserWarning):
-    """Some scenes of a sweep failed (their rows carry the error text)."""
 
 
 # ----------------------------------------------------------------------------------------------
@@ -164,15 +162,13 @@ CACHE_SIZES = {"spectra": 64, "theories": 32, "models": 64}
 #: the engine costs 0.5-1.3 ms per task in a local pool and 4-13 ms on dask; with 157 scenes
 #: per task (10,000 scenes) the workers were 89-94% busy, with 8 per task 80-90% (pool).
 DEFAULT_TASKS, MIN_CHUNK, MAX_CHUNK = 64, 8, 256
-#: schemes of dask scheduler addresses accepted as ``executor``
-_SCHEDULER_SCHEMES = ("tcp://", "tls://", "ucx://", "ws://", "wss://", "inproc://")
 
 
 # ----------------------------------------------------------------------------------------------
 # geometries: how a model of a scene is built
 # ----------------------------------------------------------------------------------------------
 def _cylinder(spec, psd, theory):
-    from fastline.line_contact import LineContact
+    from fastline.contact.line import LineContact
 
     return LineContact(
         psd,
@@ -192,7 +188,7 @@ def _cylinder(spec, psd, theory):
 
 
 def _sphere(spec, psd, theory):
-    from fastline.point_contact import PointContact
+    from fastline.contact.point import PointContact
 
     return PointContact(
         psd,
@@ -325,7 +321,7 @@ def _cell(col: _Column, i: int, v):
 
 
 def _psd_cell(col: _Column, i: int, v):
-    from fastline.spectra import PSD
+    from fastline.theory.spectra import PSD
 
     if v is None or isinstance(v, PSD):
         return v
@@ -552,7 +548,7 @@ class _ModelCache:
         return model
 
     def _theory(self, spec: _ModelSpec, counts: dict):
-        from fastline.persson import PerssonTheory
+        from fastline.theory.persson import PerssonTheory
 
         psd = self._spectrum(spec)
         if psd is None:
@@ -573,7 +569,7 @@ class _ModelCache:
 def _make_spectrum(key: tuple, obj):
     kind = key[0]
     if kind == "self-affine":
-        from fastline.spectra import SelfAffinePSD
+        from fastline.theory.spectra import SelfAffinePSD
 
         return SelfAffinePSD(*key[1:])
     if kind == "file":
@@ -663,91 +659,13 @@ def _run_task(task: tuple[_Piece, ...]) -> _TaskOutcome:
 # ----------------------------------------------------------------------------------------------
 # executors
 # ----------------------------------------------------------------------------------------------
-def _available_cpus() -> int:
-    try:
-        return len(os.sched_getaffinity(0))
-    except AttributeError:  # pragma: no cover - not on Linux
-        return os.cpu_count() or 1
-
-
-def _is_dask_client(obj) -> bool:
-    return type(obj).__module__.split(".")[0] == "distributed" and hasattr(obj, "get_executor")
-
-
-def _dask_client(address: str):
-    try:
-        from distributed import Client
-    except ImportError:
-        raise ImportError(
-            f"executor={address!r} needs dask.distributed: "
-            'pip install "fastline-contact[dask]" (the dask extra)'
-        ) from None
-    return Client(address)
-
-
-@dataclass
-class _Engine:
-    """Where tasks run: ``executor`` None means in this process, in order."""
-
-    executor: cf.Executor | None
-    description: str
-    close: object = None  # what to shut down afterwards (an owned pool or client)
-
-
-def _engine(executor, workers: int | None, tasks: int) -> _Engine:
-    if workers is not None:
-        if executor is not None:
-            raise ValueError("workers applies only to the default local pool (executor=None)")
-        from fastline._validate import integer
-
-        workers = integer("workers", workers, 1)
-    if executor is None:
-        workers = workers or _available_cpus()
-        if workers == 1 or tasks == 1:
-            return _Engine(None, "serial (in this process)")
-        import multiprocessing
-
-        pool = cf.ProcessPoolExecutor(workers, mp_context=multiprocessing.get_context("spawn"))
-        return _Engine(pool, f"local process pool ({workers} workers)", pool)
-    if isinstance(executor, str):
-        if executor == "serial":
-            return _Engine(None, "serial (in this process)")
-        if executor.startswith(_SCHEDULER_SCHEMES):
-            client = _dask_client(executor)
-            return _Engine(client.get_executor(pure=False), f"dask scheduler {executor}", client)
-        schemes = ", ".join(_SCHEDULER_SCHEMES)
-        raise ValueError(
-            f'executor must be None, "serial", a dask scheduler address ({schemes}...), a '
-            f"concurrent.futures.Executor or a dask Client, got {executor!r}"
-        )
-    if _is_dask_client(executor):
-        return _Engine(executor.get_executor(pure=False), f"dask client {executor!r}")
-    if isinstance(executor, cf.Executor):
-        return _Engine(executor, f"{type(executor).__name__}")
-    raise TypeError(
-        'executor must be None, "serial", a dask scheduler address, a '
-        f"concurrent.futures.Executor or a dask Client, got {type(executor).__name__}"
-    )
-
-
-def _close(engine: _Engine) -> None:
-    """Shut down what :func:`sweep` started (a pool: pending tasks cancelled)."""
-    owned = engine.close
-    if owned is None:
-        return
-    if _is_dask_client(owned):
-        owned.close()
-    else:
-        owned.shutdown(wait=True, cancel_futures=True)
-
-
 def _failed_task(task, e: BaseException) -> _TaskOutcome:
     text = f"task failed: {_error_text(e)}"
     rows = [(i, None, None, text) for piece in task for i in piece.rows]
     return _TaskOutcome(rows, worker="?")
 
 
-def _outcomes(tasks: list, engine: _Engine):
+def _outcomes(tasks: list, engine: Engine):
     """Yield each task's outcome as it completes (in order when serial)."""
     if engine.executor is None:
         cache = _ModelCache()  # a serial sweep keeps nothing once it is done
@@ -803,7 +721,7 @@ def _empty_table(cols: Mapping) -> np.ndarray:
 
 @dataclass
 class _Flagged:
-    """A solved scene as :func:`fastline.diagnostics.summarise_warnings` reads it (the load's
+    """A solved scene as :func:`fastline.contact.diagnostics.summarise_warnings` reads it (the load's
     symbol and unit those of its geometry's results)."""
 
     load: float
@@ -930,7 +848,7 @@ class SweepTable:
         convolutions) and ``residual`` is relative to u0 as for a cylinder.
     warnings : list of (str, str)
         ``(cause, message)`` once per cause over the whole sweep: ``"failed"``,
-        ``"not_converged"`` and the causes of :data:`fastline.diagnostics.CAUSES`.
+        ``"not_converged"`` and the causes of :data:`fastline.contact.diagnostics.CAUSES`.
     stats : SweepStats
         How the sweep ran (workers, tasks, theory builds, times).
 
@@ -1030,7 +948,7 @@ class SweepTable:
 def _summary(table: np.ndarray, flagged: dict[str, list[_Flagged]]) -> list[tuple[str, str]]:
     """Failed and unconverged scenes, then the validity causes once each per geometry (the
     loads of a cylinder and of a sphere are in different units)."""
-    from fastline.diagnostics import summarise_warnings
+    from fastline.contact.diagnostics import summarise_warnings
 
     out = []
     failed = np.flatnonzero(table["error"] != "")
@@ -1058,8 +976,8 @@ def _summary(table: np.ndarray, flagged: dict[str, list[_Flagged]]) -> list[tupl
 
 
 def _emit(summary: list[tuple[str, str]]) -> None:
-    from fastline.diagnostics import ValidityWarning
-    from fastline.line_contact import ConvergenceWarning
+    from fastline.contact.diagnostics import ValidityWarning
+    from fastline.contact.line import ConvergenceWarning
 
     classes = {"failed": SceneFailureWarning, "not_converged": ConvergenceWarning}
     for cause, msg in summary:
@@ -1099,7 +1017,7 @@ def sweep(
         ("persson", "exponential", "hertz"), ``method`` ("newton", "picard"), ``n`` (the
         geometry's own: 1024 grid points for a cylinder, 512 cells for a sphere; the table
         shows the value used), ``variant`` of the theory's u(p) ("yang-persson-energy", the
-        default, "yang-persson-printed" or "wang-mueser"; :mod:`fastline.variants`),
+        default, "yang-persson-printed" or "wang-mueser"; :mod:`fastline.theory.variants`),
         ``gamma`` (the variant's own: 0.45, 5/9 for "wang-mueser"; the table shows the value
         used), ``tol`` (1e-8), ``max_iter`` (0: the method's default), ``hardness`` [Pa]
         (NaN: none). A missing cell (None, NaN) in an optional column takes the default.
@@ -1126,7 +1044,7 @@ def sweep(
     warn : bool
         Emit, once each for the whole sweep: a :class:`SceneFailureWarning` for failed scenes,
         a ``ConvergenceWarning`` for scenes that did not converge and one ``ValidityWarning``
-        per validity cause (:func:`fastline.diagnostics.summarise_warnings`). They are in
+        per validity cause (:func:`fastline.contact.diagnostics.summarise_warnings`). They are in
         ``SweepTable.warnings`` either way.
 
     Returns
@@ -1152,14 +1070,14 @@ def sweep(
     >>> res = fl.sweep(scenes, "serial", progress=False)
     >>> res["p0"], res["w_over_s"]  # doctest: +SKIP
     """
-    from fastline._validate import integer
+    from fastline._lib.validate import integer
 
     t0 = time.perf_counter()
     cols = _normalise(scenes)
     size = len(cols["load"])
     chunk = default_chunksize(size) if chunksize is None else integer("chunksize", chunksize, 1)
     tasks = _plan(cols, chunk)
-    engine = _engine(executor, workers, len(tasks))
+    engine = open_engine(executor, workers, len(tasks))
     outcomes = []
     try:
         with _progress_bar(size, progress) as bar:
@@ -1167,7 +1085,7 @@ def sweep(
                 outcomes.append(outcome)
                 bar.update(len(outcome.rows))
     finally:
-        _close(engine)
+        close_engine(engine)
     table = _empty_table(cols)
     summary = _summary(table, _fill(table, outcomes))
     wall = time.perf_counter() - t0

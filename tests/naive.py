@@ -17,7 +17,7 @@ from scipy.special import erf, exp1, roots_legendre
 
 def universal_F(x0: float, gamma: float, b2: float | None = None) -> float:
     """F(x0) = int_{x0}^inf (1/x)[gamma + b2 erf(x)^2] exp(-x^2) dx, b2 = 3(1-gamma) by default
-    (the printed bracket of fastline.variants has b2 = 1 - gamma).
+    (the printed bracket of fastline.theory.variants has b2 = 1 - gamma).
 
     The gamma part is E1(x0^2)/2 (SciPy); the erf^2 part by quad on [x0, inf).
     """
@@ -359,7 +359,7 @@ def reynolds_dense(gap, dx, dy, viscosity, pressure_drop):
 
 
 # ------------------------------------------------------------------------------------------------
-# tabulated spectra (fast eta quadrature of fastline._tabulated)
+# tabulated spectra (fast eta quadrature of fastline.theory.quadrature)
 # ------------------------------------------------------------------------------------------------
 _GL20 = roots_legendre(20)
 _G_STEP = 1.0 / 64.0  # grid of G(x) on [0, 7]; beyond 7 erf(x)^2 = 1 to 1e-22
@@ -617,7 +617,7 @@ def point_contact_exponential(khat, E_star, radius, load, u0, beta, domain):
     return r, np.exp(sol.x[:-1])
 
 
-# ---- variants of the theory with the area correction (fastline.variants, "wang-mueser") -------
+# ---- variants of the theory with the area correction (fastline.theory.variants, "wang-mueser") -------
 def _s_poly(P, gamma, s2, s4):
     return gamma + s2 * P**2 + s4 * P**4
 
@@ -655,7 +655,7 @@ def _area_ode(gamma: float, s2: float, s4: float):
 
 def area_functions(x0: float, gamma: float, s2: float, s4: float) -> tuple[float, float]:
     """(Y(x0), F(x0)) of a variant whose S(P) = gamma + s2 P^2 + s4 P^4 enters the contact-area
-    recursion (fastline._special_area): Phi(Y) = 1/x0^2 by brentq on the ODE's dense output,
+    recursion (fastline.theory.special): Phi(Y) = 1/x0^2 by brentq on the ODE's dense output,
     F = Fy(Y). For x0 > 6.5, Y = x0 and F = b(1) E1(x0^2)/2."""
     dense, b1 = _area_ode(gamma, s2, s4)
     if x0 > 6.5:
@@ -704,7 +704,7 @@ def separation_from_energy(psd, E_star, p, gamma, s2, s4, epsrel=1e-9):
     return val / p
 
 
-# ---- Greenwood-Williamson (fastline.asperity) ---------------------------------------------------
+# ---- Greenwood-Williamson (fastline.theory.asperity) ---------------------------------------------------
 def gw_integral(u, n, mean, std):
     """int_u^inf (z - u)^n phi_s(z) dz for Gaussian summit heights (mean, std), by quad in z
     (split at the peak of the integrand; the Gaussian factor scaled out beyond 8 std)."""
@@ -763,7 +763,7 @@ def leaving_area_moment(psd, E_star, p, u1, zeta_a, epsrel=1e-10):
 def peak_quartic(p):
     """Peak of the quartic through the five samples around the discrete maximum: NumPy's
     polyfit through the five points, then a dense scan of [-1, 1] cells refined by SciPy's
-    bounded scalar minimisation (compare :func:`fastline.resolution.peak_quartic`)."""
+    bounded scalar minimisation (compare :func:`fastline.contact.resolution.peak_quartic`)."""
     from scipy.optimize import minimize_scalar
 
     i = int(np.argmax(p))
@@ -781,7 +781,7 @@ def peak_quartic(p):
 def fwhm_cubic(p, dx, p0):
     """Width between the outermost crossings of p0/2 of the cubic through four samples around
     each crossing cell (nodes k-1..k+2 for the cell [k, k+1]), each crossing found by SciPy's
-    brentq on that cubic (compare :func:`fastline.resolution.fwhm_cubic`)."""
+    brentq on that cubic (compare :func:`fastline.contact.resolution.fwhm_cubic`)."""
     from scipy.optimize import brentq
 
     half = 0.5 * p0
@@ -815,7 +815,7 @@ def cell_mean_spectrum(psd, qx: float, qy: float, dqx: float, dqy: float) -> flo
     return total / (dqx * dqy)
 
 
-# ---- profile measures (fastline._contact.peak / fwhm, compiled in fastline._solve_kernels) ------
+# ---- profile measures (fastline.contact.model.peak / fwhm, compiled in fastline.contact.kernels) ------
 def peak_parabola(p):
     """Peak by the parabola through the three points around np.argmax (the maximum at an end)."""
     i = int(np.argmax(p))

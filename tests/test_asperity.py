@@ -1,4 +1,4 @@
-"""The Greenwood-Williamson law from the spectrum (fastline.asperity).
+"""The Greenwood-Williamson law from the spectrum (fastline.theory.asperity).
 
 References: ``naive.gw_pressure`` / ``naive.gw_area`` (the summit-height integrals by SciPy quad
 in the height z), SciPy quad of the spectral moments, exact moments of the self-affine spectrum
@@ -16,8 +16,13 @@ import pytest
 from scipy.integrate import quad
 
 import fastline as fl
-from fastline.asperity import TAIL_T, GreenwoodWilliamsonLaw, SummitStatistics, summit_integral
 from fastline.bem import random_surface, spectral_grid
+from fastline.theory.asperity import (
+    TAIL_T,
+    GreenwoodWilliamsonLaw,
+    SummitStatistics,
+    summit_integral,
+)
 
 RTOL_REF = 1e-6  # p(u) and A/A0 against the quad reference (issue 15)
 RTOL_INTEGRAL = 1e-10  # F_{3/2}(t) against quad

@@ -1,4 +1,4 @@
-"""Tests for fastline.axisymmetric: the ring operator of a point contact and its preconditioner."""
+"""Tests for fastline.elastic.ring: the ring operator of a point contact and its preconditioner."""
 
 from __future__ import annotations
 
@@ -12,7 +12,7 @@ from naive import ring_cell_coefficient
 from scipy.integrate import IntegrationWarning
 from scipy.special import ellipe, ellipk
 
-from fastline.axisymmetric import (
+from fastline.elastic.ring import (
     MAX_N,
     BalancingPreconditioner,
     RingKernelOperator,

@@ -19,10 +19,15 @@ import numpy as np
 import pytest
 
 import fastline as fl
+import fastline.contact.diagnostics as _diagnostics
+import fastline.contact.line as _line_contact
+import fastline.contact.point as _point_contact
+import fastline.theory.variants as _variants
 from fastline import batch
-from fastline.diagnostics import ValidityWarning
+from fastline.cli import sphere as cli_sphere
+from fastline.contact.diagnostics import ValidityWarning
+from fastline.contact.line import ConvergenceWarning
 from fastline.io import read_csv
-from fastline.line_contact import ConvergenceWarning
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 EXAMPLE_PSD = os.path.join(ROOT, "examples", "psd_example.txt")
@@ -305,7 +310,7 @@ def test_a_new_geometry_plugs_in(monkeypatch):
 
 
 # ---- the theory's variant ----------------------------------------------------------------------
-VARIANTS = tuple(fl.variants.VARIANTS)
+VARIANTS = tuple(_variants.VARIANTS)
 #: least change of p0 by the printed bracket at alpha = 1 (issue 15: several per cent)
 MIN_VARIANT_EFFECT = 0.03
 
@@ -407,7 +412,7 @@ def test_mixed_cylinder_and_sphere_table(tmp_path):
     assert_rows_are(res, (0, 1), [point_contact().solve(f) for f in SPHERE_LOADS[:2]])
     lc = fl.LineContact(fl.SelfAffinePSD(1e-6, 0.8, 1e3, 1e4, 1e9), E_STAR, RADIUS, n=N)
     assert_rows_are(res, (2, 3), [lc.solve(f) for f in (1e4, 1e5)])
-    assert res["n"][4] == fl.point_contact.DEFAULT_N and res["n"][5] == fl.line_contact.DEFAULT_N
+    assert res["n"][4] == _point_contact.DEFAULT_N and res["n"][5] == _line_contact.DEFAULT_N
     psd = fl.SelfAffinePSD(1e-6, 0.8, 1e3, 1e4, 1e9)
     assert res["p0"][4] == fl.PointContact(psd, E_STAR, RADIUS, warn=False).solve(1.0).p0
     assert res.stats.theory_builds == 1 and res.stats.model_builds == 4
@@ -566,7 +571,7 @@ def test_warnings_once_per_cause():
     causes = [c for c, _ in res.warnings]
     assert causes[:2] == ["failed", "not_converged"]
     assert kinds.count(batch.SceneFailureWarning) == 1 and kinds.count(ConvergenceWarning) == 1
-    validity = [c for c in causes if c in fl.diagnostics.CAUSES]
+    validity = [c for c in causes if c in _diagnostics.CAUSES]
     assert validity and kinds.count(ValidityWarning) == len(validity)
     assert "3 of 28 scenes failed (rows 5, 11, 17)" in res.warnings[0][1]
     with warnings.catch_warnings(record=True) as caught:
@@ -580,7 +585,7 @@ def cli(argv) -> tuple[int, str, str]:
     from contextlib import redirect_stderr, redirect_stdout
     from io import StringIO
 
-    from fastline.cli import main
+    from fastline.cli.app import main
 
     out, err = StringIO(), StringIO()
     with redirect_stdout(out), redirect_stderr(err):
@@ -694,7 +699,7 @@ def test_cli_sphere_sweep_plot_on_workers(tmp_path, monkeypatch):
     import matplotlib.pyplot as plt
 
     figures = []
-    monkeypatch.setattr(fl.cli_sphere, "_save", lambda fig, path, args: figures.append(fig))
+    monkeypatch.setattr(cli_sphere, "_save", lambda fig, path, args: figures.append(fig))
     status, _, err = cli([*SPHERE_SWEEP_ARGS, "--workers", 2, "--plot", tmp_path / "s.png"])
     assert status == 0, err
     ws_axes = figures[0].axes[0]

@@ -1,4 +1,4 @@
-"""Tests of the command-line interface (run in-process through fastline.cli.main).
+"""Tests of the command-line interface (run in-process through fastline.cli.app.main).
 
 Every command on small settings: the files it writes, its numbers against the API's, and the
 defects of issue 9 (exit status of a non-converged solve, warnings reaching ``sweep``,
@@ -14,11 +14,11 @@ import numpy as np
 import pytest
 
 import fastline as fl
-import fastline.line_contact
-from fastline import paper
-from fastline.cli import main
+import fastline.contact.line
+from fastline.cli.app import main
+from fastline.contact.line import solve_line_contact
 from fastline.io import read_csv
-from fastline.line_contact import solve_line_contact
+from fastline.reports import paper
 
 pytest.importorskip("matplotlib")
 
@@ -112,7 +112,7 @@ def test_paper_vector_figures(fmt, tmp_path, capsys):
 
 
 def test_paper_write_files_from_python(tmp_path):
-    """fastline.paper.write_files (what `fastline paper` calls): the files it names, in the
+    """fastline.reports.paper.write_files (what `fastline paper` calls): the files it names, in the
     format asked, with the data's variant and numbers in the CSVs."""
     data = paper.paper_data(loads=2, n=64, variant="yang-persson-printed")
     assert data.variant == "yang-persson-printed"
@@ -353,8 +353,8 @@ def test_hertz_refuses_roughness_options(command, extra, named, monkeypatch, cap
     def no_solve(*args, **kwargs):
         raise AssertionError("solved")
 
-    monkeypatch.setattr(fastline.line_contact, "solve_line_contact", no_solve)
-    monkeypatch.setattr(fastline.line_contact.LineContact, "sweep", no_solve)
+    monkeypatch.setattr(fastline.contact.line, "solve_line_contact", no_solve)
+    monkeypatch.setattr(fastline.contact.line.LineContact, "sweep", no_solve)
     status, out, err = run([command, "--model", "hertz", *extra], capsys)
     assert status == 2 and out == ""
     lines = [ln for ln in err.splitlines() if ln.strip()]
@@ -403,8 +403,8 @@ def test_output_paths_checked_before_solving(argv, monkeypatch, capsys):
     def no_solve(*args, **kwargs):
         raise AssertionError("solved before checking the output path")
 
-    monkeypatch.setattr(fastline.line_contact, "solve_line_contact", no_solve)
-    monkeypatch.setattr(fastline.paper, "paper_data", no_solve)
+    monkeypatch.setattr(fastline.contact.line, "solve_line_contact", no_solve)
+    monkeypatch.setattr(fastline.reports.paper, "paper_data", no_solve)
     status, _, err = run(argv, capsys)
     assert status == 2 and err.startswith("fastline: error:") and "/" in err
 

@@ -17,10 +17,9 @@ import numpy as np
 import pytest
 
 import fastline as fl
-import fastline.line_contact
-import fastline.point_contact
-from fastline import plotting
-from fastline.cli import main
+import fastline.contact.line
+import fastline.contact.point
+from fastline.cli.app import main
 from fastline.io import (
     LEAK_COLUMNS,
     LEAK_SWEEP_COLUMNS,
@@ -28,6 +27,7 @@ from fastline.io import (
     POINT_LEAK_SWEEP_COLUMNS,
     read_csv,
 )
+from fastline.reports import plotting
 
 pytest.importorskip("matplotlib")
 
@@ -328,8 +328,8 @@ def test_bad_options(extra, needle, monkeypatch, capsys):
     def no_solve(*args, **kwargs):
         raise AssertionError("solved before checking the input")
 
-    monkeypatch.setattr(fastline.line_contact, "solve_line_contact", no_solve)
-    monkeypatch.setattr(fastline.line_contact.LineContact, "sweep", no_solve)
+    monkeypatch.setattr(fastline.contact.line, "solve_line_contact", no_solve)
+    monkeypatch.setattr(fastline.contact.line.LineContact, "sweep", no_solve)
     status, out, err = run(["leak", *REQUIRED, "--n", N, *extra], capsys)
     assert status == 2
     lines = [ln for ln in err.splitlines() if ln.strip()]
@@ -360,8 +360,8 @@ def test_output_paths_checked_before_solving(argv, monkeypatch, capsys):
     def no_solve(*args, **kwargs):
         raise AssertionError("solved before checking the output path")
 
-    monkeypatch.setattr(fastline.line_contact, "solve_line_contact", no_solve)
-    monkeypatch.setattr(fastline.line_contact.LineContact, "sweep", no_solve)
+    monkeypatch.setattr(fastline.contact.line, "solve_line_contact", no_solve)
+    monkeypatch.setattr(fastline.contact.line.LineContact, "sweep", no_solve)
     status, _, err = run(argv, capsys)
     assert status == 2 and err.startswith("fastline: error:") and "nonexistent-dir" in err
 
@@ -583,7 +583,7 @@ def test_sphere_sweep_squeeze_stops_the_leak(ball_sweep_run):
 
 
 def test_sphere_default_load(capsys):
-    from fastline.cli_sphere import GEOMETRY_DEFAULTS
+    from fastline.cli.sphere import GEOMETRY_DEFAULTS
 
     status, out, _ = run([*BALL_SCENE, "--inner-radius", HOLE, *BALL_FLUID], capsys)
     assert status == 0
@@ -616,8 +616,8 @@ def test_sphere_bad_options(argv, needle, monkeypatch, capsys):
         raise AssertionError("solved before checking the input")
 
     for module, cls in (
-        (fastline.point_contact, "PointContact"),
-        (fastline.line_contact, "LineContact"),
+        (fastline.contact.point, "PointContact"),
+        (fastline.contact.line, "LineContact"),
     ):
         monkeypatch.setattr(getattr(module, cls), "solve", no_solve)
         monkeypatch.setattr(getattr(module, cls), "sweep", no_solve)

@@ -1,6 +1,6 @@
 """The command line with --geometry sphere: profile, sweep and the sphere versions of Figs. 3-5.
 
-Run in-process through fastline.cli.main, on small settings; the numbers are held against the
+Run in-process through fastline.cli.app.main, on small settings; the numbers are held against the
 API's, the units against what a sphere's load is (N, never N/m).
 """
 
@@ -8,10 +8,10 @@ import numpy as np
 import pytest
 
 import fastline as fl
-import fastline.point_contact
-from fastline import paper
-from fastline.cli import main
+import fastline.contact.point
+from fastline.cli.app import main
 from fastline.io import read_csv
+from fastline.reports import paper
 
 pytest.importorskip("matplotlib")
 
@@ -120,7 +120,7 @@ def test_sphere_output_paths_checked_before_solving(monkeypatch, capsys):
     def no_solve(*args, **kwargs):
         raise AssertionError("solved before checking the output path")
 
-    monkeypatch.setattr(fastline.point_contact, "solve_point_contact", no_solve)
+    monkeypatch.setattr(fastline.contact.point, "solve_point_contact", no_solve)
     status, _, err = run(["profile", "--geometry", "sphere", "--csv", "/nonexistent/p.csv"], capsys)
     assert status == 2 and "/nonexistent" in err
 

@@ -19,7 +19,7 @@ SCRIPT = """
 import gc, json
 from numba.core.registry import CPUDispatcher
 import fastline as fl
-from fastline.line_contact import solve_line_contact
+from fastline.contact.line import solve_line_contact
 
 psd = fl.SelfAffinePSD(10e-6, 0.8, 1e3, 1e4, 1e9)
 solve_line_contact(psd, 1.33e9, 0.01, 1.0e4, warn=False)
@@ -37,9 +37,9 @@ print(json.dumps(sigs))
 
 #: kernels the scenes above must reach (the check below would pass vacuously without them)
 REACHED = (
-    "fastline._line_newton.newton_line",
-    "fastline._line_sweep.sweep_line",
-    "fastline._solve_kernels.line_measures",
+    "fastline.contact.line_newton.newton_line",
+    "fastline.contact.line_sweep.sweep_line",
+    "fastline.contact.kernels.line_measures",
 )
 
 

@@ -1,4 +1,4 @@
-"""Tests of fastline.diagnostics.assess (regimes, warnings, exponential-law range)."""
+"""Tests of fastline.contact.diagnostics.assess (regimes, warnings, exponential-law range)."""
 
 import math
 import warnings
@@ -7,8 +7,9 @@ import numpy as np
 import pytest
 
 import fastline as fl
-from fastline.diagnostics import ValidityWarning, assess, regime
-from fastline.line_contact import solve_line_contact
+import fastline.contact.diagnostics as _diagnostics
+from fastline.contact.diagnostics import ValidityWarning, assess, regime
+from fastline.contact.line import solve_line_contact
 
 E_STAR = 1.33e9  # Pa
 H_RMS = 1e-6  # m
@@ -131,7 +132,7 @@ ORING_PSD = (1e-6, 0.8, 2e3, 2e4, 1e9)
 
 
 def test_causes_are_stable_keys(psd, theory):
-    assert fl.diagnostics.CAUSES == (
+    assert _diagnostics.CAUSES == (
         "half_space",
         "plastic",
         "exponential_range",
@@ -178,7 +179,7 @@ def test_resolution_warns_on_a_coarse_grid():
     assert coarse.converged
     with pytest.warns(ValidityWarning, match="grid cells"):
         d = assess(coarse, psd=psd)
-    assert d["fwhm_cells"] < fl.diagnostics.RESOLUTION_CELLS and not d["resolution_ok"]
+    assert d["fwhm_cells"] < _diagnostics.RESOLUTION_CELLS and not d["resolution_ok"]
     fine = solve_line_contact(psd, *NEEDLE[1:], n=2048, warn=False)
     assert fine.diagnostics["resolution_ok"]
     assert d["fwhm_cells"] == pytest.approx(coarse.fwhm / coarse.dx, rel=1e-12)
@@ -205,7 +206,7 @@ def test_a_domain_that_cuts_the_contact_warns(psd, theory, geometry):
     assert d["warning_causes"][-1] == "truncated_domain" and not d["domain_ok"]
     assert "resolution" not in d["warning_causes"]  # a NaN FWHM is the domain's doing
     default = model.solve(load)
-    assert default.edge_pressure < fl.diagnostics.EDGE_LIMIT * 1e-6
+    assert default.edge_pressure < _diagnostics.EDGE_LIMIT * 1e-6
     assert default.diagnostics["domain_ok"]
     assert "truncated_domain" not in default.diagnostics["warning_causes"]
 
@@ -235,7 +236,7 @@ def test_warn_once_names_the_loads(psd, theory):
     assert causes[0] == "half_space" and len(half) == 1
     n_half = sum("half_space" in r.diagnostics["warning_causes"] for r in rs)
     assert f"{n_half} of 6 solves" in half[0] and "1.5e+06" in half[0]
-    summary = fl.diagnostics.summarise_warnings(rs)
+    summary = _diagnostics.summarise_warnings(rs)
     assert [c for c, _ in summary] == causes and [m for _, m in summary] == [
         m.removeprefix("fastline: ") for m in msgs
     ]
@@ -283,7 +284,7 @@ def test_warnings_of_a_solve_point_at_its_caller(psd, theory, model):
         warnings.simplefilter("always")
         result = contact.solve(load)
         assess(result, theory)
-        fl.diagnostics.warn_once([result])
+        _diagnostics.warn_once([result])
         contact.sweep([load, 2.0 * load])
         if model == "line":
             fl.solve_line_contact(psd, E_STAR, 1.0, load, theory=theory, n=256, max_iter=1)

@@ -6,7 +6,7 @@ Rules (also stated in docs/usage.md's neighbourhood by example):
   that holds a copy of ``examples/`` (so ``"examples/psd_example.txt"`` resolves and the files
   a block writes do not land in the repository).
 * In ```` ```bash ```` blocks, each command that starts with ``fastline`` or
-  ``.venv/bin/fastline`` is run in-process through :func:`fastline.cli.main` and must exit 0;
+  ``.venv/bin/fastline`` is run in-process through :func:`fastline.cli.app.main` and must exit 0;
   other lines (``pip``, ``python -m venv``, ``pytest``, comments) are not run here: CI runs the
   README's set-up commands verbatim (``.ci/run``, checked below).
 * A block preceded by the line ``<!-- docs-test: skip -->`` is not run.
@@ -24,7 +24,7 @@ from io import StringIO
 
 import pytest
 
-from fastline.cli import main
+from fastline.cli.app import main
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 PAGES = ["README.md"] + sorted(

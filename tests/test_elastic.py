@@ -1,4 +1,4 @@
-"""Tests for fastline.elastic: the plane-strain log-kernel operator."""
+"""Tests for fastline.elastic.line: the plane-strain log-kernel operator."""
 
 from __future__ import annotations
 
@@ -13,9 +13,9 @@ import pytest
 import scipy.linalg
 from scipy.integrate import quad
 
-import fastline._fftw
-from fastline.elastic import LogKernelOperator, influence_coefficients, log_reference_shift
-from fastline.limits import hertz_line_contact
+import fastline._lib.fftw
+from fastline.elastic.line import LogKernelOperator, influence_coefficients, log_reference_shift
+from fastline.theory.limits import hertz_line_contact
 
 RTOL_EXACT = 1e-12  # FFT product vs dense product, closed form vs quadrature
 RTOL_CONTINUUM = 1e-3  # discretised Hertz displacement vs the continuum parabola
@@ -267,7 +267,7 @@ RTOL_NEWTON_SYSTEM = 1e-8  # compiled PCG at rtol 1e-12 vs a dense solve, normwi
 RTOL_FALLBACK = 1e-8  # p0 and w/s of the compiled path against the pyFFTW fallback (tol 1e-8)
 
 
-@pytest.mark.skipif(not fastline._fftw.AVAILABLE, reason="no FFTW library found")
+@pytest.mark.skipif(not fastline._lib.fftw.AVAILABLE, reason="no FFTW library found")
 @pytest.mark.parametrize("n", [17, 64, 257])
 def test_compiled_newton_system_against_dense(n):
     """(D + K) dp + du1 = r, sum(w dp) = 0 solved by the compiled two-level PCG equals the dense
@@ -294,7 +294,7 @@ def test_compiled_newton_system_against_dense(n):
     assert op.convolutions > its  # K products and circulant solves, counted
 
 
-@pytest.mark.skipif(not fastline._fftw.AVAILABLE, reason="no FFTW library found")
+@pytest.mark.skipif(not fastline._lib.fftw.AVAILABLE, reason="no FFTW library found")
 def test_compiled_apply_against_dense():
     for n in (16, 100, 1025):
         op = LogKernelOperator(n, 2e-6, 3e9)
@@ -307,10 +307,11 @@ def test_fallback_path_gives_the_same_solutions():
     scenes to the solver tolerance."""
     code = (
         "import fastline as fl, math\n"
+        "from fastline._lib import fftw as _fftw\n"
         "psd = fl.SelfAffinePSD(10e-6, 0.8, 1e3, 1e4, 1e9)\n"
         "for a in (1e-3, 0.1, 10.0):\n"
         "    r = fl.solve_line_contact(psd, 1.33e9, 0.01, math.pi/4*psd.h_rms*1.33e9/a, n=256)\n"
-        "    print(repr(r.p0), repr(r.w_over_s), r.converged, fl._fftw.AVAILABLE)\n"
+        "    print(repr(r.p0), repr(r.w_over_s), r.converged, _fftw.AVAILABLE)\n"
     )
     outs = []
     for flag in ("1", ""):
@@ -327,5 +328,5 @@ def test_fallback_path_gives_the_same_solutions():
 
 def test_fftw_library_is_found():
     """pyFFTW's wheel (or the system) provides FFTW: the fast path is on in CI."""
-    assert fastline._fftw.AVAILABLE, "no FFTW library: the compiled FFT path is off"
-    assert fastline._fftw.library_path
+    assert fastline._lib.fftw.AVAILABLE, "no FFTW library: the compiled FFT path is off"
+    assert fastline._lib.fftw.library_path

@@ -18,8 +18,8 @@ import numpy as np
 import pytest
 
 import fastline as fl
-from fastline import elastic
-from fastline._jit import JIT
+from fastline._lib.jit import JIT
+from fastline.elastic import line as elastic
 
 # tiered tolerances
 RTOL_CONTINUATION = 1e-7  # a sweep (warm starts) vs independent solves, tol 1e-8 in u/u0
@@ -34,7 +34,7 @@ RTOL_SAME_TABLE = 1e-15  # compiled callables vs the methods reading the same ta
 #: without a circulant solve saves one convolution per Newton step, more of them in independent
 #: (cold) solves than in a sweep's 2-3 steps from a prediction: sweeps 470/473/629, independent
 #: 886/897/1014 (38.0 % on surface 3); with the first step's forcing at the floors alone (was
-#: 5 res0; fastline._core.ETA_RES_SCALE) the sweeps 470/468/609: 47 % / 48 % / 39.9 %
+#: 5 res0; fastline.contact.core.ETA_RES_SCALE) the sweeps 470/468/609: 47 % / 48 % / 39.9 %
 SWEEP_SAVING_MIN = {"surface1": 0.40, "surface2": 0.40, "surface3": 0.39}
 #: ... and the sweeps' convolutions themselves (measured 470/468/609, +5%)
 SWEEP_CONVOLUTIONS_MAX = {"surface1": 494, "surface2": 492, "surface3": 640}
@@ -130,7 +130,7 @@ def test_threads_share_one_model_bit_for_bit():
 
 def test_compiled_workspace_contents_never_matter():
     """The compiled solves work in a per-thread buffer kept between solves (elastic.
-    _compiled_workspace): filled with NaN, or left by a larger or a smaller grid, it gives the
+    compiled_workspace): filled with NaN, or left by a larger or a smaller grid, it gives the
     same result bit for bit as a fresh one."""
     lc_small = fl.LineContact(SURFACES[0], E_STAR, RADIUS, n=128)
     lc_big = fl.LineContact(SURFACES[0], E_STAR, RADIUS, n=512)
@@ -254,7 +254,7 @@ def test_tables_are_read_only():
 
 # ---- JIT settings and caches ----------------------------------------------------------------
 def test_cache_switch_by_environment():
-    code = "from fastline._jit import JIT; print(JIT['cache'])"
+    code = "from fastline._lib.jit import JIT; print(JIT['cache'])"
     for value, expected in (("0", "False"), ("off", "False"), ("1", "True")):
         env = dict(os.environ, FASTLINE_NUMBA_CACHE=value)
         out = subprocess.run([sys.executable, "-c", code], env=env, capture_output=True, text=True)
@@ -262,7 +262,7 @@ def test_cache_switch_by_environment():
 
 
 def test_package_stamp_follows_every_module(tmp_path):
-    from fastline._jit import package_stamp
+    from fastline._lib.jit import package_stamp
 
     (tmp_path / "a.py").write_text("x = 1\n")
     (tmp_path / "sub").mkdir()
@@ -279,9 +279,9 @@ def test_package_stamp_follows_every_module(tmp_path):
 @pytest.mark.skipif(not JIT["cache"], reason="the on-disk cache is switched off")
 def test_kernels_are_stamped_with_the_whole_package():
     """A kernel's cached code holds the kernels it calls from other modules: its cache must go
-    stale when any module changes (fastline._jit docstring)."""
-    from fastline import _jit
-    from fastline._line_newton import newton_line
+    stale when any module changes (fastline._lib.jit docstring)."""
+    from fastline._lib import jit as _jit
+    from fastline.contact.line_newton import newton_line
 
     locator = newton_line._cache._impl.locator
     assert isinstance(locator, _jit._PackageStampedLocator)
@@ -296,12 +296,12 @@ def test_kernels_are_stamped_with_the_whole_package():
 
 #: modules a line-contact solve has no use for: they must not load with it (start-up, issue 13)
 NOT_FOR_A_SOLVE = (
-    "fastline.leakage",
-    "fastline.topography",
+    "fastline.leakage.flow",
+    "fastline.surfaces.topography",
     "fastline.batch",
     "fastline.bem",
-    "fastline.point_contact",
-    "fastline.plotting",
+    "fastline.contact.point",
+    "fastline.reports.plotting",
     "matplotlib",
     "pyfftw",
     "dask",
@@ -323,7 +323,7 @@ def test_import_is_lazy_and_a_solve_loads_only_what_it_needs():
     first, loaded = out.stdout.strip().splitlines()
     assert first == "False"  # `import fastline` alone imports neither numba nor numpy's users
     loaded = set(loaded.split())
-    assert "fastline.line_contact" in loaded
+    assert "fastline.contact.line" in loaded
     assert not loaded.intersection(NOT_FOR_A_SOLVE)
 
 
@@ -338,7 +338,7 @@ def test_every_public_name_resolves():
 def test_per_n_caches_are_bounded():
     """A code that adapts n must not grow memory without bound: kernel spectra, FFTW plans
     (compiled path) and pyFFTW workspaces (fallback) are all least-recently-used caches."""
-    from fastline import _fftw
+    from fastline._lib import fftw as _fftw
 
     for n in range(16, 16 + 3 * elastic.SPECTRA_KEPT):
         op = fl.LogKernelOperator(n, 1e-6, E_STAR)
@@ -368,7 +368,7 @@ def test_coarse_sweep_converges(num):
 
 def test_sweep_restarts_cold_when_the_prediction_fails(monkeypatch):
     """The Python loop (the compiled sweep's own test: tests/test_line_sweep.py)."""
-    from fastline import _fftw
+    from fastline._lib import fftw as _fftw
 
     monkeypatch.setattr(_fftw, "AVAILABLE", False)  # the Python loop and the Python Newton
     lc = fl.LineContact(SURFACES[0], E_STAR, RADIUS, n=256, max_iter=6, warn=False)
@@ -383,7 +383,7 @@ def test_sweep_restarts_cold_when_the_prediction_fails(monkeypatch):
 def test_plan_eviction_under_threads():
     """Threads solving at more grid sizes than the plan cache keeps: plans are evicted while
     others run, never destroyed in use; every result equals the serial one."""
-    from fastline import _fftw
+    from fastline._lib import fftw as _fftw
 
     sizes = [64 + 2 * k for k in range(2 * _fftw.PLANS_KEPT)]
     psd = SURFACES[0]
@@ -403,8 +403,8 @@ def test_plan_eviction_under_threads():
 
 
 def test_predictor_interpolation_exact_for_quadratics_and_flat_beyond_the_ends():
-    from fastline._contact import hermite_slopes
-    from fastline._solve_kernels import hermite_accumulate
+    from fastline.contact.kernels import hermite_accumulate
+    from fastline.contact.model import hermite_slopes
 
     def hermite_interp(xq, x, y):
         out = np.zeros(xq.shape)

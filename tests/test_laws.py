@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 
 import fastline as fl
-from fastline.laws import check_law
+from fastline.theory.laws import check_law
 
 # tiered tolerances
 RTOL_EXACT = 1e-13  # a law against its own inverse, identical arithmetic

@@ -1,4 +1,4 @@
-"""Seal leakage (fastline.leakage, THEORY.md section 8): the interface at magnification zeta, the
+"""Seal leakage (fastline.leakage.flow, THEORY.md section 8): the interface at magnification zeta, the
 critical junction and the leak rate of a pressure profile.
 
 References: ``naive.mean_separation`` / ``naive.edge_separation`` (SciPy quad in the q variable,
@@ -21,7 +21,7 @@ from scipy.optimize import brentq
 from scipy.special import erfinv
 
 import fastline as fl
-from fastline import leakage
+from fastline.leakage import flow as leakage
 
 RTOL_REF = 1e-6  # u_bar and u1 against the quad reference (issue 12)
 RTOL_SEPARATION = 1e-6  # u_bar(1, p) against separation(p) (the theory's rtol)
@@ -201,7 +201,7 @@ def test_sealed_exactly_when_real_area_reaches_threshold(threshold):
 
 @pytest.mark.parametrize("name", PAPER)
 def test_small_pressure_limit(name):
-    """u_c -> u(p/a_c) + u0 as p -> 0 (module docstring of fastline.leakage)."""
+    """u_c -> u(p/a_c) + u0 as p -> 0 (module docstring of fastline.leakage.flow)."""
     th = _theory(name)
     p = 1e-9 * E_STAR
     limit = th.separation(p / 0.42) + th.exponential_fit().u0
@@ -425,7 +425,8 @@ def test_radial_figure_and_file(tmp_path):
     """The figure of a radial leak is drawn against r with the orifice shaded; its CSV header
     holds inner_radius_m (no seal length) and the conductance of the whole contact."""
     pytest.importorskip("matplotlib")
-    from fastline import io, plotting
+    from fastline import io
+    from fastline.reports import plotting
 
     res = _point_contact("surface1", 1.0)
     leak = fl.leak_rate(res, DP, ETA, inner_radius=1e-5, warn=False)

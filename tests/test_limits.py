@@ -1,4 +1,4 @@
-"""Tests for fastline.limits: Hertz and Gaussian line-contact references."""
+"""Tests for fastline.theory.limits: Hertz and Gaussian line-contact references."""
 
 from __future__ import annotations
 
@@ -10,7 +10,7 @@ import pytest
 from scipy.integrate import quad
 from scipy.optimize import brentq
 
-from fastline.limits import (
+from fastline.theory.limits import (
     WS_GAUSSIAN,
     WS_HERTZ,
     alpha,

@@ -1,5 +1,5 @@
-"""The compiled sweep of a line contact (fastline._line_sweep) against the Python loop of
-fastline._contact.ContactModel._sweep, its reference: the same predictions, the same solutions,
+"""The compiled sweep of a line contact (fastline.contact.line_sweep) against the Python loop of
+fastline.contact.model.ContactModel._sweep, its reference: the same predictions, the same solutions,
 the same work; repeated loads, failed predictions, progress, threads."""
 
 from __future__ import annotations
@@ -11,9 +11,11 @@ import numpy as np
 import pytest
 
 import fastline as fl
-from fastline import _contact, _fftw, _line_sweep
-from fastline._contact import ContactModel
-from fastline.limits import _hertz_line
+from fastline._lib import fftw as _fftw
+from fastline.contact import line_sweep as _line_sweep
+from fastline.contact import model as _contact
+from fastline.contact.model import ContactModel
+from fastline.theory.limits import _hertz_line
 
 # tiered tolerances
 RTOL_ROUNDOFF = 1e-12  # the same arithmetic in another order (compiled vs Python predictor)

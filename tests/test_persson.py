@@ -1,4 +1,4 @@
-"""Acceptance tests of fastline.persson: P(q, p), u(p), its inverse p(u), the exponential law.
+"""Acceptance tests of fastline.theory.persson: P(q, p), u(p), its inverse p(u), the exponential law.
 
 Reference: ``naive.separation`` (SciPy quad double integral of docs/theory.md section 3).
 """
@@ -13,8 +13,8 @@ import numpy as np
 import pytest
 from scipy.special import erf, erfinv
 
-from fastline.persson import PerssonTheory, _quintic, _separation_and_slope, _solver_law
-from fastline.spectra import SelfAffinePSD, TabulatedPSD
+from fastline.theory.persson import PerssonTheory, _quintic, _separation_and_slope, _solver_law
+from fastline.theory.spectra import SelfAffinePSD, TabulatedPSD
 
 RTOL_REF = 1e-6  # default-rtol PerssonTheory vs the quad reference
 RTOL_ROUNDTRIP = 1e-6  # pressure(separation(p)) vs p, inside the tables and below them

@@ -1,10 +1,10 @@
-"""Tests of fastline.plotting: figures from the Python API (no pyplot, no files unless asked)."""
+"""Tests of fastline.reports.plotting: figures from the Python API (no pyplot, no files unless asked)."""
 
 import numpy as np
 import pytest
 
 import fastline as fl
-from fastline import paper, plotting
+from fastline.reports import paper, plotting
 
 pytest.importorskip("matplotlib")
 

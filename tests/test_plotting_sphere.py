@@ -1,10 +1,10 @@
-"""fastline.plotting with point-contact results: p along a diameter, the sphere's references."""
+"""fastline.reports.plotting with point-contact results: p along a diameter, the sphere's references."""
 
 import numpy as np
 import pytest
 
 import fastline as fl
-from fastline import paper, plotting
+from fastline.reports import paper, plotting
 
 pytest.importorskip("matplotlib")
 

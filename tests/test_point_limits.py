@@ -1,4 +1,4 @@
-"""Tests for the point-contact limits of fastline.limits: Hertz sphere and Gaussian."""
+"""Tests for the point-contact limits of fastline.theory.limits: Hertz sphere and Gaussian."""
 
 from __future__ import annotations
 
@@ -9,7 +9,7 @@ import pytest
 from scipy.integrate import quad
 from scipy.optimize import brentq
 
-from fastline.limits import (
+from fastline.theory.limits import (
     WS_GAUSSIAN,
     WS_HERTZ_SPHERE,
     gaussian_point_contact,

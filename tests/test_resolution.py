@@ -1,5 +1,5 @@
 """Resolution by accuracy: error estimates against converged references, the accuracy loop,
-its cost against the default grid, and bad input (fastline.resolution)."""
+its cost against the default grid, and bad input (fastline.contact.resolution)."""
 
 from __future__ import annotations
 
@@ -12,8 +12,8 @@ import numpy as np
 import pytest
 
 import fastline as fl
-from fastline import resolution
-from fastline.paper import E_STAR, RADIUS, load_for_alpha, surfaces
+from fastline.contact import resolution
+from fastline.reports.paper import E_STAR, RADIUS, load_for_alpha, surfaces
 
 # tiered tolerances
 ESTIMATE_FACTOR = 3.0  # the estimate lies within this factor of the true error (issue 13)...

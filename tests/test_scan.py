@@ -1,6 +1,6 @@
-"""fastline.scan.analyse_scan, io.write_spectrum and plotting.plot_measured_psd.
+"""fastline.surfaces.scan.analyse_scan, io.write_spectrum and plotting.plot_measured_psd.
 
-analyse_scan only chains fastline.topography: every number it returns is held equal to the
+analyse_scan only chains fastline.surfaces.topography: every number it returns is held equal to the
 elementary calls on the same heights (psd_from_profile, isotropic_from_1d, psd_from_map,
 fit_self_affine, extend_psd); the rest is what it records (range rules, extension point), the
 files it refuses and its bad-input errors. Small seeded synthetic surfaces (256 x 256).
@@ -15,9 +15,9 @@ import numpy as np
 import pytest
 
 import fastline as fl
-from fastline import topography as tp
 from fastline.io import read_spectrum, write_spectrum
-from fastline.scan import LIMIT_RULES, analyse_scan
+from fastline.surfaces import topography as tp
+from fastline.surfaces.scan import LIMIT_RULES, analyse_scan
 
 #: the same computation on the same data: equal to round-off
 SAME = 1e-12

@@ -8,8 +8,8 @@ import naive
 import numpy as np
 import pytest
 
-from fastline._core import LN_FLOOR
-from fastline._solve_kernels import (
+from fastline.contact.kernels import (
+    LN_FLOOR,
     cold_start_into,
     cold_start_normalised,
     hertz_line_gap,
@@ -21,7 +21,7 @@ from fastline._solve_kernels import (
     normalise_pressure_into,
     pressure_into,
 )
-from fastline.line_contact import _std
+from fastline.contact.model import std as _std
 
 RTOL_ROUNDOFF = 1e-12  # loops against NumPy: summation order and FMA only
 
@@ -56,7 +56,7 @@ def test_hertz_line_gap_is_the_hard_contact_solution_gap():
     """The closed form of the gap outside a Hertz line contact against fastline's own
     hard-contact (model="hertz") solve, which knows nothing of it; and its edge asymptote."""
     import fastline as fl
-    from fastline.limits import hertz_line_contact
+    from fastline.theory.limits import hertz_line_contact
 
     E, R, f = 1e9, 0.01, 1e3
     res = fl.LineContact(None, E, R, model="hertz", n=256).solve(f)
@@ -70,7 +70,7 @@ def test_hertz_line_gap_is_the_hard_contact_solution_gap():
 
 
 def test_logaddexp_like_numpy_and_exact_where_a_term_is_dropped():
-    from fastline._solve_kernels import _LOGADDEXP_CUT, _logaddexp
+    from fastline.contact.kernels import _LOGADDEXP_CUT, _logaddexp
 
     rng = np.random.default_rng(3)
     for a, b in zip(rng.uniform(-60, 60, 400), rng.uniform(-60, 60, 400), strict=True):
@@ -173,9 +173,9 @@ def test_cells_and_measures_equal_the_numpy_forms():
 
 
 def test_peak_and_fwhm_wrappers_against_the_references():
-    """The public measures (fastline._contact.peak / fwhm, used by the point contact and the
+    """The public measures (fastline.contact.model.peak / fwhm, used by the point contact and the
     error estimates) on a skewed profile, a peak at the grid's end and a plateau."""
-    from fastline._contact import fwhm, peak
+    from fastline.contact.model import fwhm, peak
 
     x = np.linspace(-1.0, 2.0, 301)
     skewed = np.exp(-((x - 0.3) ** 2) / 0.08) * (1.0 + 0.4 * x)

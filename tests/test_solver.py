@@ -11,9 +11,12 @@ import pytest
 from naive import line_contact_exponential, line_contact_hard
 
 import fastline as fl
-from fastline import _contact, _hard_contact
+import fastline.contact.line as _line_contact
 
 # tiered tolerances
+from fastline.contact import hard as _hard_contact
+from fastline.contact import model as _contact
+
 RTOL_FORCE = 1e-10  # force balance (enforced exactly by the log-sum-exp normalisation)
 RTOL_SYMMETRY = 1e-9  # p(x) = p(-x), relative to p0
 RTOL_REFERENCE = 1e-5  # against the dense SciPy solve at equal n
@@ -229,13 +232,13 @@ def test_nested_start_from_a_coarser_grid(monkeypatch):
     own, a smaller grid and the hard contact do not nest."""
     psd = SURFACES["surface1"]
     f = load_for(psd, 1e-2)
-    lc = fl.LineContact(psd, E_STAR, RADIUS, n=fl.line_contact.NESTED_MIN_N, warn=False)
+    lc = fl.LineContact(psd, E_STAR, RADIUS, n=_line_contact.NESTED_MIN_N, warn=False)
     nested = lc.solve(f)
     work = nested.diagnostics["nested_start"]
-    assert work["used"] and work["n"] == lc.n // fl.line_contact.NESTED_FACTOR
+    assert work["used"] and work["n"] == lc.n // _line_contact.NESTED_FACTOR
     assert work["convolutions"] > 0
     assert "nested_start" not in lc.solve(f, initial=nested).diagnostics
-    monkeypatch.setattr(fl.line_contact, "NESTED_MIN_N", 2 * lc.n)
+    monkeypatch.setattr(_line_contact, "NESTED_MIN_N", 2 * lc.n)
     cold = lc.solve(f)
     assert nested.converged and cold.converged and "nested_start" not in cold.diagnostics
     assert nested.convolutions < cold.convolutions
@@ -243,7 +246,7 @@ def test_nested_start_from_a_coarser_grid(monkeypatch):
         assert getattr(nested, key) == pytest.approx(getattr(cold, key), rel=RTOL_NESTED)
     small = fl.LineContact(psd, E_STAR, RADIUS, n=1024, warn=False).solve(f)
     assert "nested_start" not in small.diagnostics
-    monkeypatch.setattr(fl.line_contact, "NESTED_MIN_N", 64)
+    monkeypatch.setattr(_line_contact, "NESTED_MIN_N", 64)
     hard = fl.LineContact(None, E_STAR, RADIUS, model="hertz", n=1024, warn=False).solve(1e4)
     assert hard.converged and "nested_start" not in hard.diagnostics
 
@@ -497,11 +500,11 @@ def test_bad_spectrum_and_theory_input(make, name):
 
 
 # ---- the compiled Newton against the Python reference loop --------------------------------
-RTOL_PATHS = 1e-8  # p0 and w/s, compiled iteration vs the Python loop of fastline._core
+RTOL_PATHS = 1e-8  # p0 and w/s, compiled iteration vs the Python loop of fastline.contact.core
 
 
 class PythonOnly(fl.PressureLaw):
-    """The Persson law without its compiled form: the solve runs fastline._core.newton's
+    """The Persson law without its compiled form: the solve runs fastline.contact.core.newton's
     Python loop (the readable reference), same algorithm and constants."""
 
     name = "persson"

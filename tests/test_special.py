@@ -1,4 +1,4 @@
-"""Tests for fastline._special: the universal function F(x0) of the Persson separation.
+"""Tests for fastline.theory.special: the universal function F(x0) of the Persson separation.
 
     F(x0) = int_{x0}^inf (1/x) [gamma + 3 (1 - gamma) erf(x)^2] exp(-x^2) dx  (docs/theory.md §3)
 
@@ -15,7 +15,7 @@ import pytest
 from scipy.integrate import quad
 from scipy.special import erf
 
-from fastline._special import G0, universal_F
+from fastline.theory.special import G0, universal_F
 
 RTOL_REF = 1e-10  # F vs the quad reference
 RTOL_G0 = 1e-12  # G(0) vs quad
@@ -128,7 +128,7 @@ def test_F_rejects_bad_gamma(gamma):
 def test_shipped_coefficients_are_the_computed_ones():
     """The gamma-free Chebyshev tables read from fastline/_special_tables.npz equal a fresh
     computation (a stale file after a change of degree or region would fail here)."""
-    from fastline._special import _TABLE_NAMES, _gamma_free_tables, compute_gamma_free_tables
+    from fastline.theory.special import _TABLE_NAMES, _gamma_free_tables, compute_gamma_free_tables
 
     shipped, fresh = _gamma_free_tables(), compute_gamma_free_tables()
     assert len(shipped) == len(fresh) == len(_TABLE_NAMES)

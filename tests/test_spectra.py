@@ -1,4 +1,4 @@
-"""Tests for fastline.spectra: the roughness power spectra C(q) and effective_modulus.
+"""Tests for fastline.theory.spectra: the roughness power spectra C(q) and effective_modulus.
 
 Every moment is checked against SciPy quadrature of its definition (docs/theory.md section 2):
 ``h_rms^2 = 2 pi int q C dq``, ``h'^2 = 2 pi int q^3 C dq``, ``A(q) = pi int_0^q q^3 C dq``.
@@ -12,7 +12,7 @@ import numpy as np
 import pytest
 from scipy.integrate import quad
 
-from fastline.spectra import PSD, SelfAffinePSD, SumPSD, TabulatedPSD, effective_modulus
+from fastline.theory.spectra import PSD, SelfAffinePSD, SumPSD, TabulatedPSD, effective_modulus
 
 RTOL_QUAD = 1e-10  # closed-form / exact moments vs adaptive quadrature of the definition
 RTOL_EXACT = 1e-12  # identities that hold to rounding (same power law, sums, formulas)

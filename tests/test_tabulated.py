@@ -1,4 +1,4 @@
-"""The q quadrature of tabulated spectra (fastline._tabulated): accurate and table-size free.
+"""The q quadrature of tabulated spectra (fastline.theory.quadrature): accurate and table-size free.
 
 References: ``naive.separation_tabulated`` (Gauss-Legendre per table interval, so every kink is
 a panel edge; its own F) and the analytic spectrum that a dense table samples.
@@ -14,8 +14,8 @@ import numpy as np
 import pytest
 from scipy.special import erfinv
 
-from fastline.persson import PerssonTheory, TableSettings
-from fastline.spectra import SelfAffinePSD, TabulatedPSD
+from fastline.theory.persson import PerssonTheory, TableSettings
+from fastline.theory.spectra import SelfAffinePSD, TabulatedPSD
 
 E_STAR = 1.33e9
 GAMMA = 0.45

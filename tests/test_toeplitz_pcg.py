@@ -12,7 +12,7 @@ import naive
 import numpy as np
 import pytest
 
-from fastline._toeplitz_pcg import (
+from fastline.elastic.pcg import (
     _STRIP,
     _aggregate_edges,
     _coarse_matrices,

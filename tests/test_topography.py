@@ -1,4 +1,4 @@
-"""Measured surfaces in (fastline.topography): conventions, the Abel transform, synthetic
+"""Measured surfaces in (fastline.surfaces.topography): conventions, the Abel transform, synthetic
 surfaces of known spectrum, the usable range, the fit, other codes' conventions, files.
 
 References: closed forms (``naive.self_affine_1d``, ``naive.smooth_rolloff_pair``), explicit sums
@@ -19,7 +19,7 @@ from scipy.integrate import quad
 from scipy.special import gamma
 
 import fastline as fl
-from fastline import topography as tp
+from fastline.surfaces import topography as tp
 
 RTOL_EXACT = 1e-12  # identities (Parseval, explicit sums, invariances, unit factors)
 RTOL_ABEL = 1e-6  # inverse Abel round trip away from cut-offs and kinks
@@ -953,7 +953,7 @@ def test_fit_and_generator_reject():
 def test_hermite_pieces_never_overshoot():
     """The slopes of the 1D interpolant keep each cubic piece between its two end values (the
     Fritsch-Carlson condition), on noisy data with many local extrema."""
-    from fastline._abel import hermite_slopes
+    from fastline.surfaces.abel import hermite_slopes
 
     rng = np.random.default_rng(8)
     u = np.cumsum(rng.uniform(0.05, 0.3, 60))

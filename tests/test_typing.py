@@ -102,18 +102,18 @@ def test_walker_sees_the_public_api():
     """The walk reaches the entry points the issue names (a walker finding nothing passes)."""
     keys = public_callables()
     for name in (
-        "fastline.spectra.SelfAffinePSD.__init__",
-        "fastline.spectra.PSD.cumulative",
-        "fastline.spectra.TabulatedPSD.__call__",
-        "fastline.persson.PerssonTheory.critical_gap",
-        "fastline.persson.pressure_at",
-        "fastline.laws.TabulatedLaw.separation_and_slope",
-        "fastline.asperity.GreenwoodWilliamsonLaw.real_area",
-        "fastline.leakage.leak_rate",
-        "fastline.topography.psd_from_profile",
-        "fastline.scan.analyse_scan",
-        "fastline.plotting.plot_profile",
-        "fastline.line_contact.profile",
+        "fastline.theory.spectra.SelfAffinePSD.__init__",
+        "fastline.theory.spectra.PSD.cumulative",
+        "fastline.theory.spectra.TabulatedPSD.__call__",
+        "fastline.theory.interface.InterfaceStatistics.critical_gap",
+        "fastline.theory.persson.pressure_at",
+        "fastline.theory.laws.TabulatedLaw.separation_and_slope",
+        "fastline.theory.asperity.GreenwoodWilliamsonLaw.real_area",
+        "fastline.leakage.flow.leak_rate",
+        "fastline.surfaces.topography.psd_from_profile",
+        "fastline.surfaces.scan.analyse_scan",
+        "fastline.reports.plotting.plot_profile",
+        "fastline.contact.line.profile",
     ):
         assert name in keys, name
     assert len(keys) > 150

@@ -11,8 +11,11 @@ import numpy as np
 import pytest
 
 import fastline as fl
-from fastline import _validate, asperity, paper, topography
-from fastline.axisymmetric import disc_interaction
+from fastline._lib import validate as _validate
+from fastline.elastic.ring import disc_interaction
+from fastline.reports import paper
+from fastline.surfaces import topography
+from fastline.theory import asperity
 
 E_STAR, RADIUS = 1.33e9, 0.01
 PSD = fl.SelfAffinePSD(1e-6, 0.8, 1e3, 1e4, 1e9)

@@ -1,4 +1,4 @@
-"""The theory against the BEM (fastline.validation) and ``fastline validate`` / ``--variant``.
+"""The theory against the BEM (fastline.reports.validation) and ``fastline validate`` / ``--variant``.
 
 Tiny scenes (grids of 16 x 540 to 64 x 2592 cells, 2 to 6 realisations): the numbers the command
 prints and writes against the API's, the agreement of the theory with the BEM where both are
@@ -16,10 +16,12 @@ import numpy as np
 import pytest
 
 import fastline as fl
-from fastline import bem, cli_validate, validation
-from fastline.cli import main
+from fastline import bem
+from fastline.cli import validate as cli_validate
+from fastline.cli.app import main
 from fastline.io import read_csv
-from fastline.variants import VARIANTS
+from fastline.reports import validation
+from fastline.theory.variants import VARIANTS
 
 pytest.importorskip("matplotlib")
 

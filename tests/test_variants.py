@@ -1,4 +1,4 @@
-"""Variants of the Persson u(p) (fastline.variants): the printed bracket and Wang & Mueser's
+"""Variants of the Persson u(p) (fastline.theory.variants): the printed bracket and Wang & Mueser's
 correction, which also enters the contact-area recursion.
 
 References: ``naive.separation`` with each variant's own universal function (``naive.universal_F``
@@ -20,9 +20,9 @@ from scipy.integrate import quad
 from scipy.special import erf
 
 import fastline as fl
-from fastline._special import universal_F
-from fastline.persson import PerssonTheory
-from fastline.variants import VARIANTS, get_variant
+from fastline.theory.persson import PerssonTheory
+from fastline.theory.special import universal_F
+from fastline.theory.variants import VARIANTS, get_variant
 
 RTOL_REF = 1e-6  # u(p) against the quad reference (issue 15)
 RTOL_UNIVERSAL = 1e-10  # F and Y of the area variant against the ODE reference

@@ -22,7 +22,7 @@ from typing import Any
 
 import numpy as np
 
-from fastline._validate import finite_array, positive
+from fastline._lib.validate import finite_array, positive
 from fastline.bem.ensemble import ProfileEnsemble, _ring_index
 
 __all__ = [

@@ -31,8 +31,8 @@ import numba
 import numpy as np
 from numpy.typing import ArrayLike
 
-from fastline._jit import JIT
-from fastline._validate import finite_array, finite_scalar, integer, positive
+from fastline._lib.jit import JIT
+from fastline._lib.validate import finite_array, finite_scalar, integer, positive
 from fastline.bem.halfspace import ElasticHalfSpace
 from fastline.bem.surface import Grid
 

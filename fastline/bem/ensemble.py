@@ -44,7 +44,8 @@ from typing import TYPE_CHECKING
 import numpy as np
 import scipy.fft
 
-from fastline._validate import finite_scalar, integer, positive
+from fastline._lib.executors import close_engine, open_engine
+from fastline._lib.validate import finite_scalar, integer, positive
 from fastline.bem import _profile
 from fastline.bem.contact import (
     DEFAULT_TOL,
@@ -55,7 +56,7 @@ from fastline.bem.contact import (
 )
 from fastline.bem.flow import reynolds_flow
 from fastline.bem.surface import Amplitudes, Grid, random_surface, spectral_grid
-from fastline.spectra import PSD
+from fastline.theory.spectra import PSD
 
 if TYPE_CHECKING:  # annotations only: dask is optional
     from distributed import Client
@@ -792,15 +793,14 @@ def ensemble_executor(
     concurrent.futures.Executor or None
         None means in this process; pass it on as ``run_ensemble(..., executor=...)``.
     """
-    from fastline.batch import _close, _engine
 
     if executor is None and workers is None:
         executor = "serial"
-    engine = _engine(executor, workers, tasks)
+    engine = open_engine(executor, workers, tasks)
     try:
         yield engine.executor
     finally:
-        _close(engine)
+        close_engine(engine)
 
 
 def _map(executor, scene, seeds) -> list:

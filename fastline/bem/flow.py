@@ -37,7 +37,7 @@ from numpy.typing import ArrayLike
 from scipy.sparse.csgraph import connected_components
 from scipy.sparse.linalg import spsolve
 
-from fastline._validate import finite_array, positive
+from fastline._lib.validate import finite_array, positive
 
 __all__ = ["FlowResult", "reynolds_flow"]
 

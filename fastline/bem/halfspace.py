@@ -63,8 +63,8 @@ import numpy as np
 import pyfftw
 from numpy.typing import ArrayLike
 
-from fastline._jit import JIT
-from fastline._validate import integer, positive, real_array
+from fastline._lib.jit import JIT
+from fastline._lib.validate import integer, positive, real_array
 
 __all__ = ["ElasticHalfSpace", "love_coefficient", "ALIAS_ORDER"]
 

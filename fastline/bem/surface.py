@@ -1,6 +1,6 @@
 """Periodic random height maps with a given isotropic power spectrum, and their spectrum.
 
-Convention (Persson's, as :mod:`fastline.spectra`): ``h_rms^2 = 2 pi int q C(q) dq`` and, for a
+Convention (Persson's, as :mod:`fastline.theory.spectra`): ``h_rms^2 = 2 pi int q C(q) dq`` and, for a
 height map of ``nx x ny`` cells of size ``dx x dy`` (area ``A = nx dx ny dy``) with the
 unnormalised DFT ``H = FFT2(h)``,
 
@@ -60,8 +60,8 @@ import numpy as np
 import scipy.fft
 from numpy.typing import ArrayLike
 
-from fastline._validate import finite_array, integer, positive
-from fastline.spectra import PSD
+from fastline._lib.validate import finite_array, integer, positive
+from fastline.theory.spectra import PSD
 
 __all__ = [
     "Grid",

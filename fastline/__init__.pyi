@@ -1,0 +1,61 @@
+# The public API of fastline, listed once: `import fastline as fl; fl.<name>`. Each name loads
+# its subpackage on first access (fastline/__init__.py reads this file), so that `import
+# fastline` costs only what a program uses; type checkers and IDEs read the same list.
+from . import io as io
+from .batch import SweepTable as SweepTable
+from .batch import sweep as sweep
+from .contact import ErrorEstimate as ErrorEstimate
+from .contact import LineContact as LineContact
+from .contact import LineContactResult as LineContactResult
+from .contact import PointContact as PointContact
+from .contact import PointContactResult as PointContactResult
+from .contact import assess as assess
+from .contact import p0_ratio as p0_ratio
+from .contact import profile as profile
+from .contact import solve_line_contact as solve_line_contact
+from .contact import solve_point_contact as solve_point_contact
+from .contact import w_over_s as w_over_s
+from .contact import warn_once as warn_once
+from .elastic import LogKernelOperator as LogKernelOperator
+from .elastic import RingKernelOperator as RingKernelOperator
+from .elastic import influence_coefficients as influence_coefficients
+from .errors import AccuracyWarning as AccuracyWarning
+from .errors import ConvergenceWarning as ConvergenceWarning
+from .errors import LeakageWarning as LeakageWarning
+from .errors import ValidityWarning as ValidityWarning
+from .leakage import LeakResult as LeakResult
+from .leakage import leak_rate as leak_rate
+from .leakage import leak_rate_profile as leak_rate_profile
+from .reports import paper as paper
+from .reports import plotting as plotting
+from .surfaces import topography as topography
+from .theory import PSD as PSD
+from .theory import WS_GAUSSIAN as WS_GAUSSIAN
+from .theory import WS_HERTZ as WS_HERTZ
+from .theory import WS_HERTZ_SPHERE as WS_HERTZ_SPHERE
+from .theory import CriticalGap as CriticalGap
+from .theory import ExponentialFit as ExponentialFit
+from .theory import ExponentialLaw as ExponentialLaw
+from .theory import GreenwoodWilliamsonLaw as GreenwoodWilliamsonLaw
+from .theory import PerssonLaw as PerssonLaw
+from .theory import PerssonTables as PerssonTables
+from .theory import PerssonTheory as PerssonTheory
+from .theory import PressureLaw as PressureLaw
+from .theory import SelfAffinePSD as SelfAffinePSD
+from .theory import SummitStatistics as SummitStatistics
+from .theory import SumPSD as SumPSD
+from .theory import TabulatedLaw as TabulatedLaw
+from .theory import TabulatedPSD as TabulatedPSD
+from .theory import alpha as alpha
+from .theory import effective_modulus as effective_modulus
+from .theory import gaussian_line_contact as gaussian_line_contact
+from .theory import gaussian_point_contact as gaussian_point_contact
+from .theory import hertz_line_contact as hertz_line_contact
+from .theory import hertz_point_contact as hertz_point_contact
+from .theory import p0_ratio_gaussian as p0_ratio_gaussian
+from .theory import p0_ratio_gaussian_sphere as p0_ratio_gaussian_sphere
+from .theory import penetration as penetration
+from .theory import pressure_at as pressure_at
+from .theory import separation_at as separation_at
+
+__version__: str

@@ -1,0 +1,48 @@
+"""Every warning and exception class of fastline, in one place.
+
+Filter them by class: ``warnings.simplefilter("ignore", fastline.ValidityWarning)`` silences
+the validity notes of solves, leak rates and accuracy estimates (its subclasses
+:class:`AccuracyWarning` and :class:`LeakageWarning` included); :class:`ConvergenceWarning`
+marks a solve that stopped before its tolerance (``converged=False``).
+"""
+
+from __future__ import annotations
+
+__all__ = [
+    "ValidityWarning",
+    "ConvergenceWarning",
+    "AccuracyWarning",
+    "LeakageWarning",
+    "TopographyWarning",
+    "SceneFailureWarning",
+    "SpectrumFileError",
+]
+
+
+class ValidityWarning(UserWarning):
+    """A scene is outside the assumptions of the model (elasticity, half-space, mean field,
+    exponential law) or its result is limited by the grid."""
+
+
+class ConvergenceWarning(RuntimeWarning):
+    """A solve stopped before reaching its tolerance (``converged=False``)."""
+
+
+class AccuracyWarning(ValidityWarning):
+    """A solve with ``accuracy=`` stopped before its error estimate met the accuracy."""
+
+
+class LeakageWarning(ValidityWarning):
+    """A leak-rate estimate is outside the assumptions of the critical-junction theory."""
+
+
+class TopographyWarning(UserWarning):
+    """A measurement that looks wrong (units) or a spectrum that needed repair."""
+
+
+class SceneFailureWarning(UserWarning):
+    """Some scenes of a sweep failed (their rows carry the error text)."""
+
+
+class SpectrumFileError(ValueError):
+    """A spectrum file that cannot be read or does not look like a spectrum."""

@@ -1,0 +1,509 @@
+"""The theory against a boundary-element simulation of the user's own surface (issue 15).
+
+:func:`validate_line_contact` runs the BEM ensemble of a cylinder on a random surface of the given
+spectrum (:func:`fastline.bem.run_ensemble`) and solves the same scene with each pressure law
+asked for (the variants of :mod:`fastline.theory.variants`, the Greenwood-Williamson law of
+:mod:`fastline.theory.asperity`); :func:`fastline.bem.compare_line_contact` gives each law's p0, s, w
+and w/s and its profile against the BEM in units of the BEM's error bar.
+
+:func:`validate_point_contact` does the same for a sphere: the BEM's ring-averaged nominal
+pressure p_bar(r) against the theory's p(r) (:class:`fastline.PointContact`,
+:func:`fastline.bem.compare_point_contact`), with the same statistics (p0, s with
+``s^2 = int r^2 p dA / 2F``, the FWHM along a diameter and w/s).
+
+:func:`validate_flat_contact` does the same for a nominally flat interface under uniform
+pressures (the building block of a seal): the BEM contact fraction, mean gap and Reynolds
+effective gap (:mod:`fastline.bem.flow`) against the theory's real contact area ``P(q1, p)``,
+mean separation ``u(p)`` and critical-junction gap ``u_c`` (:mod:`fastline.leakage.flow`).
+
+The BEM realisations are independent: ``executor=`` and ``workers=`` run them where
+:func:`fastline.sweep` runs its tasks (a local process pool, a dask scheduler address or Client,
+any :class:`concurrent.futures.Executor`; :func:`fastline.bem.run_ensemble`). ``fastline
+validate`` is the command line of both.
+"""
+
+from __future__ import annotations
+
+import math
+import time
+from collections.abc import Sequence
+from dataclasses import dataclass, field
+from typing import TYPE_CHECKING, cast
+
+import numpy as np
+from numpy.typing import ArrayLike
+
+from fastline import bem
+from fastline._lib.validate import integer, positive, positive_array
+from fastline.bem.compare import Difference, compare_line_contact, compare_point_contact
+from fastline.theory.asperity import GreenwoodWilliamsonLaw
+from fastline.theory.laws import PerssonLaw
+from fastline.theory.persson import PerssonTheory
+from fastline.theory.spectra import PSD
+from fastline.theory.variants import DEFAULT_VARIANT, VARIANTS
+
+if TYPE_CHECKING:
+    from fastline.bem.ensemble import ExecutorLike
+    from fastline.theory.variants import VariantName
+
+__all__ = [
+    "MODELS",
+    "ProfileValidation",
+    "LineValidation",
+    "PointValidation",
+    "FlatValidation",
+    "validate_line_contact",
+    "validate_point_contact",
+    "validate_flat_contact",
+    "law_of",
+]
+
+GW = "greenwood-williamson"
+#: fewest BEM realisations: every difference is in units of their standard error (one has none)
+MIN_REALIZATIONS = 2
+#: the laws a validation can compare: the variants of the Persson theory and the GW law
+MODELS = (*VARIANTS, GW)
+#: the critical-junction thresholds compared in a flat validation (Persson; Bruggeman)
+THRESHOLDS = (0.42, 0.5)
+
+
+def _check_models(models) -> tuple[str, ...]:
+    if isinstance(models, str):
+        models = (models,)
+    models = tuple(models)
+    if not models:
+        raise ValueError(f"models must name at least one of {MODELS}")
+    for m in models:
+        if m not in MODELS:
+            raise ValueError(f"models must be among {MODELS}, got {m!r}")
+    return models
+
+
+def law_of(
+    model: str, psd: PSD, E_star: float, gamma: float | None = None
+) -> PerssonLaw | GreenwoodWilliamsonLaw:
+    """The pressure law called ``model`` (an entry of :data:`MODELS`) for a spectrum and E*;
+    gamma (None: the variant's own) applies to the Persson variants."""
+    _check_models(model)
+    if model == GW:
+        return GreenwoodWilliamsonLaw.from_psd(psd, E_star)
+    variant = cast("VariantName", model)  # checked above: one of VARIANTS
+    return PerssonLaw(PerssonTheory(psd, E_star, gamma=gamma, variant=variant))
+
+
+def _difference(theory, bem_value, error) -> Difference:
+    diff = theory - bem_value
+    z = diff / error if error > 0.0 and math.isfinite(error) else math.nan
+    rel = theory / bem_value - 1.0 if bem_value != 0.0 else math.nan
+    return Difference(float(theory), float(bem_value), float(error), diff, rel, z)
+
+
+# ----------------------------------------------------------------------------------------------
+# cylinder and sphere
+# ----------------------------------------------------------------------------------------------
+@dataclass(frozen=True)
+class ProfileValidation:
+    """Theory against BEM for one cylinder or sphere scene (:class:`LineValidation`,
+    :class:`PointValidation`).
+
+    Attributes
+    ----------
+    ensemble : fastline.bem.ProfileEnsemble
+        The BEM ensemble (p_bar with error bars, p0, s, w, w/s).
+    results : dict
+        Model name -> the theory's :class:`fastline.LineContactResult` (cylinder) or
+        :class:`fastline.PointContactResult` (sphere).
+    comparisons : dict
+        Model name -> :class:`fastline.bem.LineComparison` or
+        :class:`fastline.bem.PointComparison`.
+    seconds_bem, seconds_theory : float
+        Wall times [s].
+    """
+
+    ensemble: bem.ProfileEnsemble = field(repr=False)
+    results: dict = field(repr=False)
+    comparisons: dict = field(repr=False)
+    seconds_bem: float
+    seconds_theory: float
+
+    @property
+    def alpha(self) -> float:
+        """``h_rms / delta`` of the scene."""
+        return self.ensemble.alpha
+
+    @property
+    def geometry(self) -> str:
+        """``"cylinder"`` or ``"sphere"``."""
+        return self.ensemble.geometry
+
+    def table(self) -> str:
+        """Plain text: BEM values with standard errors, then each model's values and their
+        difference from the BEM (relative, and z in BEM standard errors); columns at least two
+        spaces apart whatever the widths of the values."""
+        e = self.ensemble
+        head = ["", "p0/p0_Hertz", "s [m]", "w/s", "profile chi2/bin"]
+        rows = [
+            [
+                "BEM",
+                _pm(e.p0_ratio, e.p0_ratio_error),
+                _pm(e.s, e.s_error),
+                _pm(e.w_over_s, e.w_over_s_error),
+                "",
+            ]
+        ]
+        for name, c in self.comparisons.items():
+            rows.append(
+                [
+                    name,
+                    _vz(self.results[name].p0_ratio, c.p0),
+                    _vz(c.s.theory, c.s),
+                    _vz(c.w_over_s.theory, c.w_over_s),
+                    f"{c.chi2_per_bin:.3g}",
+                ]
+            )
+        return _columns([head, *rows])
+
+
+@dataclass(frozen=True)
+class LineValidation(ProfileValidation):
+    """Theory against BEM for a cylinder (:func:`validate_line_contact`): p_bar(x) averaged
+    along the axis; attributes as :class:`ProfileValidation`."""
+
+
+@dataclass(frozen=True)
+class PointValidation(ProfileValidation):
+    """Theory against BEM for a sphere (:func:`validate_point_contact`): p_bar(r) averaged
+    over rings about the axis; attributes as :class:`ProfileValidation`."""
+
+
+def _columns(rows: list[list[str]], gap: int = 2) -> str:
+    """Rows of cells as text: the first column left-aligned, the others right-aligned, each
+    as wide as its widest cell, columns ``gap`` spaces apart."""
+    widths = [max(len(r[k]) for r in rows) for k in range(len(rows[0]))]
+    lines = []
+    for r in rows:
+        cells = [r[0].ljust(widths[0])] + [
+            c.rjust(w) for c, w in zip(r[1:], widths[1:], strict=True)
+        ]
+        lines.append((" " * gap).join(cells).rstrip())
+    return "\n".join(lines)
+
+
+def _pm(value: float, error: float) -> str:
+    return f"{value:.4g} +- {error:.2g}"
+
+
+def _vz(value: float, d: Difference) -> str:
+    """Value, relative difference and z."""
+    return f"{value:.4g} ({100 * d.relative:+.1f}%, z {d.z:+.1f})"
+
+
+def validate_line_contact(
+    psd: PSD,
+    E_star: float,
+    radius: float,
+    load: float,
+    *,
+    models: Sequence[str] = (DEFAULT_VARIANT,),
+    gamma: float | None = None,
+    realizations: int = 8,
+    seed: int = 0,
+    executor: ExecutorLike = None,
+    workers: int | None = None,
+    points_per_wavelength: float = 4.0,
+    periods: float = 2.0,
+    n: int = 1024,
+    scene: bem.Scene | None = None,
+) -> LineValidation:
+    """BEM ensemble of a rough cylinder against the theory's p(x) for each model.
+
+    Parameters
+    ----------
+    psd : PSD
+        Roughness spectrum (m^4 vs 1/m).
+    E_star, radius, load : float
+        Effective modulus [Pa], cylinder radius [m], load per unit length [N/m].
+    models : sequence of str
+        Laws to compare, from :data:`MODELS` (default the default variant).
+    gamma : float, optional
+        Parameter of the Persson variants (default: each variant's own).
+    realizations, seed : int
+        BEM surfaces (>= 2: the error bars) and root seed (:func:`fastline.bem.run_ensemble`).
+    executor : None, "serial", str, concurrent.futures.Executor or dask Client
+        Where the realisations run, as for :func:`fastline.sweep`: a dask scheduler address
+        (``"tcp://host:8786"``) or Client, any executor (default: this process;
+        :func:`fastline.bem.run_ensemble`).
+    workers : int, optional
+        Run the realisations on a local pool of this many processes (``executor=None`` only).
+    points_per_wavelength, periods : float
+        BEM grid (:func:`fastline.bem.line_contact_scene`).
+    n : int
+        Theory grid points.
+    scene : fastline.bem.Scene, optional
+        A prebuilt BEM scene (then the grid options are ignored).
+
+    Returns
+    -------
+    LineValidation
+    """
+    models = _check_inputs(psd, models, realizations, seed)
+    if scene is None:
+        scene = bem.line_contact_scene(
+            psd,
+            E_star,
+            radius,
+            load,
+            points_per_wavelength=points_per_wavelength,
+            periods=periods,
+        )
+    elif not isinstance(scene, bem.Scene) or scene.geometry != "cylinder":
+        raise ValueError("scene must be a cylinder scene (fastline.bem.line_contact_scene)")
+    from fastline.contact.line import LineContact
+
+    results, seconds_theory = _theory_results(
+        LineContact, psd, E_star, radius, load, models, gamma, n
+    )
+    ensemble, seconds_bem = _bem_ensemble(scene, realizations, seed, executor, workers)
+    comparisons = {m: compare_line_contact(r, ensemble) for m, r in results.items()}
+    return LineValidation(ensemble, results, comparisons, seconds_bem, seconds_theory)
+
+
+def validate_point_contact(
+    psd: PSD,
+    E_star: float,
+    radius: float,
+    load: float,
+    *,
+    models: Sequence[str] = (DEFAULT_VARIANT,),
+    gamma: float | None = None,
+    realizations: int = 8,
+    seed: int = 0,
+    executor: ExecutorLike = None,
+    workers: int | None = None,
+    points_per_wavelength: float = 4.0,
+    n: int = 512,
+    scene: bem.Scene | None = None,
+) -> PointValidation:
+    """BEM ensemble of a rough sphere against the theory's p(r) for each model.
+
+    The BEM's nominal pressure ``p_bar(r)`` is the pressure averaged over rings about the
+    sphere's axis (width ``Scene.bin_width``, default a quarter of ``2 pi / q0``) and over
+    realisations; p0, s (``s^2 = int r^2 p dA / 2F``), the FWHM along a diameter and w/s as
+    for the theory (docs/sphere.md; :func:`fastline.bem.run_ensemble`).
+
+    Parameters
+    ----------
+    psd : PSD
+        Roughness spectrum (m^4 vs 1/m).
+    E_star, radius, load : float
+        Effective modulus [Pa], sphere radius [m], normal force on the sphere [N].
+    models, gamma, realizations, seed, executor, workers
+        As :func:`validate_line_contact`.
+    points_per_wavelength : float
+        BEM cells per shortest wavelength ``2 pi / q1`` (>= 2;
+        :func:`fastline.bem.point_contact_scene`: an isolated square patch four contact widths
+        on a side).
+    n : int
+        Theory cells from the axis (:class:`fastline.PointContact`, default 512).
+    scene : fastline.bem.Scene, optional
+        A prebuilt sphere scene (then ``points_per_wavelength`` is ignored).
+
+    Returns
+    -------
+    PointValidation
+    """
+    models = _check_inputs(psd, models, realizations, seed)
+    if scene is None:
+        scene = bem.point_contact_scene(
+            psd, E_star, radius, load, points_per_wavelength=points_per_wavelength
+        )
+    elif not isinstance(scene, bem.Scene) or scene.geometry != "sphere":
+        raise ValueError("scene must be a sphere scene (fastline.bem.point_contact_scene)")
+    from fastline.contact.point import PointContact
+
+    results, seconds_theory = _theory_results(
+        PointContact, psd, E_star, radius, load, models, gamma, n
+    )
+    ensemble, seconds_bem = _bem_ensemble(scene, realizations, seed, executor, workers)
+    comparisons = {m: compare_point_contact(r, ensemble) for m, r in results.items()}
+    return PointValidation(ensemble, results, comparisons, seconds_bem, seconds_theory)
+
+
+def _check_inputs(psd, models, realizations, seed) -> tuple[str, ...]:
+    """The checks shared by the cylinder and the sphere, before any work; the models."""
+    if not isinstance(psd, PSD):
+        raise TypeError(f"psd must be a fastline PSD, got {type(psd).__name__}")
+    _check_ensemble(realizations, seed)
+    return _check_models(models)
+
+
+def _check_ensemble(realizations, seed) -> None:
+    """At least ``MIN_REALIZATIONS`` BEM realisations and a seed."""
+    integer("realizations", realizations, MIN_REALIZATIONS, why=" (the error bars need them)")
+    if not isinstance(seed, np.random.SeedSequence):
+        integer("seed", seed, 0)
+
+
+def _theory_results(contact, psd, E_star, radius, load, models, gamma, n):
+    """({model: result}, seconds): the scene solved by ``contact`` (LineContact or
+    PointContact) with each model's law."""
+    t0 = time.perf_counter()
+    results = {}
+    for m in models:
+        law = law_of(m, psd, E_star, gamma)
+        results[m] = contact(psd, E_star, radius, model=law, n=n, warn=False).solve(load)
+    return results, time.perf_counter() - t0
+
+
+def _bem_ensemble(scene, realizations, seed, executor, workers):
+    """(ProfileEnsemble, seconds) of ``realizations`` surfaces."""
+    t0 = time.perf_counter()
+    ensemble = cast(
+        bem.ProfileEnsemble,
+        bem.run_ensemble(scene, realizations, seed, executor=executor, workers=workers),
+    )
+    return ensemble, time.perf_counter() - t0
+
+
+# ----------------------------------------------------------------------------------------------
+# flat contact (the seal's building block)
+# ----------------------------------------------------------------------------------------------
+@dataclass(frozen=True)
+class FlatValidation:
+    """Theory against BEM for a nominally flat contact (:func:`validate_flat_contact`).
+
+    Attributes
+    ----------
+    pressures : ndarray
+        Nominal pressures [Pa].
+    ensembles : list of fastline.bem.FlatEnsemble
+        One per pressure.
+    area, separation : dict
+        Model name -> list (per pressure) of :class:`fastline.bem.Difference`: the real contact
+        area fraction against the BEM contact fraction, u(p) [m] against the BEM mean gap.
+    critical_gap : dict
+        Threshold -> list of Difference: ``u_c`` of the first Persson variant in ``models`` [m]
+        against the BEM effective (Reynolds) gap; 0 where the theory says sealed.
+    model : str
+        The Persson variant of ``critical_gap``.
+    laws : dict
+        Model name -> pressure law (for curves between the pressures).
+    seconds_bem : float
+    """
+
+    pressures: np.ndarray
+    ensembles: list = field(repr=False)
+    area: dict = field(repr=False)
+    separation: dict = field(repr=False)
+    critical_gap: dict = field(repr=False)
+    model: str
+    laws: dict = field(repr=False)
+    seconds_bem: float
+
+    def table(self) -> str:
+        """Plain text, one block per pressure."""
+        out = []
+        for i, (p, e) in enumerate(zip(self.pressures, self.ensembles, strict=True)):
+            out.append(
+                f"p = {p:.4g} Pa: BEM contact {e.contact_fraction:.4g} +- "
+                f"{e.contact_fraction_error:.2g}, mean gap {e.mean_gap:.4g} +- "
+                f"{e.mean_gap_error:.2g} m, effective gap {e.effective_gap:.4g} +- "
+                f"{e.effective_gap_error:.2g} m (percolating in "
+                f"{100 * e.percolating_fraction:.0f}% of {e.realizations})"
+            )
+            for name in self.area:
+                a, s = self.area[name][i], self.separation[name][i]
+                out.append(
+                    f"  {name:<22} area {a.theory:.4g} ({100 * a.relative:+.1f}%, z {a.z:+.1f})"
+                    f"  u {s.theory:.4g} m ({100 * s.relative:+.1f}%, z {s.z:+.1f})"
+                )
+            for t, diffs in self.critical_gap.items():
+                d = diffs[i]
+                out.append(
+                    f"  u_c ({self.model}, threshold {t:g}) {d.theory:.4g} m "
+                    f"({100 * d.relative:+.1f}%, z {d.z:+.1f}) vs effective gap"
+                )
+        return "\n".join(out)
+
+
+def validate_flat_contact(
+    psd: PSD,
+    E_star: float,
+    pressures: ArrayLike,
+    *,
+    models: Sequence[str] = (DEFAULT_VARIANT,),
+    gamma: float | None = None,
+    realizations: int = 8,
+    seed: int = 0,
+    executor: ExecutorLike = None,
+    workers: int | None = None,
+    points_per_wavelength: float = 4.0,
+    periods: float = 2.0,
+    thresholds: Sequence[float] = THRESHOLDS,
+) -> FlatValidation:
+    """BEM ensembles of a nominally flat contact against the theory, one per pressure.
+
+    Parameters
+    ----------
+    psd : PSD
+    E_star : float
+        Effective modulus [Pa].
+    pressures : float or array_like
+        Nominal contact pressures [Pa], > 0.
+    models, gamma, realizations, seed, executor, workers, points_per_wavelength, periods
+        As :func:`validate_line_contact` (one pool or client serves every pressure); the
+        critical gap uses the first Yang-Persson variant in ``models`` (the leak-rate theory
+        needs the contact area erf(x)).
+    thresholds : sequence of float
+        Percolation thresholds of the critical junction (default 0.42 and 0.5).
+
+    Returns
+    -------
+    FlatValidation
+    """
+    if not isinstance(psd, PSD):
+        raise TypeError(f"psd must be a fastline PSD, got {type(psd).__name__}")
+    models = _check_models(models)
+    _check_ensemble(realizations, seed)
+    E_star = positive("E_star", E_star, "Pa")
+    p = np.atleast_1d(positive_array("pressures", pressures)).ravel()
+    laws = {m: law_of(m, psd, E_star, gamma) for m in models}
+    persson = [m for m in models if m != GW and not VARIANTS[m].area_correction]
+    leak_model = persson[0] if persson else DEFAULT_VARIANT
+    leak_law = laws.get(leak_model)
+    leak_theory = (
+        leak_law.theory if isinstance(leak_law, PerssonLaw) else PerssonTheory(psd, E_star)
+    )
+    scenes = [
+        bem.flat_contact_scene(
+            psd, E_star, float(pi), points_per_wavelength=points_per_wavelength, periods=periods
+        )
+        for pi in p
+    ]
+    t0 = time.perf_counter()
+    with bem.ensemble_executor(executor, workers, realizations) as ex:
+        ensembles = [
+            cast(bem.FlatEnsemble, bem.run_ensemble(scene, realizations, seed + i, executor=ex))
+            for i, scene in enumerate(scenes)
+        ]
+    seconds = time.perf_counter() - t0
+    area, separation = {}, {}
+    for m, law in laws.items():
+        u, _ = law.separation_and_slope(np.log(p))
+        A = law.real_area(p)
+        area[m] = [
+            _difference(a, e.contact_fraction, e.contact_fraction_error)
+            for a, e in zip(A, ensembles, strict=True)
+        ]
+        separation[m] = [
+            _difference(ui, e.mean_gap, e.mean_gap_error)
+            for ui, e in zip(u, ensembles, strict=True)
+        ]
+    gaps = {}
+    for t in thresholds:
+        uc = leak_theory.critical_gap(p, threshold=t).u_c
+        gaps[float(t)] = [
+            _difference(g, e.effective_gap, e.effective_gap_error)
+            for g, e in zip(np.atleast_1d(uc), ensembles, strict=True)
+        ]
+    return FlatValidation(p, ensembles, area, separation, gaps, leak_model, laws, seconds)

@@ -1,0 +1,403 @@
+"""From a measurement file to the spectrum a contact solve uses, in one call.
+
+:func:`analyse_scan` is the pipeline behind ``fastline psd`` and ``--scan``: read a line scan,
+parallel line scans or a height map (:func:`fastline.surfaces.topography.read_topography`), take its
+spectrum over the usable range (:func:`~fastline.surfaces.topography.psd_from_profile` and the exact
+inverse Abel transform :func:`~fastline.surfaces.topography.isotropic_from_1d`, or
+:func:`~fastline.surfaces.topography.psd_from_map`), fit the self-affine model
+(:func:`~fastline.surfaces.topography.fit_self_affine`: to C1D for line scans, to C(q) for maps) and, on
+request, cut the table at q1 or continue it to q1 by the fitted power law
+(:func:`~fastline.surfaces.topography.extend_psd`; the fitted model ``fit.psd`` spans the same range).
+Every number is the one those functions return; this module only chains them and records what
+was done.
+
+Conventions and SI units as :mod:`fastline.surfaces.topography`: heights and spacings in m, wavenumbers
+in 1/m, C1D in m^3, C(q) in m^4 with ``h_rms^2 = 2 pi int q C dq``.
+"""
+
+from __future__ import annotations
+
+import math
+import os
+import warnings
+from dataclasses import dataclass
+from typing import Literal
+
+import numpy as np
+
+from fastline._lib.validate import positive
+from fastline.surfaces import topography as tp
+from fastline.theory.spectra import TabulatedPSD
+
+__all__ = ["ScanSpectrum", "analyse_scan", "LIMIT_RULES"]
+
+#: what each end of the usable range was set by (``ScanSpectrum.limits``), in words
+LIMIT_RULES = {
+    "scan length": f"scan length (Fourier mode {tp.LOW_MODE}: {tp.LOW_MODE} x 2 pi / L)",
+    "sampling": f"sampling ({tp.POINTS_PER_WAVELENGTH} points per wavelength: "
+    f"2 pi / ({tp.POINTS_PER_WAVELENGTH} dx))",
+    "tip radius": f"stylus tip (it cannot follow curvatures beyond {tp.TIP_SAFETY:g} / R_tip)",
+    "noise floor": f"noise floor (C below {tp.NOISE_MARGIN:g} x the white-noise level)",
+    "tip radius or noise floor": "stylus tip or noise floor",
+    "given": "given",
+    "all": "all measured wavenumbers",
+}
+#: a two-column file is taken for a spectrum (q, C) rather than a profile (x, h) when its first
+#: column spans at least this ratio and its second column falls over this many decades
+_SPECTRUM_SPAN, _SPECTRUM_DECADES = 10.0, 3.0
+
+
+@dataclass(frozen=True)
+class ScanSpectrum:
+    """A measured surface's spectrum: what was read, the range used and why, the fit, the table.
+
+    Attributes
+    ----------
+    path : str
+        The file read.
+    kind : {"profile", "profiles", "map"}
+        One line scan, parallel line scans (the rows of a 2D file, averaged), or a height map.
+    shape : tuple of int
+        Shape of the heights read (profiles: ``(P, N)`` or ``(N,)``; maps ``(Ny, Nx)``).
+    dx, dy : float
+        Spacings in m (dy of a map only, else None).
+    spectrum : ProfileSpectrum or None
+        The 1D spectrum over the usable range (profiles); it holds the data's h_rms and slope.
+    raw : tuple of ndarray
+        For figures: ``(k, C1D)`` at every Fourier mode (profiles) or ``(q, C)`` ring averages
+        over all full rings (maps), before the range was cut.
+    measured : TabulatedPSD
+        The isotropic C(q) over the usable range.
+    q_range : tuple of float
+        The usable range in 1/m; ``limits`` the rule that set each end (keys of LIMIT_RULES).
+    fit : SelfAffineFit
+        The self-affine model fitted over the usable range: to the 1D spectrum ``spectrum``
+        (line scans) or to ``measured`` (maps). ``fit.psd`` spans the same range as ``psd``:
+        the usable range, cut at q1, or continued to q1 (with ``extend``) by the model itself.
+    psd : TabulatedPSD
+        The table to use: ``measured``, cut at q1, or continued to q1 above ``extended_from``.
+    extended_from : float or None
+        The wavenumber (1/m) above which ``psd`` is the fitted power law, not the measurement.
+    window, detrend : str
+        As used.
+    """
+
+    path: str
+    kind: str
+    shape: tuple
+    dx: float
+    dy: float | None
+    spectrum: tp.ProfileSpectrum | None
+    raw: tuple
+    measured: TabulatedPSD
+    q_range: tuple
+    limits: dict
+    fit: tp.SelfAffineFit
+    psd: TabulatedPSD
+    extended_from: float | None
+    window: str
+    detrend: str
+
+    @property
+    def n_profiles(self) -> int:
+        """Profiles averaged (1 for a map)."""
+        return self.spectrum.n_profiles if self.spectrum is not None else 1
+
+    def describe(self) -> str:
+        """One line: what was read and how it was analysed."""
+        if self.kind == "map":
+            ny, nx = self.shape
+            what = (
+                f"height map {ny} x {nx} points, dx {self.dx:.4g} m, dy {self.dy:.4g} m "
+                f"({nx * self.dx:.4g} m x {ny * self.dy:.4g} m); ring-averaged 2D spectrum"
+            )
+        else:
+            n = self.shape[-1]
+            many = "one profile" if self.n_profiles == 1 else f"{self.n_profiles} parallel profiles"
+            what = (
+                f"{many} of {n} points, dx {self.dx:.4g} m (L = {n * self.dx:.4g} m); "
+                "1D spectrum, exact inverse Abel transform to C(q)"
+            )
+        return f"{what}; {self.window} window, {self.detrend} detrend"
+
+    def metadata(self) -> dict:
+        """``key: value`` entries for a file header: the source, range, rules, fit, extension."""
+        f = self.fit
+        meta = {
+            "scan": self.path,
+            "analysis": self.describe(),
+        }
+        if self.spectrum is not None:
+            meta["h_rms_data_m"] = self.spectrum.h_rms
+            meta["rms_slope_data"] = self.spectrum.rms_slope
+        meta.update(
+            q_range_low_1_per_m=self.q_range[0],
+            q_range_high_1_per_m=self.q_range[1],
+            q_range_low_rule=self.limits["low"],
+            q_range_high_rule=self.limits["high"],
+            fit_h_rms_m=f.h_rms,
+            fit_h_rms_err_m=f.h_rms_err,
+            fit_hurst=f.hurst,
+            fit_hurst_err=f.hurst_err,
+            fit_qr_1_per_m=f.qr,
+            fit_qr_err_1_per_m=f.qr_err,
+            fit_rms_residual=f.rms_residual,
+        )
+        if self.extended_from is not None:
+            meta["extended_above_1_per_m"] = self.extended_from
+            meta["extension"] = f"power law C ~ q^-2(1+H), H = {f.hurst:.6g} (the fit)"
+        return meta
+
+
+# ----------------------------------------------------------------------------------------------
+# stages
+# ----------------------------------------------------------------------------------------------
+def _looks_like_spectrum(path: str) -> bool:
+    """Whether a file reads as a spectrum table (q > 0 increasing over a decade or more, C > 0
+    falling over decades): the mistake of passing a spectrum where a scan belongs."""
+    from fastline.io import read_spectrum
+
+    try:
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore")
+            table = read_spectrum(path)
+    except (ValueError, OSError):
+        return False
+    q, C = table.q, table.C
+    live = C > 0.0
+    if q[-1] / q[0] < _SPECTRUM_SPAN or live.sum() < 3:
+        return False
+    logC = np.log10(C[live])
+    return bool(logC[0] - logC[-1] >= _SPECTRUM_DECADES)
+
+
+def _refuse_spectrum(path: str) -> None:
+    if _looks_like_spectrum(path):
+        raise ValueError(
+            f"{path}: this looks like a spectrum (q [1/m], C [m^4]), not a height profile: "
+            "pass it as a spectrum (--psd, fastline.io.read_spectrum), not as a scan"
+        )
+
+
+def _read(path: str, dx, dy, as_map: bool, unit: str, x_unit):
+    """(kind, heights, dx, dy) of a file; refuses a spectrum table passed as a scan."""
+    if os.path.isdir(path):
+        raise ValueError(f"{path} is a directory, not a file")
+    try:
+        return _read_file(path, dx, dy, as_map, unit, x_unit)
+    except ValueError as e:
+        if dx is None and ("needs dx" in str(e) or "dx (m) is required" in str(e)):
+            what = "a height map" if as_map else "heights only (no x column)"
+            raise ValueError(f"{path} holds {what}: their spacing dx (m) is required") from None
+        raise
+
+
+def _read_file(path: str, dx, dy, as_map: bool, unit: str, x_unit):
+    if as_map:
+        m = tp.read_map(path, dx=dx, dy=dy, unit=unit)
+        return "map", m.heights, m.dx, m.dy
+    if dy is not None:
+        raise ValueError("dy is the row spacing of a map: it needs as_map=True (--map)")
+    try:
+        data = tp.read_topography(path, dx=dx, unit=unit, x_unit=x_unit)
+    except ValueError as e:
+        if "not uniformly spaced" in str(e):
+            _refuse_spectrum(path)
+        raise
+    if isinstance(data, tp.Map):
+        h = data.heights
+        return ("profile" if h.shape[0] == 1 else "profiles"), h, data.dx, None
+    h = data.heights
+    if np.all(h > 0.0):  # a (q, C) table on a uniform q grid reads as a positive profile
+        _refuse_spectrum(path)
+    return "profile", h, data.dx, None
+
+
+def _profile_stage(h, dx, options):
+    """(ProfileSpectrum over the usable range, raw periodogram, C(q) over the range)."""
+    spectrum = tp.psd_from_profile(h, dx, **options)
+    raw_options = {**options, "q_range": None, "bins_per_decade": None}
+    raw_options.pop("tip_radius"), raw_options.pop("noise")
+    with tp._quiet():  # said once, by the call above
+        raw = tp.psd_from_profile(h, dx, **raw_options)
+    return spectrum, (raw.k, raw.C1D), spectrum.isotropic()
+
+
+def _map_limits(psd: TabulatedPSD, dx, dy, q_range, tip, noise) -> dict:
+    """Which rule set each end of a map's usable range (:func:`psd_from_map` applies them; the
+    ends it returns are matched to the rule values)."""
+    if q_range is None:
+        return {"low": "all", "high": "all"}
+    lo, hi = (None, None) if isinstance(q_range, str) else q_range
+    sampling = 2.0 * math.pi / (tp.POINTS_PER_WAVELENGTH * max(dx, dy))
+    if hi is not None:
+        high = "given"
+    elif math.isclose(psd.q1, sampling, rel_tol=1e-9) or (tip is None and noise is None):
+        high = "sampling"
+    elif tip is not None and noise is not None:
+        high = "tip radius or noise floor"
+    else:
+        high = "tip radius" if tip is not None else "noise floor"
+    return {"low": "given" if lo is not None else "scan length", "high": high}
+
+
+def _map_stage(h, dx, dy, options):
+    """(ring averages over all full rings, C(q) over the usable range, the range's rules)."""
+    measured = tp.psd_from_map(h, dx, dy, **options)
+    raw_options = {**options, "q_range": None}
+    raw_options.pop("tip_radius"), raw_options.pop("noise")
+    with tp._quiet():  # said once, by the call above
+        raw = tp.psd_from_map(h, dx, dy, **raw_options)
+    limits = _map_limits(
+        measured, dx, dy, options["q_range"], options["tip_radius"], options["noise"]
+    )
+    return (raw.q, raw.C), measured, limits
+
+
+def _check_q1(measured: TabulatedPSD, q1, extend: bool) -> None:
+    """q1 above the usable range needs extend (before the fit)."""
+    top = float(measured.q1)
+    if q1 is not None and q1 > top and not extend:
+        raise ValueError(
+            f"q1 = {q1:.4g} 1/m lies above the usable range, which ends at {top:.4g} 1/m: "
+            "continuing the spectrum there is an assumption, not a measurement; ask for it "
+            "with extend=True (--extend on the command line), which continues the power law "
+            "of the fitted H"
+        )
+
+
+def _fit(spectrum, measured: TabulatedPSD, q1) -> tp.SelfAffineFit:
+    """The self-affine model fitted to C1D (line scans: :func:`fit_self_affine` of the
+    ProfileSpectrum, not of the noisier inverse transform) or to C(q) (maps), spanning the
+    table's range: from the usable range's low end to q1 when given."""
+    return tp.fit_self_affine(measured if spectrum is None else spectrum, q0=measured.q0, q1=q1)
+
+
+def _table(measured: TabulatedPSD, fit, q1, extend: bool):
+    """(the table to use, the wavenumber above which it is extrapolated or None)."""
+    if q1 is None:
+        return measured, None
+    _check_q1(measured, q1, extend)
+    top = float(measured.q1)
+    if q1 <= top:
+        return tp.extend_psd(measured, q1), None
+    return tp.extend_psd(measured, q1, hurst=fit.hurst), top
+
+
+def analyse_scan(
+    path: str | os.PathLike,
+    *,
+    dx: float | None = None,
+    dy: float | None = None,
+    as_map: bool = False,
+    unit: str = "m",
+    x_unit: str | None = None,
+    window: str | None = "hann",
+    detrend: Literal["linear", "plane", "mean", "parabola", "circle"] | None = None,
+    nan: Literal["raise", "interpolate"] = "raise",
+    bins_per_decade: int = 20,
+    q_range: tp.QRange = "auto",
+    tip_radius: float | None = None,
+    noise: float | None = None,
+    q1: float | None = None,
+    extend: bool = False,
+) -> ScanSpectrum:
+    """The isotropic spectrum C(q) of a measured surface, its usable range, fit and table.
+
+    Parameters
+    ----------
+    path : str or path-like
+        A line scan (text or ``.npy``: one column h with ``dx``, or two columns x, h), parallel
+        line scans (one per row of a 2D text or ``.npy`` file, with ``dx``), a height map
+        (``as_map=True``) or an instrument file (:func:`fastline.surfaces.topography.read_topography`).
+    dx, dy : float, optional
+        Spacing along the scans and, for a map, between its rows, in m. Taken from the file's
+        x column or an instrument file when it has them.
+    as_map : bool
+        Analyse a 2D file as a height map (ring-averaged 2D spectrum, :func:`psd_from_map`)
+        instead of its rows as parallel line scans (1D spectra averaged, then the exact inverse
+        Abel transform).
+    unit, x_unit : str
+        Units of the file's heights and x column (``"m"``, ``"mm"``, ``"um"``, ``"nm"``; x_unit
+        defaults to unit). Instrument files carry their own.
+    window, nan, bins_per_decade, q_range, tip_radius, noise
+        As :func:`fastline.surfaces.topography.psd_from_profile` (maps: ``psd_from_map``).
+    detrend : str, optional
+        ``"linear"`` for profiles and ``"plane"`` for maps by default; profiles also take
+        ``"mean"``, ``"parabola"``, ``"circle"``; maps ``"mean"``.
+    q1 : float, optional
+        Cut the table at q1 (1/m), or, above the usable range, continue it to q1 with
+        ``extend=True``.
+    extend : bool
+        Allow the continuation above the usable range: the power law ``C ~ q^-2(1+H)`` of the
+        fitted H from the table's last point (:func:`fastline.surfaces.topography.extend_psd`).
+
+    Returns
+    -------
+    ScanSpectrum
+
+    Raises
+    ------
+    ValueError
+        Bad options (before any work), an unreadable or implausible file (too few points,
+        dropouts with ``nan="raise"``, non-uniform x, a spectrum table passed as a scan), an
+        empty usable range, or q1 above the usable range without ``extend``.
+    FileNotFoundError, ImportError
+        No such file; an instrument format without SurfaceTopography installed.
+
+    Warns
+    -----
+    TopographyWarning
+        From :mod:`fastline.surfaces.topography`: h_rms or slopes that suggest a unit slip, C(q) <= 0
+        points left out by the inverse transform.
+    """
+    path = os.fspath(path)
+    if extend and q1 is None:
+        raise ValueError("extend=True needs q1, the wavenumber (1/m) to continue C(q) to")
+    allowed = ("plane", "mean") if as_map else ("linear", "mean", "parabola", "circle")
+    detrend = allowed[0] if detrend is None else detrend
+    if detrend not in allowed:
+        what = "a map" if as_map else "line scans"
+        hint = " ('plane' is for a height map: as_map=True (--map))" if detrend == "plane" else ""
+        raise ValueError(
+            f"detrend for {what} must be one of {', '.join(allowed)}, got {detrend!r}{hint}"
+        )
+    if q1 is not None:
+        q1 = positive("q1", q1, "1/m")
+    options = dict(
+        window=window,
+        detrend=detrend,
+        nan=nan,
+        bins_per_decade=bins_per_decade,
+        q_range=q_range,
+        tip_radius=tip_radius,
+        noise=noise,
+    )
+    kind, h, dx, dy = _read(path, dx, dy, as_map, unit, x_unit)
+    if kind == "map":
+        spectrum = None
+        raw, measured, limits = _map_stage(h, dx, dy, options)
+        q_rng = (float(measured.q0), float(measured.q1))
+    else:
+        spectrum, raw, measured = _profile_stage(h, dx, options)
+        q_rng, limits = spectrum.q_range, spectrum.limits
+    _check_q1(measured, q1, extend)
+    fit = _fit(spectrum, measured, q1)
+    psd, extended_from = _table(measured, fit, q1, extend)
+    return ScanSpectrum(
+        path=path,
+        kind=kind,
+        shape=tuple(h.shape),
+        dx=float(dx),
+        dy=None if dy is None else float(dy),
+        spectrum=spectrum,
+        raw=raw,
+        measured=measured,
+        q_range=q_rng,
+        limits=dict(limits),
+        fit=fit,
+        psd=psd,
+        extended_from=extended_from,
+        window="none" if window is None else str(window),
+        detrend=detrend,
+    )
