@@ -47,11 +47,11 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 from fastline.errors import ValidityWarning
+from fastline.theory.persson import PerssonTheory
 
-if TYPE_CHECKING:  # annotations only: the solvers import this module
+if TYPE_CHECKING:  # annotations only
     from fastline.contact.line import LineContactResult
     from fastline.contact.point import PointContactResult
-    from fastline.theory.persson import PerssonTheory
     from fastline.theory.spectra import PSD
 
 __all__ = [
@@ -321,8 +321,6 @@ def assess(
         if not math.isfinite(hardness) or hardness <= 0.0:
             raise ValueError(f"hardness must be a finite number > 0 Pa, got {hardness!r}")
     if theory is None and psd is not None:
-        from fastline.theory.persson import PerssonTheory
-
         theory = PerssonTheory(psd, result.E_star)
     if psd is None and theory is not None:
         psd = theory.psd

@@ -21,8 +21,8 @@ from __future__ import annotations
 import copy
 import math
 from collections.abc import Callable, Iterable
-from dataclasses import dataclass, field
-from typing import Any, NamedTuple
+from dataclasses import KW_ONLY, dataclass, field
+from typing import Any, ClassVar, NamedTuple
 
 import numpy as np
 from numpy.typing import ArrayLike
@@ -30,7 +30,7 @@ from numpy.typing import ArrayLike
 from fastline._lib import fftw as _fftw
 from fastline._lib.validate import real_array
 from fastline.contact import core as _core
-from fastline.contact import resolution
+from fastline.contact import line_sweep, resolution
 from fastline.contact.core import ConvergenceWarning, Discretisation
 from fastline.contact.kernels import line_cells, line_measures
 from fastline.contact.line_newton import solve_compiled
@@ -49,6 +49,7 @@ from fastline.contact.model import (  # noqa: F401 (METHODS ... shared_theory: i
     shared_theory,
     std,
 )
+from fastline.contact.result import ContactResult
 from fastline.elastic.line import LogKernelOperator, _log_reference_shift
 from fastline.theory.laws import PressureLaw
 from fastline.theory.limits import (
@@ -107,9 +108,8 @@ MAX_N = 2**22
 LOAD_RANGE = (1e-12, 1e4)
 
 
-@deferrable("real_area", "diagnostics")
 @dataclass
-class LineContactResult(DeferredFields):
+class LineContactResult(ContactResult):
     """The solution of one line-contact scene and what follows from it.
 
     Arrays are on the solver grid (cell centres). Units: m, Pa, N/m. ``real_area`` and
@@ -169,41 +169,10 @@ class LineContactResult(DeferredFields):
         when the model has ``accuracy=`` or by :meth:`LineContact.estimate_error`, else None.
     """
 
+    _: KW_ONLY
     x: np.ndarray
-    pressure: np.ndarray
-    separation: np.ndarray
-    real_area: np.ndarray | None
-    p0: float
-    s: float
-    fwhm: float
-    w_over_s: float
-    p0_ratio: float
-    alpha: float
-    delta: float
-    u1: float
-    converged: bool
-    iterations: int
-    convolutions: int
-    residual: float
-    message: str
-    model: str
-    method: str
-    load: float
-    radius: float
-    E_star: float
     dx: float
-    force_error: float
-    edge_pressure: float
-    diagnostics: dict = field(default_factory=dict)
-    theory: PerssonTheory | None = field(default=None, repr=False, compare=False)
     error_estimate: resolution.ErrorEstimate | None = field(default=None, repr=False, compare=False)
-
-    def __repr__(self):
-        return (
-            f"LineContactResult(model={self.model!r}, alpha={self.alpha:.4g}, p0={self.p0:.6g} Pa,"
-            f" w_over_s={self.w_over_s:.5g}, p0_ratio={self.p0_ratio:.5g}, "
-            f"converged={self.converged}, convolutions={self.convolutions})"
-        )
 
 
 # ----------------------------------------------------------------------------------------------
@@ -316,6 +285,9 @@ class LineContact(ContactModel):
     >>> results = lc.sweep([1e3, 1e4, 1e5])  # continuation along the loads
     """
 
+    #: the class of this model's results
+    result_type: ClassVar[type] = LineContactResult
+
     def __init__(
         self,
         psd: PSD | None,
@@ -417,7 +389,7 @@ class LineContact(ContactModel):
         hzs = [_hertz_line(self.E_star, self.radius, f) for f in loads[order].tolist()]
         halves = [self._extent("half_width", self.half_width, hz, hz.load) for hz in hzs]
         cold = np.array([self._cold_profiles(hz) for hz in hzs])
-        arrays = _line_sweep().run_sweep(
+        arrays = line_sweep.run_sweep(
             self.n,
             self.E_star,
             self.radius,
@@ -596,14 +568,6 @@ class LineContact(ContactModel):
             },
             theory=self._theory,
         )
-
-
-def _line_sweep():
-    """:mod:`fastline.contact.line_sweep`, imported on the first sweep (its kernels are not needed
-    by a model that only solves)."""
-    from fastline.contact import line_sweep as _line_sweep
-
-    return _line_sweep
 
 
 # ----------------------------------------------------------------------------------------------

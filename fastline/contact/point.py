@@ -27,7 +27,7 @@ from __future__ import annotations
 
 import math
 from collections.abc import Callable, Iterable
-from dataclasses import dataclass, field
+from dataclasses import KW_ONLY, dataclass
 from typing import Any, ClassVar
 
 import numpy as np
@@ -36,12 +36,11 @@ from fastline.contact import core as _core
 from fastline.contact.core import ConvergenceWarning, Discretisation, dot
 from fastline.contact.model import (
     ContactModel,
-    DeferredFields,
-    deferrable,
     fwhm,
     log_pressure,
     peak,
 )
+from fastline.contact.result import ContactResult
 from fastline.elastic.ring import MAX_N as _OPERATOR_MAX_N
 from fastline.elastic.ring import RingKernelOperator, ring_edges
 from fastline.theory.laws import PressureLaw
@@ -66,9 +65,8 @@ MAX_N = _OPERATOR_MAX_N
 LOAD_RANGE = (1e-18, 1e6)
 
 
-@deferrable("real_area", "diagnostics")
 @dataclass
-class PointContactResult(DeferredFields):
+class PointContactResult(ContactResult):
     """The solution of one point-contact scene and what follows from it.
 
     Arrays are on the solver's cells (centres ``r_j = j dr``, the first a disc). Units: m, Pa,
@@ -134,41 +132,10 @@ class PointContactResult(DeferredFields):
     LOAD_UNIT: ClassVar[str] = "N"
     EXTENT_WORD: ClassVar[str] = "radius"
 
+    _: KW_ONLY
     r: np.ndarray
-    pressure: np.ndarray
-    separation: np.ndarray
-    real_area: np.ndarray | None
-    p0: float
-    s: float
-    fwhm: float
-    w_over_s: float
-    p0_ratio: float
-    alpha: float
-    delta: float
-    hertz_radius: float
-    u1: float
-    converged: bool
-    iterations: int
-    convolutions: int
-    residual: float
-    message: str
-    model: str
-    method: str
-    load: float
-    radius: float
-    E_star: float
     dr: float
-    force_error: float
-    edge_pressure: float
-    diagnostics: dict = field(default_factory=dict)
-    theory: PerssonTheory | None = field(default=None, repr=False, compare=False)
-
-    def __repr__(self):
-        return (
-            f"PointContactResult(model={self.model!r}, alpha={self.alpha:.4g}, "
-            f"p0={self.p0:.6g} Pa, w_over_s={self.w_over_s:.5g}, p0_ratio={self.p0_ratio:.5g}, "
-            f"converged={self.converged}, convolutions={self.convolutions})"
-        )
+    hertz_radius: float
 
     def diameter_profile(self) -> tuple[np.ndarray, np.ndarray]:
         """``(x [m], p [Pa])`` along a diameter: the profile mirrored about the axis."""

@@ -647,9 +647,7 @@ def estimate_error(model: LineContact, result: LineContactResult) -> ErrorEstima
 
 def check_result(model: LineContact, result) -> None:
     """``result`` must be a LineContactResult of ``model``'s scene (for :func:`estimate_error`)."""
-    from fastline.contact.line import LineContactResult
-
-    if not isinstance(result, LineContactResult):
+    if not isinstance(result, model.result_type):
         raise TypeError(f"result must be a LineContactResult, got {type(result).__name__}")
     same = (result.E_star, result.radius, result.model) == (model.E_star, model.radius, model.model)
     if not same:

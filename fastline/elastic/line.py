@@ -53,7 +53,7 @@ from numpy.typing import ArrayLike
 
 from fastline._lib import fftw as _fftw
 from fastline._lib.validate import finite_scalar, integer, positive
-from fastline.elastic.pcg import apply_kernel, solve_newton_system, workspace_size
+from fastline.elastic.pcg import apply_kernel, prefix_sums, solve_newton_system, workspace_size
 
 __all__ = [
     "LogKernelOperator",
@@ -198,8 +198,6 @@ def _build_real_spectrum(n: int) -> np.ndarray:
 
 
 def _build_prefix(n: int) -> np.ndarray:
-    from fastline.elastic.pcg import prefix_sums
-
     return prefix_sums(influence_coefficients(n))
 
 

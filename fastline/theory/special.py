@@ -39,6 +39,8 @@ from numpy.polynomial import chebyshev as _cheb
 from numpy.typing import ArrayLike
 
 from fastline._lib.jit import JIT
+from fastline._lib.validate import in_range, positive_array
+from fastline.theory.variants import get_variant
 
 if TYPE_CHECKING:
     from fastline.theory.variants import Variant, VariantName
@@ -214,9 +216,6 @@ def universal_F(
         F(x0), same shape as ``x0``; ``F ~ -gamma ln x0`` at small x0 and
         ``~ (3 - 2 gamma) exp(-x0^2) / (2 x0^2)`` at large x0 (default variant).
     """
-    from fastline._lib.validate import in_range, positive_array
-    from fastline.theory.variants import get_variant
-
     var = get_variant(variant)
     gamma = in_range("gamma", gamma, 0.0, 1.0)
     x = positive_array("x0", x0)
