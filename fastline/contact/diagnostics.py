@@ -314,17 +314,31 @@ def assess(
         ``warning_causes`` lists the causes found (keys of :data:`CAUSES`, in that order),
         ``warning_messages`` maps each to its message and ``warnings`` lists the messages.
     """
-    if hardness is not None:
-        if isinstance(hardness, bool) or not isinstance(hardness, _REAL):
-            raise TypeError(f"hardness must be a number in Pa, got {type(hardness).__name__}")
-        hardness = float(hardness)
-        if not math.isfinite(hardness) or hardness <= 0.0:
-            raise ValueError(f"hardness must be a finite number > 0 Pa, got {hardness!r}")
+    hardness = _checked_hardness(hardness)
     if theory is None and psd is not None:
         theory = PerssonTheory(psd, result.E_star)
     if psd is None and theory is not None:
         psd = theory.psd
+    out, msgs = _checks(result, theory, psd, hardness)
+    _list_causes(out, msgs, result, warn, stacklevel + 1)
+    return out
 
+
+def _checked_hardness(hardness) -> float | None:
+    """The indentation hardness in Pa as a float (None stays None); a TypeError or ValueError
+    naming it otherwise."""
+    if hardness is None:
+        return None
+    if isinstance(hardness, bool) or not isinstance(hardness, _REAL):
+        raise TypeError(f"hardness must be a number in Pa, got {type(hardness).__name__}")
+    hardness = float(hardness)
+    if not math.isfinite(hardness) or hardness <= 0.0:
+        raise ValueError(f"hardness must be a finite number > 0 Pa, got {hardness!r}")
+    return hardness
+
+
+def _checks(result, theory, psd, hardness) -> tuple[dict, dict[str, str]]:
+    """Every check of :func:`assess`: the quantities found and the message of each cause."""
     out: dict = {"alpha": float(result.alpha), "regime": regime(result.alpha)}
     msgs: dict[str, str] = {}
     _half_space(out, result, msgs)
@@ -334,7 +348,12 @@ def assess(
     _resolution(out, result, msgs)
     _asperities(out, result, theory, hardness, msgs)
     _exponential(out, result, theory, msgs)
+    return out, msgs
 
+
+def _list_causes(out: dict, msgs: dict[str, str], result, warn: bool, stacklevel: int) -> None:
+    """The causes found, in the order of :data:`CAUSES`, into ``out``; one warning each if
+    ``warn`` (``stacklevel`` as :func:`warnings.warn` counts from here)."""
     causes = [c for c in CAUSES if c in msgs]
     out["warning_causes"] = causes
     out["warning_messages"] = {c: msgs[c] for c in causes}
@@ -343,7 +362,6 @@ def assess(
         warnings.warn(
             f"fastline: {_headline(c, result)}", ValidityWarning, stacklevel=stacklevel + 1
         )
-    return out
 
 
 def _headline(cause: str, result) -> str:

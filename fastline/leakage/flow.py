@@ -6,6 +6,22 @@ for each nominal pressure), strips of the contact in series along the leak path
 (docs/leakage.md section 4; B.N.J. Persson, C. Yang, J. Phys.: Condens. Matter 20, 315011
 (2008), doi:10.1088/0953-8984/20/31/315011; B. Lorenz, B.N.J. Persson, EPL 86, 44006 (2009),
 doi:10.1209/0295-5075/86/44006).
+
+Each strip of a pressure profile is a uniform-pressure seal of local conductance
+``sigma = u_c(p)^3 / (12 eta)``, and the strips are in series across the contact:
+
+    Q / L_y = dP / int dx (1 / sigma(x)),
+
+which for a constant pressure over a width L_x is Persson's rectangle formula
+``Q = (L_y / L_x) dP u_c^3 / (12 eta)``. Around a point contact the profile is axisymmetric,
+p(r), and the fluid enters at ``r = inner_radius`` (the orifice of a seat) and flows outwards
+through rings in series (each ring of width dr is a rectangle of length 2 pi r):
+
+    Q = dP / int_{inner_radius} dr / (2 pi r sigma(r)).
+
+u_c comes from a table of the critical gap built once per theory and threshold (relative error
+below the theory's rtol; :func:`fastline.theory.interface.gap_table`). A sealed strip
+(``P(q1, p) >= threshold``) on the flow path seals the contact.
 """
 
 from __future__ import annotations
@@ -334,55 +350,34 @@ def leak_rate_profile(
     mean_free_path: float | None = None,
     warn: bool = True,
 ) -> LeakResult:
-    """Leak rate of a seal with a nominal pressure profile p(x) (docs/leakage.md §3-5).
-
-    Each strip of the profile is a uniform-pressure seal of local conductance
-    ``sigma = u_c(p)^3 / (12 eta)`` (Persson & Yang 2008; Lorenz & Persson, EPL 86, 44006
-    (2009)), and the strips are in series across the contact:
-
-        Q / L_y = dP / int dx (1 / sigma(x)),
-
-    which for a constant pressure over a width L_x is Persson's rectangle formula
-    ``Q = (L_y / L_x) dP u_c^3 / (12 eta)``. With ``inner_radius`` the profile is axisymmetric,
-    p(r) at radii x, and the fluid enters at ``r = inner_radius`` (the orifice of a seat) and
-    flows outwards through rings in series (each ring of width dr is a rectangle of length
-    2 pi r):
-
-        Q = dP / int_{inner_radius} dr / (2 pi r sigma(r)).
-
-    u_c comes from a table of the critical gap built once per theory and threshold (relative
-    error below the theory's rtol; see :class:`_GapTable`). A sealed strip
-    (``P(q1, p) >= threshold``) on the flow path seals the contact.
+    """Leak rate of a seal with a nominal pressure profile p(x): strips (or rings) in series,
+    each of conductance ``u_c(p)^3 / (12 eta)`` (module docstring; docs/leakage.md §3-5).
 
     Parameters
     ----------
     x : array_like
-        Strip (cell) centres in m, strictly increasing, at least 2; the strip edges lie halfway
-        between centres (a uniform grid of spacing dx gives strips of width dx). Radial flow:
-        radii >= 0 of ring cells (edges clipped at 0: a first cell centred on the axis is a
-        disc).
+        Strip (cell) centres in m, strictly increasing, at least 2; strip edges lie halfway
+        between centres. Radial flow: radii >= 0 of ring cells (a first cell centred on the
+        axis is a disc).
     p : array_like
         Nominal contact pressure at x in Pa (>= 0; p = 0 is out of contact and adds no
         resistance).
     theory : PerssonTheory
         The theory of the interface (spectrum, E*, gamma).
-    pressure_drop : float
-        Fluid pressure difference across the seal in Pa (> 0).
-    viscosity : float
-        Dynamic viscosity of the fluid in Pa s (> 0); 1e-3 for water at 20 C.
+    pressure_drop, viscosity : float
+        Fluid pressure difference across the seal in Pa and its dynamic viscosity in Pa s
+        (both > 0; 1e-3 Pa s for water at 20 C).
     length : float, optional
         Seal length L_y in m (> 0), perpendicular to the flow (the circumference of an O-ring);
         default 1 m. Not for radial flow (the rings' circumferences are the length).
     inner_radius : float, optional
-        Radial flow (a point contact): the radius in m where the fluid enters, in
-        (0, outer edge of the profile); p inside it is not on the flow path. The pressure
-        profile is that of the solid contact: a warning says when the orifice is wider than
-        ``MAX_ORIFICE_SHARE`` of the half width at half maximum of p. None (default): flow
-        across a line contact.
+        Radial flow (a point contact): the radius in m where the fluid enters, in (0, outer
+        edge of the profile); p is that of the solid contact (a warning says when the orifice
+        is wider than ``MAX_ORIFICE_SHARE`` of p's half width). None: across a line contact.
     threshold : float
         Percolation threshold of the apparent contact area, in (0, 1) (see :func:`critical_gap`).
     method : {"critical-junction"}
-        The only method implemented (the effective-medium alternative is not; see the docs).
+        The only method implemented (docs/leakage.md).
     mean_free_path : float, optional
         Mean free path of a gas in m (about 70e-9 for air at 1 bar): warns when the flow is not
         viscous. None for liquids.
@@ -500,13 +495,10 @@ def leak_rate(
     """Leak rate of a solved contact: across a line contact (along x), or radially out of the
     orifice of a point contact.
 
-    The post-processing step of a seal calculation: the nominal pressure of a
-    :class:`~fastline.contact.line.LineContactResult` or a
-    :class:`~fastline.contact.point.PointContactResult` (any model with a roughness spectrum)
-    and the Persson theory of its interface give the leak rate by :func:`leak_rate_profile`
-    (strips in series across a line contact, rings in series around a point contact;
-    docs/leakage.md §4-5). Costs well under the solve it post-processes once the gap table of
-    the theory is built (first call per theory and threshold: ~10 ms).
+    The nominal pressure of a line- or point-contact result (any model with a roughness
+    spectrum) and the Persson theory of its interface give the leak rate by
+    :func:`leak_rate_profile` (docs/leakage.md §4-5); well under the cost of the solve once the
+    theory's gap table is built (first call per theory and threshold: ~10 ms).
 
     Parameters
     ----------
@@ -534,10 +526,9 @@ def leak_rate(
     TypeError
         For anything but a line- or point-contact result.
     ValueError
-        For a Hertz result (smooth surfaces: no spectrum), a result without a theory when none
-        is given, a theory of another E*, spectrum (h_rms), gamma or variant,
-        ``inner_radius`` missing for a point contact or given for a line contact, or an input
-        outside its range.
+        For a Hertz result (no spectrum), a result without a theory when none is given, a
+        theory of another E*, spectrum, gamma or variant, ``inner_radius`` missing for a point
+        contact or given for a line contact, or an input outside its range.
     """
     coords = _coordinates(result, inner_radius)
     length = _length(length, inner_radius)
