@@ -68,7 +68,7 @@ ETA_MAX, ETA_FLOOR = 0.1, 1e-3  # inexact-Newton forcing term bounds
 #: close to the solution (a sweep's prediction, res0 ~ 1e-3) is solved to ETA_FLOOR instead of
 #: ETA_MAX, which saves a Newton step. (It had a rule of its own, ``min(ETA_MAX, 5 res0)``: the
 #: paper's 50-load sweeps 1089 -> 1054 convolutions on surface 3 against ETA_MAX. Since each
-#: Newton system lost its circulant solve of ``B 1`` (issue 13) the floors alone do better: the
+#: Newton system lost its circulant solve of ``B 1`` (docs/performance.md) the floors alone do better: the
 #: 50-load sweeps 470 / 473 / 629 -> 470 / 468 / 609 convolutions, the 64-load sweeps at n = 256
 #: 553 / 553 / 561 -> 554 / 548 / 562, the sphere's 20-load sweeps and the 160 count scenes,
 #: nested starts included, unchanged; 2 res0 and 1 res0 fell between, 617 and 611 on surface 3.)

@@ -79,7 +79,7 @@ PRESSURE_FLOOR = 1e-3
 HALF_WIDTH_LIMIT = 0.1
 #: fewest grid cells across the FWHM for a result not to be resolution-limited. Measured on a
 #: fixed domain against n = 16384 (four scenes: the paper's surface 1 at alpha 0.01, 1 and 30,
-#: and the needle-peaked scene of issue 9): at 7-8 cells p0 is within 0.08 % and w/s within
+#: and the needle-peaked scene of docs/accuracy.md): at 7-8 cells p0 is within 0.08 % and w/s within
 #: 0.4 % for the paper's scenes; the needle scene has p0 off by 4 % at 2.8 cells, 0.5 % at
 #: 5.9 and 0.07 % at 11.9.
 RESOLUTION_CELLS = 8.0

@@ -337,7 +337,7 @@ def truncation_errors(res: LineContactResult) -> dict[str, float]:
     is carried inside instead: p0 and the FWHM rise by about m, s falls by ``ms = m (H^2/s^2 -
     1) / 2`` (the load missing at the edge H carried H^2 of variance), w/s rises by ``m + ms``.
     Measured against wider domains (edge at 2-5 sqrt(R u0)) on the paper's surface 1 at alpha
-    0.1, 1 and 100, an O-ring and the needle scene of issue 9: signs as stated, p0 0.44-0.96 m,
+    0.1, 1 and 100, an O-ring and the needle scene of docs/accuracy.md: signs as stated, p0 0.44-0.96 m,
     s 0.89-1.11 ms, w/s 0.8-1.3 (m + ms); the FWHM 0.01-1.0 m. A profile that does not decay
     at an edge gives inf (the domain cuts the contact).
     """
