@@ -460,7 +460,8 @@ class LogKernelOperator:
         return dp, du1, its
 
     def preconditioner(self, D: np.ndarray) -> BlockPreconditioner:
-        """An approximate inverse of ``D + K`` for the Newton-Krylov core (:mod:`fastline.contact.core`).
+        """An approximate inverse of ``D + K`` for the Newton-Krylov core
+        (:mod:`fastline.contact.core`).
 
         Parameters
         ----------
@@ -507,12 +508,12 @@ def coarse_aggregates(n: int) -> int:
     (worst scene in brackets; times in ms.) Measured after the coarse products were fused
     (four aggregate edges per pass); before, 32 aggregates cost more time than they saved.
 
-    The count target (convolutions per solve <= 30, docs/performance.md) moved the steps down
-    to 64 from n = 4096 and 128 from n = 16384, trading time for count: over the same 40 scenes per n, today's solver
-    (``python -m bench.count_grid``), 4096: 787 (47) -> 710 (41), 16384: 967 (61) -> 847 (53);
-    warm time of surface 1's 8 alphas, three interleaved rounds, +6% at 4096 (14.0 -> 14.9 ms)
-    and +9% at 16384 (83 -> 91 ms). 8192 keeps 64: 128 there gave 809 (49) -> 740 (43) for
-    +25% time. The spectrum behind it is in :mod:`fastline.elastic.pcg`.
+    The count target (convolutions per solve <= 30, docs/performance.md) moved the steps down to 64
+    from n = 4096 and 128 from n = 16384, trading time for count: over the same 40 scenes per n,
+    today's solver (``python -m bench.count_grid``), 4096: 787 (47) -> 710 (41), 16384: 967 (61) ->
+    847 (53); warm time of surface 1's 8 alphas, three interleaved rounds, +6% at 4096 (14.0 -> 14.9
+    ms) and +9% at 16384 (83 -> 91 ms). 8192 keeps 64: 128 there gave 809 (49) -> 740 (43) for +25%
+    time. The spectrum behind it is in :mod:`fastline.elastic.pcg`.
 
     Once the zero-load projection no longer cost a circulant solve per Newton step, the count
     had room below 30 at small n, and 16 aggregates pay there. Over the 40 scenes per n, today's
