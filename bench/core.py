@@ -124,7 +124,7 @@ def sweeps() -> dict:
     return out
 
 
-#: batched sweeps (issue 13, target 2): the issue's 64-load sweep at n = 256
+#: batched sweeps: a 64-load sweep at n = 256
 BATCH_N, BATCH_LOADS = 256, 64
 #: rounds of the three timings, interleaved (best of each)
 BATCH_ROUNDS = 9
@@ -246,7 +246,8 @@ def measure() -> dict:
 
 
 def targets(m: dict, cold: float, warm: float) -> list[tuple[str, float, float, str]]:
-    """(target, value, limit, text): met when value <= limit (issue 13 and issue 10)."""
+    """(target, value, limit, text): met when value <= limit (the standing targets of speed at
+    the limit and of sweeps)."""
     worst = max(m["counts"].values())
     share_min = min(s for (n, _), (_, _, s) in m["shares"].items() if n >= 512)
     saving = min(1 - s / a for a, s, _ta, _ts in m["sweeps"].values())
@@ -309,12 +310,12 @@ def targets(m: dict, cold: float, warm: float) -> list[tuple[str, float, float, 
 
 def markdown(m: dict) -> list[str]:
     L = []
-    L.append("## Convolutions per solve over n (issue 13)\n")
+    L.append("## Convolutions per solve over n\n")
     L.append(
         "Every FFT convolution of length 2n (K products and the preconditioner's circulant "
         "solves), tol 1e-8, the largest over the 8 alphas 1e-4..1e3, per surface and n. The "
-        "solver: compiled Newton (`fastline/_line_newton.py`), two-level preconditioner "
-        "(`fastline/_toeplitz_pcg.py`; 16 aggregates below n = 512, 32 below 4096, 64 below "
+        "solver: compiled Newton (`fastline/contact/line_newton.py`), two-level preconditioner "
+        "(`fastline/elastic/pcg.py`; 16 aggregates below n = 512, 32 below 4096, 64 below "
         "16384, 128 from there).\n"
     )
     L.append("| surface | " + " | ".join(f"n = {n}" for n in COUNT_NS) + " |")
@@ -345,7 +346,7 @@ def markdown(m: dict) -> list[str]:
             f"| {n} | " + " | ".join(str(m["counts"][(n, "surface 1", a)]) for a in ALPHAS) + " |"
         )
     L.append("")
-    L.append("## Share of a warm solve spent in FFTs (issue 13)\n")
+    L.append("## Share of a warm solve spent in FFTs\n")
     L.append(
         "(convolutions x CPU time of one convolution at that n, measured in a compiled loop, "
         "plus the same for the nested start's on n/8 cells from n = 4096; the table shows the "
@@ -377,7 +378,7 @@ def markdown(m: dict) -> list[str]:
         "validity diagnostics are computed when first read, or at once when the model warns: "
         "~10 us more).\n"
     )
-    L.append("## Sweeps: continuation vs independent solves (issues 10, 13)\n")
+    L.append("## Sweeps: continuation vs independent solves\n")
     L.append(
         "FFT convolutions and CPU time (best of 5) of the 50 loads, independent solves and "
         "`LineContact.sweep`, same run.\n"
@@ -391,19 +392,19 @@ def markdown(m: dict) -> list[str]:
         )
     L.append("")
     b = m["batched"]
-    L.append("## Batched sweeps (issue 13)\n")
+    L.append("## Batched sweeps\n")
     L.append(
-        f"The issue's sweep: {BATCH_LOADS} loads at n = {BATCH_N} (surface 1, alpha 1e3..1e-3), "
+        f"A {BATCH_LOADS}-load sweep at n = {BATCH_N} (surface 1, alpha 1e3..1e-3), "
         f"CPU time per load, best of {BATCH_ROUNDS} interleaved rounds, same run. "
         "`LineContact.sweep` runs the continuation "
-        "loop as one compiled call (`fastline/_line_sweep.py`: grid, prediction, Newton, "
+        "loop as one compiled call (`fastline/contact/line_sweep.py`: grid, prediction, Newton, "
         "restart, all without the GIL), then builds the results in Python.\n"
     )
     L.append("| | us per load | convolutions per load | vs FFT work |")
     L.append("|---|---|---|---|")
     rows = [
         ("64 independent warm solves", b["alone"], b["conv_alone"]),
-        ("the Python continuation loop (before)", b["python"], b["conv"]),
+        ("the same continuation as a Python loop", b["python"], b["conv"]),
         ("`LineContact.sweep`", b["sweep"], b["conv"]),
         ("its compiled call alone", b["compiled"], b["conv"]),
     ]
@@ -420,7 +421,7 @@ def markdown(m: dict) -> list[str]:
     )
     th = m["threads"]
     lo, mid, hi = th["speedup"]
-    L.append("## Threads (issue 13)\n")
+    L.append("## Threads\n")
     L.append(
         f"{THREAD_SOLVES} solves at n = 1024 on one shared LineContact, serial wall time over the "
         f"wall time on 2 threads: speed-up {mid:.2f}x (median of {THREAD_RUNS} runs; min "

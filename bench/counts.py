@@ -1,7 +1,7 @@
 """Convolutions and warm time per solve over alpha and n (surface 1): ``python -m bench.counts``.
 
 Prints a markdown table of ``convolutions / best-of-5 ms`` for n = 512, 1024, 2048, 8192 and the
-issue's alphas (default method, tol 1e-8). Counts are exact on any machine; times are not.
+benchmark's alphas (default method, tol 1e-8). Counts are exact on any machine; times are not.
 """
 
 from __future__ import annotations

@@ -69,7 +69,7 @@ def markdown(rows: dict) -> list[str]:
         "Line contact, loads 1e2 / 1e4 / 1e6 N/m (the worst of the three), tol 1e-8, both from "
         "Hertz's profile: FFT convolutions, warm time per solve and the largest pressure error "
         "(relative to p0) against a solve to tol 1e-13. The active set "
-        "(`fastline/_hard_contact.py`, the default) solves the linear contact problem on a "
+        "(`fastline/contact/hard.py`, the default) solves the linear contact problem on a "
         "contact set with the rough contact's compiled Newton-system solver; constrained CG "
         "(Polonsky & Keer) is its fallback and the sphere's method.\n",
         "| n | active set | constrained CG | speed-up |",

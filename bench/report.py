@@ -364,7 +364,7 @@ def main():
     )
     L.append("- Report runtime: {RUNTIME} s. Timings: best of several warm calls.\n")
 
-    L.append("## Targets (solver issue)\n")
+    L.append("## Standing targets: solve, table and lookup speed\n")
     L.append("| target | measured | met? | margin |")
     L.append("|---|---|---|---|")
     for name, val, lim, txt in targets:
@@ -373,7 +373,7 @@ def main():
         L.append(f"| {name} | {txt} | {'yes' if ok else '**no**'} | {margin} |")
     L.append("")
 
-    L.append("## Targets (speed at the limit, issue 13; sweeps, issue 10)\n")
+    L.append("## Standing targets: speed at the limit and sweeps\n")
     L.append("| target | measured | met? | margin |")
     L.append("|---|---|---|---|")
     for name, val, lim, txt in core.targets(core_m, cold, warm):

@@ -16,8 +16,8 @@ import fastline as fl
 from fastline import bem
 from fastline.bem.halfspace import ALIAS_ORDER, _alias_sum
 
-# The issue's paper-like narrow-band surface: H 0.8, q1/q0 = 32, h_rms 0.5 um, E* 10 MPa,
-# R 32.8 mm. The issue does not fix q0; 2 pi/q0 = 40 um keeps the roughness wavelength well
+# The paper-like narrow-band surface of docs/validation.md: H 0.8, q1/q0 = 32, h_rms 0.5 um,
+# E* 10 MPa, R 32.8 mm. q0 is a choice: 2 pi/q0 = 40 um keeps the roughness wavelength well
 # below the contact width (Hertz a = 128 um at alpha = 1, Gaussian-limit s = 81 um).
 PAPER_E_STAR = 10e6  # Pa
 PAPER_RADIUS = 32.8e-3  # m

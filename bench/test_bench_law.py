@@ -1,4 +1,4 @@
-"""The pressure law inside the compiled Newton solve, per grid cell (issue 13, target 1).
+"""The pressure law inside the compiled Newton solve, per grid cell.
 
 Each Newton step and line-search trial evaluates the law once over the grid
 (:func:`fastline.contact.line_newton._evaluate`: ``p = exp(v)``, the law's u and du/dv, one FFT

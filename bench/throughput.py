@@ -1,4 +1,4 @@
-"""Sweep throughput (issue 13, item 7): ``python -m bench.throughput`` writes docs/throughput.md.
+"""Sweep throughput: ``python -m bench.throughput`` writes docs/throughput.md.
 
 10,000 paper-like scenes (the paper's three surfaces, loads for alpha log-spaced over
 1e-3..1e3, n = 256, shuffled) through :func:`fastline.sweep`: serially, on 2 local processes
@@ -41,7 +41,7 @@ from fastline.reports.paper import E_STAR, Q0, Q1, QR, RADIUS, SURFACES, load_fo
 
 ROOT = Path(__file__).resolve().parent.parent
 WORKERS = 2
-TARGET = 2000.0  # scenes/s with 2 processes (issue 13)
+TARGET = 2000.0  # scenes/s with 2 processes (the standing target)
 CHUNKSIZES = (8, 32)  # besides the default, on the warm pool
 LOAD = (0.0, 0.0, 0.0)  # load average when the measurement starts
 REPEAT = 3
@@ -191,7 +191,7 @@ def page(rows: list[dict], checks: dict, count: int, n: int, seconds: float) -> 
         f"- Method: every run {REPEAT} times, interleaved (serial, pools and dask in turn), the "
         f"fastest of each kept; pools warm unless stated. Script runtime {seconds:.0f} s.",
         "",
-        "## Target (issue 13, item 7)",
+        "## Standing target: scenes per second",
         "",
         "| target | measured | met? | margin |",
         "|---|---|---|---|",
@@ -202,7 +202,7 @@ def page(rows: list[dict], checks: dict, count: int, n: int, seconds: float) -> 
         f"A scene costs {1e3 * serial['cpu'] / count:.3f} ms of CPU in the serial run "
         f"({serial['rate']:.0f} scenes/s serial), so 2 processes on two idle cores could at "
         f"best give {2 * count / serial['cpu']:.0f} scenes/s: the target depends on the "
-        "per-solve cost, which the solver work of this issue reduces. What the engine costs "
+        "per-solve cost, which falls as the solver gets faster. What the engine costs "
         f"is *busy*: the workers spent {100 * pool['busy']:.0f}% of their time solving "
         f"({pool['projected']:.0f} scenes/s projected on two idle cores).",
         "",

@@ -34,7 +34,8 @@ ALPHAS = ("0.1", "0.55", "1", "2.3", "10")
 
 
 def paper_like(ratio=32.0):
-    """The issue's narrow-band surface: H 0.8, h_rms 0.5 um, q0 = 2 pi/40 um, no roll-off."""
+    """The paper-like narrow-band surface (docs/validation.md): H 0.8, h_rms 0.5 um,
+    q0 = 2 pi/40 um, no roll-off."""
     return fl.SelfAffinePSD(0.5e-6, 0.8, Q0, Q0, ratio * Q0)
 
 

@@ -24,7 +24,7 @@ from fastline.theory.asperity import (
     summit_integral,
 )
 
-RTOL_REF = 1e-6  # p(u) and A/A0 against the quad reference (issue 15)
+RTOL_REF = 1e-6  # p(u) and A/A0 against the quad reference
 RTOL_INTEGRAL = 1e-10  # F_{3/2}(t) against quad
 RTOL_MOMENT = 1e-10  # spectral moments against quad / closed forms
 RTOL_INVERSE = 1e-12  # separation_and_slope and log_pressure are inverses

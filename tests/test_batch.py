@@ -157,7 +157,7 @@ def test_thread_pool_equals_serial(serial):
 
 
 def test_dask_local_cluster_equals_serial(serial, dask_client):
-    """The issue's CI check: a LocalCluster with 2 worker processes, bit for bit (a Client
+    """The CI check: a LocalCluster with 2 worker processes, bit for bit (a Client
     and its get_executor() both accepted)."""
     assert_same_table(run(paper_scenes(), dask_client, chunksize=5), serial)
     res = run(paper_scenes(), dask_client.get_executor(), chunksize=5)
@@ -311,7 +311,7 @@ def test_a_new_geometry_plugs_in(monkeypatch):
 
 # ---- the theory's variant ----------------------------------------------------------------------
 VARIANTS = tuple(_variants.VARIANTS)
-#: least change of p0 by the printed bracket at alpha = 1 (issue 15: several per cent)
+#: least change of p0 by the printed bracket at alpha = 1 (expected: several per cent)
 MIN_VARIANT_EFFECT = 0.03
 
 

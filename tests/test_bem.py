@@ -22,7 +22,7 @@ RTOL_QUAD = 1e-10  # closed forms against SciPy quadrature / dense solves
 ATOL_ALIAS = 1e-5  # alias-sum truncation in real space [dx/E*] (measured 3e-6 at order 16)
 ATOL_IMAGES = 1.5e-5  # periodic vs Love near a loaded cell [dx/E*]: truncation 3e-6 plus the
 #                       images' field (2.26/pi) r^2/L^3 = 6e-6 at r = 3 sqrt(2), L = 128 cells
-RTOL_HERTZ = 1e-2  # smooth contacts against Hertz (issue 15: 1 %)
+RTOL_HERTZ = 1e-2  # smooth contacts against Hertz (required: 1 %)
 RTOL_IMAGE_SHIFT = 0.1  # measured image shift of s against -(pi^2/12)(a/Lx)^2, relative
 RTOL_COMPLEMENTARITY = 1e-6  # |gap| on contact cells and penetration, relative to delta
 RTOL_CELL_MEAN = 2e-3  # generator's cell means vs quadrature: sub-cell rule and normalising factor

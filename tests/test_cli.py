@@ -1,8 +1,9 @@
 """Tests of the command-line interface (run in-process through fastline.cli.app.main).
 
 Every command on small settings: the files it writes, its numbers against the API's, and the
-defects of issue 9 (exit status of a non-converged solve, warnings reaching ``sweep``,
-``--gamma``, spectrum files, negative numbers, output paths checked before any solve).
+defects a random campaign of scenes found (exit status of a non-converged solve, warnings
+reaching ``sweep``, ``--gamma``, spectrum files, negative numbers, output paths checked before
+any solve).
 """
 
 import subprocess

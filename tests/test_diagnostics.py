@@ -117,9 +117,9 @@ def test_without_theory_and_from_psd(psd, theory):
 
 
 # ----------------------------------------------------------------------------------------------
-# issue 9: warnings the user used not to get, once per cause
+# warnings for scenes a random campaign found, once per cause
 # ----------------------------------------------------------------------------------------------
-#: the needle-peaked scene of issue 9 (random campaign): (psd args, E* [Pa], R [m], f_N [N/m])
+#: the needle-shaped scene (docs/accuracy.md): (psd args, E* [Pa], R [m], f_N [N/m])
 NEEDLE = (
     (4.0219591928945736e-08, 1.0, 232.4997741925926, 232.4997741925926, 71888266.82459533),
     402830.3189795967,
@@ -173,7 +173,7 @@ def test_narrow_contact_warns():
 
 
 def test_resolution_warns_on_a_coarse_grid():
-    """The issue's scene at n = 256: FWHM over 2.8 cells, p0 off by ~4 %, converged."""
+    """The needle-shaped scene at n = 256: FWHM over 2.8 cells, p0 off by ~4 %, converged."""
     psd = fl.SelfAffinePSD(*NEEDLE[0])
     coarse = solve_line_contact(psd, *NEEDLE[1:], n=256, warn=False)
     assert coarse.converged

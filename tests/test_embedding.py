@@ -26,15 +26,12 @@ RTOL_CONTINUATION = 1e-7  # a sweep (warm starts) vs independent solves, tol 1e-
 RTOL_TABLE = 1e-6  # table u(p) vs the direct quadrature (theory rtol)
 RTOL_SAME_TABLE = 1e-15  # compiled callables vs the methods reading the same table
 #: convolutions saved by LineContact.sweep over the paper's 50-load sweeps vs independent solves,
-#: per surface: the issue's target, 40%, on each. Measured at n = 1024: 49%, 48%, 40.2%
-#: (sweep 495/516/714, independent 979/988/1194 convolutions, degree-4 predictor); with the
-#: cubic predictor the sweeps cost 575/590/764 (36% on surface 3) once the cold start's tail
-#: had made independent solves cheaper (they were 1064/1086/1291). Surface 3's guard is one
-#: point under the target: its margin is 2 convolutions of 1194. Issue 13's zero-load projection
-#: without a circulant solve saves one convolution per Newton step, more of them in independent
-#: (cold) solves than in a sweep's 2-3 steps from a prediction: sweeps 470/473/629, independent
-#: 886/897/1014 (38.0 % on surface 3); with the first step's forcing at the floors alone (was
-#: 5 res0; fastline.contact.core.ETA_RES_SCALE) the sweeps 470/468/609: 47 % / 48 % / 39.9 %
+#: per surface: the standing target is 40% on each (docs/performance.md). Measured at n = 1024,
+#: degree-4 predictor, the first predicted step's forcing at the floors alone
+#: (fastline.contact.core.ETA_RES_SCALE): sweeps 470/468/609 convolutions against 886/897/1014
+#: for independent solves, 47 % / 48 % / 39.9 %. The zero-load projection without a circulant
+#: solve saves one convolution per Newton step, so more in independent (cold) solves than in a
+#: sweep's 2-3 steps from a prediction: surface 3's guard is one point under the target.
 SWEEP_SAVING_MIN = {"surface1": 0.40, "surface2": 0.40, "surface3": 0.39}
 #: ... and the sweeps' convolutions themselves (measured 470/468/609, +5%)
 SWEEP_CONVOLUTIONS_MAX = {"surface1": 494, "surface2": 492, "surface3": 640}
@@ -294,7 +291,7 @@ def test_kernels_are_stamped_with_the_whole_package():
     )
 
 
-#: modules a line-contact solve has no use for: they must not load with it (start-up, issue 13)
+#: modules a line-contact solve has no use for: they must not load with it (start-up time)
 NOT_FOR_A_SOLVE = (
     "fastline.leakage.flow",
     "fastline.surfaces.topography",

@@ -28,7 +28,7 @@ COUNT_SLACK = 0.02
 E_STAR, RADIUS = 1.33e9, 0.01
 ORDER = _contact.SWEEP_PREDICTOR_ORDER
 SURFACES = fl.paper.surfaces()
-#: loads from alpha 1e3 down to 1e-3 (surface 1), the issue's 64-load sweep
+#: loads from alpha 1e3 down to 1e-3 (surface 1), a 64-load sweep
 LOADS = np.array([fl.paper.load_for_alpha(a) for a in np.geomspace(1e3, 1e-3, 64)])
 
 pytestmark = pytest.mark.skipif(not _fftw.AVAILABLE, reason="the compiled path needs FFTW")

@@ -17,8 +17,8 @@ from fastline.elastic.ring import ring_influence_coefficients
 # tiered tolerances
 RTOL_FORCE = 1e-10  # load balance 2 pi int p r dr = F (exact sum over the cells)
 RTOL_REFERENCE = 1e-5  # against the dense SciPy solve at equal n
-RTOL_HERTZ = 5e-3  # p0 and a against Hertz at the default n (issue: 0.5 %)
-RTOL_GAUSS = 1e-2  # p0 ratio and w/s of the Gaussian limit at alpha >= 100 (issue: 1 %)
+RTOL_HERTZ = 5e-3  # p0 and a against Hertz at the default n (required: 0.5 %)
+RTOL_GAUSS = 1e-2  # p0 ratio and w/s of the Gaussian limit at alpha >= 100 (required: 1 %)
 RTOL_CONTINUATION = 1e-7  # a sweep (warm starts) against independent solves, tol 1e-8 in u/u0
 #: operator applications (products with K plus preconditioner solves) per solve at the default
 #: settings: measured max 97 for alpha >= 1e-3 and 133 for alpha >= 1e-4 over the five surfaces

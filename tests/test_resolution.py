@@ -16,7 +16,7 @@ from fastline.contact import resolution
 from fastline.reports.paper import E_STAR, RADIUS, load_for_alpha, surfaces
 
 # tiered tolerances
-ESTIMATE_FACTOR = 3.0  # the estimate lies within this factor of the true error (issue 13)...
+ESTIMATE_FACTOR = 3.0  # the estimate lies within this factor of the true error...
 FLOOR_SHARE = 1e-2  # ...for errors above this share of the accuracy asked for (below: "small")
 RTOL_NAIVE = 1e-9  # compiled measures against the SciPy references, relative
 ORDER_TOL = 0.15  # observed convergence order of s against the assumed 2
@@ -28,7 +28,7 @@ PAPER = surfaces()
 QUANTITIES = ("p0", "s", "w_over_s")
 
 S = fl.SelfAffinePSD
-#: the first-hour issue's scene (issue 9, section 6): the peak spans 2.8 cells at n = 256
+#: a needle-shaped scene (docs/accuracy.md): the peak spans 2.8 cells at n = 256
 NEEDLE = (
     S(4.0219591928945736e-08, 1.0, 232.4997741925926, 232.4997741925926, 71888266.82459533),
     402830.3189795967,
@@ -100,7 +100,7 @@ def test_estimate_bounds_true_error_campaign_scenes(name):
 
 
 def test_needle_estimate_says_four_percent_and_accuracy_refines():
-    """Issue 9's needle: p0 4.1 % off at n = 256 with converged=True. The on-demand estimate
+    """The needle-shaped scene: p0 4.1 % off at n = 256 with converged=True. The on-demand estimate
     must say so, and accuracy=1e-3 must refine until the error holds."""
     psd, E_star, radius, load = NEEDLE
     ref = reference(*NEEDLE)

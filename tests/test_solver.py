@@ -20,8 +20,8 @@ from fastline.contact import model as _contact
 RTOL_FORCE = 1e-10  # force balance (enforced exactly by the log-sum-exp normalisation)
 RTOL_SYMMETRY = 1e-9  # p(x) = p(-x), relative to p0
 RTOL_REFERENCE = 1e-5  # against the dense SciPy solve at equal n
-RTOL_HERTZ = 5e-3  # p0 and a against Hertz at default n (issue: 0.5 %)
-RTOL_GAUSS = 1e-2  # eq. 14 and w/s of the Gaussian limit at alpha >= 100 (issue: 1 %)
+RTOL_HERTZ = 5e-3  # p0 and a against Hertz at default n (required: 0.5 %)
+RTOL_GAUSS = 1e-2  # eq. 14 and w/s of the Gaussian limit at alpha >= 100 (required: 1 %)
 RTOL_HARD_REFERENCE = 1e-9  # hertz (active set) against the dense solve, rel. to p0 (2e-10)
 RTOL_HARD_CG = 1e-5  # constrained CG, which stops on the pressure change, against the same
 RTOL_CONTINUATION = 1e-7  # a sweep (warm starts) against independent solves, tol 1e-8 in u/u0
@@ -29,7 +29,7 @@ RTOL_CONTINUATION = 1e-7  # a sweep (warm starts) against independent solves, to
 #: (two-level compiled solver, aggregates by ln D, 16 / 32 / 64 / 128 of them below n = 512 /
 #: 4096 / 16384 / from there; the cold start with the exponential law's tail outside Hertz's
 #: contact; from n = 4096 nested from n/8 cells, whose convolutions are not in the count; the
-#: zero-load projection along the preconditioner without its circulant): issue 13's target, 30,
+#: zero-load projection along the preconditioner without its circulant): the standing target, 30,
 #: at every n (measured maxima 25 / 28 / 27 / 29)
 CONVOLUTION_BUDGET = {256: 30, 1024: 30, 4096: 30, 16384: 30}
 #: the nested solve (n = 4096 from 512 cells) against the cold one: both to tol 1e-8 in u/u0
@@ -358,7 +358,7 @@ def test_bad_input(kwargs, name):
         fl.solve_line_contact(args.pop("psd"), **args)
 
 
-# ---- defects found by the random campaign (issue 9, section 6) -------------------------------
+# ---- defects found by a random campaign of scenes (bench/campaign.py) -----------------------
 S = fl.SelfAffinePSD
 #: two campaign scenes whose centres reach full contact; Newton stalled at n = 4096
 FULL_CONTACT_SCENES = {

@@ -126,7 +126,7 @@ def test_F_rejects_bad_gamma(gamma):
 
 
 def test_shipped_coefficients_are_the_computed_ones():
-    """The gamma-free Chebyshev tables read from fastline/_special_tables.npz equal a fresh
+    """The gamma-free Chebyshev tables read from fastline/theory/special_tables.npz equal a fresh
     computation (a stale file after a change of degree or region would fail here)."""
     from fastline.theory.special import _TABLE_NAMES, _gamma_free_tables, compute_gamma_free_tables
 

@@ -1,4 +1,4 @@
-"""The public API is typed: every public callable has annotations (issue 10, "type the public API").
+"""The public API is typed: every public callable has annotations.
 
 Public means: the names in ``fastline.__all__`` and in the ``__all__`` of every public
 (non-underscore) submodule; for a class, its constructor, public methods, class and static
@@ -99,7 +99,7 @@ def _offenders() -> dict[str, list[str]]:
 
 
 def test_walker_sees_the_public_api():
-    """The walk reaches the entry points the issue names (a walker finding nothing passes)."""
+    """The walk reaches the main entry points (a walker finding nothing passes)."""
     keys = public_callables()
     for name in (
         "fastline.theory.spectra.SelfAffinePSD.__init__",

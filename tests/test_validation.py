@@ -1,4 +1,4 @@
-"""The theory against the BEM (fastline.reports.validation) and ``fastline validate`` / ``--variant``.
+"""The theory against the BEM (fastline.reports.validation), ``fastline validate``, ``--variant``.
 
 Tiny scenes (grids of 16 x 540 to 64 x 2592 cells, 2 to 6 realisations): the numbers the command
 prints and writes against the API's, the agreement of the theory with the BEM where both are
@@ -286,7 +286,7 @@ def test_leak_rejects_the_area_variant(capsys):
 #: 0.1 the Hertz radius is 160 um = 4 longest wavelengths and the patch 270 x 270 cells
 R_SPHERE = 5.12e-3
 SPHERE_GRID = 2.0
-#: smooth-sphere limit: the BEM and the theory each give Hertz to this (issue 15: 1 %)
+#: smooth-sphere limit: the BEM and the theory each give Hertz to this (required: 1 %)
 RTOL_HERTZ = 0.01
 #: p0 of the default variant at alpha = 0.1 in BEM standard errors: 4 realisations each of
 #: seeds 0-5 gave z = +2.05, +0.52, +0.28, -0.38, -0.34, -2.19 (p0 -8 ... +8 %)

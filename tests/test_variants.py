@@ -24,7 +24,7 @@ from fastline.theory.persson import PerssonTheory
 from fastline.theory.special import universal_F
 from fastline.theory.variants import VARIANTS, get_variant
 
-RTOL_REF = 1e-6  # u(p) against the quad reference (issue 15)
+RTOL_REF = 1e-6  # u(p) against the quad reference
 RTOL_UNIVERSAL = 1e-10  # F and Y of the area variant against the ODE reference
 RTOL_RECURSION = 1e-10  # contact area against the recursion solved in q
 RTOL_ENERGY = 1e-7  # u(p) against the energy route (nested quad of ODE solves)
@@ -32,7 +32,7 @@ RTOL_SHIFT = 1e-4  # small-p shift between the two brackets, in units of u0
 RTOL_FIT_LAW = 1e-4  # u(p) against the variant's exponential law at p = 1e-9 E*
 RTOL_ROUNDTRIP = 1e-6  # pressure(separation(p)) against p
 RTOL_HERTZ_LIKE = 1e-2  # p0 of two variants at alpha = 1e-2 (the shift of u absorbed)
-MIN_VARIANT_EFFECT = 0.03  # least change of p0 by a variant at alpha = 1 (issue 15: several %)
+MIN_VARIANT_EFFECT = 0.03  # least change of p0 by a variant at alpha = 1 (expected: several %)
 E_STAR = 1.33e9
 E_PAPERLIKE = 1e7  # Pa, the narrow-band validation surface (docs/validation.md)
 N_PRESSURES = 5
