@@ -235,3 +235,27 @@ def test_import_fastline_is_light():
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True)
     loaded = set(out.stdout.split())
     assert not loaded & {"numba", "matplotlib", "dask", "scipy", "fastline.contact"}
+
+
+def _interface(subpackage: str) -> set[str]:
+    """The names a subpackage offers the others: its ``__all__`` (a lazy table or a module's)."""
+    module = __import__(subpackage, fromlist=["__all__"])
+    return set(getattr(module, "__all__", ()))
+
+
+def test_siblings_use_what_a_subpackage_names():
+    """A name imported from another subpackage is one its ``__init__`` names, or one of a public
+    module it names (``fastline.reports.plotting``); ``_lib`` and ``errors`` hold shared
+    plumbing, their modules' ``__all__`` are the interface."""
+    outside = set()
+    for importer, imported, name, _ in IMPORTS:
+        theirs = _subpackage(imported)
+        if not imported.startswith("fastline.") or theirs == _subpackage(importer):
+            continue
+        if theirs in ("fastline._lib", "fastline.errors", "fastline") or name is None:
+            continue
+        offered = _interface(theirs)
+        public_module = imported.rsplit(".", 1)[-1] in offered  # e.g. fastline.reports.plotting
+        if name not in offered and not (public_module and name in _interface(imported)):
+            outside.add((importer, f"{imported}.{name}"))
+    assert sorted(outside) == []
