@@ -1,18 +1,19 @@
 """From a measurement file to the spectrum a contact solve uses, in one call.
 
 :func:`analyse_scan` is the pipeline behind ``fastline psd`` and ``--scan``: read a line scan,
-parallel line scans or a height map (:func:`fastline.surfaces.topography.read_topography`), take its
-spectrum over the usable range (:func:`~fastline.surfaces.topography.psd_from_profile` and the exact
-inverse Abel transform :func:`~fastline.surfaces.topography.isotropic_from_1d`, or
+parallel line scans or a height map (:func:`fastline.surfaces.topography.read_topography`),
+take its spectrum over the usable range
+(:func:`~fastline.surfaces.topography.psd_from_profile` and the exact inverse Abel transform
+:func:`~fastline.surfaces.topography.isotropic_from_1d`, or
 :func:`~fastline.surfaces.topography.psd_from_map`), fit the self-affine model
-(:func:`~fastline.surfaces.topography.fit_self_affine`: to C1D for line scans, to C(q) for maps) and, on
-request, cut the table at q1 or continue it to q1 by the fitted power law
-(:func:`~fastline.surfaces.topography.extend_psd`; the fitted model ``fit.psd`` spans the same range).
-Every number is the one those functions return; this module only chains them and records what
-was done.
+(:func:`~fastline.surfaces.topography.fit_self_affine`: to C1D for line scans, to C(q) for
+maps) and, on request, cut the table at q1 or continue it to q1 by the fitted power law
+(:func:`~fastline.surfaces.topography.extend_psd`; the fitted model ``fit.psd`` spans the same
+range). Every number is the one those functions return; this module only chains them and
+records what was done.
 
-Conventions and SI units as :mod:`fastline.surfaces.topography`: heights and spacings in m, wavenumbers
-in 1/m, C1D in m^3, C(q) in m^4 with ``h_rms^2 = 2 pi int q C dq``.
+Conventions and SI units as :mod:`fastline.surfaces.topography`: heights and spacings in m,
+wavenumbers in 1/m, C1D in m^3, C(q) in m^4 with ``h_rms^2 = 2 pi int q C dq``.
 """
 
 from __future__ import annotations
@@ -27,6 +28,8 @@ import numpy as np
 
 from fastline._lib.validate import positive
 from fastline.surfaces import topography as tp
+from fastline.surfaces.heights import quiet
+from fastline.surfaces.read import read_spectrum
 from fastline.theory.spectra import TabulatedPSD
 
 __all__ = ["ScanSpectrum", "analyse_scan", "LIMIT_RULES"]
@@ -155,8 +158,6 @@ class ScanSpectrum:
 def _looks_like_spectrum(path: str) -> bool:
     """Whether a file reads as a spectrum table (q > 0 increasing over a decade or more, C > 0
     falling over decades): the mistake of passing a spectrum where a scan belongs."""
-    from fastline.io import read_spectrum
-
     try:
         with warnings.catch_warnings():
             warnings.simplefilter("ignore")
@@ -218,7 +219,7 @@ def _profile_stage(h, dx, options):
     spectrum = tp.psd_from_profile(h, dx, **options)
     raw_options = {**options, "q_range": None, "bins_per_decade": None}
     raw_options.pop("tip_radius"), raw_options.pop("noise")
-    with tp._quiet():  # said once, by the call above
+    with quiet():  # said once, by the call above
         raw = tp.psd_from_profile(h, dx, **raw_options)
     return spectrum, (raw.k, raw.C1D), spectrum.isotropic()
 
@@ -246,7 +247,7 @@ def _map_stage(h, dx, dy, options):
     measured = tp.psd_from_map(h, dx, dy, **options)
     raw_options = {**options, "q_range": None}
     raw_options.pop("tip_radius"), raw_options.pop("noise")
-    with tp._quiet():  # said once, by the call above
+    with quiet():  # said once, by the call above
         raw = tp.psd_from_map(h, dx, dy, **raw_options)
     limits = _map_limits(
         measured, dx, dy, options["q_range"], options["tip_radius"], options["noise"]
@@ -309,7 +310,8 @@ def analyse_scan(
     path : str or path-like
         A line scan (text or ``.npy``: one column h with ``dx``, or two columns x, h), parallel
         line scans (one per row of a 2D text or ``.npy`` file, with ``dx``), a height map
-        (``as_map=True``) or an instrument file (:func:`fastline.surfaces.topography.read_topography`).
+        (``as_map=True``) or an instrument file
+        (:func:`fastline.surfaces.topography.read_topography`).
     dx, dy : float, optional
         Spacing along the scans and, for a map, between its rows, in m. Taken from the file's
         x column or an instrument file when it has them.
@@ -348,8 +350,8 @@ def analyse_scan(
     Warns
     -----
     TopographyWarning
-        From :mod:`fastline.surfaces.topography`: h_rms or slopes that suggest a unit slip, C(q) <= 0
-        points left out by the inverse transform.
+        From :mod:`fastline.surfaces.topography`: h_rms or slopes that suggest a unit slip,
+        C(q) <= 0 points left out by the inverse transform.
     """
     path = os.fspath(path)
     if extend and q1 is None:
