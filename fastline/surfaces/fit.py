@@ -9,6 +9,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
+from typing import NamedTuple
 
 import numpy as np
 from numpy.typing import ArrayLike
@@ -255,6 +256,19 @@ def _profile_fit_points(spectrum, q_range):
     return k[keep], C[keep], n.astype(np.float64)
 
 
+class _Fitted(NamedTuple):
+    """A fit's ln C0, H, ln qr, their covariance, the rms residual of ``ln C``, the fitted
+    wavenumbers (1/m) and the roll-off's gain over a pure power law."""
+
+    a: float
+    H: float
+    xr: float
+    cov: np.ndarray
+    rms: float
+    q: np.ndarray
+    gain: float
+
+
 def _fit_profile(spectrum, q_range, rolloff):
     """(ln C0, H, ln qr, covariance, rms residual, fitted k) of the model's C1D fitted to a
     ProfileSpectrum by the Whittle likelihood."""
@@ -266,7 +280,7 @@ def _fit_profile(spectrum, q_range, rolloff):
     gain = 0.0
     if rolloff:  # the likelihood ratio against a pure power law, in units of the dispersion
         gain = 2.0 * (_whittle_optimum(k, C, n, False)[3] - objective) / dispersion
-    return a, H, xr, cov, rms, k, gain
+    return _Fitted(a, H, xr, cov, rms, k, gain)
 
 
 def _fit_table(psd, q_range, rolloff):
@@ -285,7 +299,7 @@ def _fit_table(psd, q_range, rolloff):
     if rolloff:  # the F statistic of the roll-off against a pure power law
         sse0 = _fit_at(x, y, wts, float(x[0]))[2]
         gain = (sse0 - sse) / max(sse / max(x.size - 3, 1), 1e-300)
-    return a, H, xr, cov, math.sqrt(sse / np.sum(wts)), q, gain
+    return _Fitted(a, H, xr, cov, math.sqrt(sse / np.sum(wts)), q, gain)
 
 
 def _model_range(psd, q0, q1) -> tuple[float, float]:
@@ -313,6 +327,41 @@ def _warn_unresolved(qr: float, lowest: float, gain: float) -> None:
         "1/m. The roll-off may lie anywhere below; q_r, its error and the model's h_rms are not "
         "measurements (a longer scan, more profiles or a map resolve them)",
         stacklevel=3,
+    )
+
+
+def _fit_result(f: _Fitted, m0: float, m1: float, qr_at_bound, fitted_to: str) -> SelfAffineFit:
+    """The fitted model on ``[m0, m1]`` (1/m) with its parameters and their standard errors
+    (that of h_rms from its derivatives, by central differences, and the covariance)."""
+    hurst_at_bound = f.H in _HURST_BOUNDS
+    a, H, xr = f.a, f.H, max(f.xr, math.log(m0))
+    p = np.array([a, H, xr])
+    grad = np.array(
+        [
+            (_model_h_rms(*(p + d), m0, m1) - _model_h_rms(*(p - d), m0, m1)) / 2e-6
+            for d in np.eye(3) * 1e-6
+        ]
+    )
+    h_rms = _model_h_rms(a, H, xr, m0, m1)
+    model = SelfAffinePSD(h_rms, H, m0, min(max(math.exp(xr), m0), m1 * (1 - 1e-12)), m1)
+    cov, q = f.cov, f.q
+    return SelfAffineFit(
+        psd=model,
+        h_rms=h_rms,
+        hurst=float(H),
+        qr=model.qr,
+        C0=model.C0,
+        h_rms_err=float(math.sqrt(max(grad @ cov @ grad, 0.0))),
+        hurst_err=float(math.sqrt(cov[1, 1])),
+        qr_err=math.nan if qr_at_bound else float(model.qr * math.sqrt(cov[2, 2])),
+        rms_residual=float(f.rms),
+        n_points=int(q.size),
+        q_range=(float(q[0]), float(q[-1])),
+        at_bound=bool(hurst_at_bound or qr_at_bound),
+        fitted_to=fitted_to,
+        hurst_at_bound=bool(hurst_at_bound),
+        qr_at_bound=bool(qr_at_bound),
+        rolloff_gain=float(f.gain),
     )
 
 
@@ -368,37 +417,9 @@ def fit_self_affine(
     """
     profile = isinstance(psd, ProfileSpectrum)
     m0, m1 = _model_range(psd, q0, q1)
-    fit = _fit_profile if profile else _fit_table
-    a, H, xr, cov, rms, q, gain = fit(psd, q_range, rolloff)
-    hurst_at_bound = H in _HURST_BOUNDS
-    qr_at_bound = rolloff and (math.exp(xr) < q[0] * ROLLOFF_MARGIN or gain < ROLLOFF_SIGNIFICANCE)
+    fitted = (_fit_profile if profile else _fit_table)(psd, q_range, rolloff)
+    qr, lowest, gain = math.exp(fitted.xr), float(fitted.q[0]), fitted.gain
+    qr_at_bound = rolloff and (qr < lowest * ROLLOFF_MARGIN or gain < ROLLOFF_SIGNIFICANCE)
     if qr_at_bound:
-        _warn_unresolved(math.exp(xr), float(q[0]), gain)
-    xr = max(xr, math.log(m0))
-    p = np.array([a, H, xr])
-    grad = np.array(
-        [
-            (_model_h_rms(*(p + d), m0, m1) - _model_h_rms(*(p - d), m0, m1)) / 2e-6
-            for d in np.eye(3) * 1e-6
-        ]
-    )
-    h_rms = _model_h_rms(a, H, xr, m0, m1)
-    model = SelfAffinePSD(h_rms, H, m0, min(max(math.exp(xr), m0), m1 * (1 - 1e-12)), m1)
-    return SelfAffineFit(
-        psd=model,
-        h_rms=h_rms,
-        hurst=float(H),
-        qr=model.qr,
-        C0=model.C0,
-        h_rms_err=float(math.sqrt(max(grad @ cov @ grad, 0.0))),
-        hurst_err=float(math.sqrt(cov[1, 1])),
-        qr_err=math.nan if qr_at_bound else float(model.qr * math.sqrt(cov[2, 2])),
-        rms_residual=float(rms),
-        n_points=int(q.size),
-        q_range=(float(q[0]), float(q[-1])),
-        at_bound=bool(hurst_at_bound or qr_at_bound),
-        fitted_to="C1D(k)" if profile else "C(q)",
-        hurst_at_bound=bool(hurst_at_bound),
-        qr_at_bound=bool(qr_at_bound),
-        rolloff_gain=float(gain),
-    )
+        _warn_unresolved(qr, lowest, gain)
+    return _fit_result(fitted, m0, m1, qr_at_bound, "C1D(k)" if profile else "C(q)")

@@ -27,9 +27,10 @@ from fastline.surfaces.ranges import (
     LOW_MODE,
     POINTS_PER_WAVELENGTH,
     QRange,
+    RangeRules,
     log_bins,
     noise_cutoff,
-    range_argument,
+    range_rules,
     span_bins,
     tip_cutoff,
     usable_range,
@@ -48,6 +49,39 @@ def _detrend_map(h: np.ndarray, how: str) -> np.ndarray:
     return h - (V @ coef).reshape(h.shape)
 
 
+def _map_stack(h, dx, dy) -> tuple[np.ndarray, float, float]:
+    """The maps as a stack (M, Ny, Nx) of at least MIN_POINTS each way, and the spacings dx,
+    dy (m), checked."""
+    h = checked_heights(h, (2, 3))
+    stack = h if h.ndim == 3 else h[None]
+    dx = positive("dx", dx, "m")
+    dy = dx if dy is None else positive("dy", dy, "m")
+    if min(stack.shape[1:]) < MIN_POINTS:
+        raise ValueError(
+            f"h must hold at least {MIN_POINTS} points in each direction, got shape {h.shape}"
+            + (" (a single row is a profile: use psd_from_profile)" if 1 in h.shape[-2:] else "")
+        )
+    return stack, dx, dy
+
+
+def _map_window(window, ny: int, nx: int) -> np.ndarray:
+    """The product of two windows, along y and along x, normalised to ``sum w^2 = Nx Ny``."""
+    return normalised_window(window, ny)[:, None] * normalised_window(window, nx)[None, :]
+
+
+def _detrended(stack: np.ndarray, dx: float, dy: float, detrend: str, nan: str):
+    """The maps with dropouts bridged (or refused) and their plane or mean removed, their h_rms
+    (m) and the rms slope of the first; a flat surface is refused."""
+    maps = [_detrend_map(fill_dropouts(m, nan), detrend) for m in stack]
+    h_rms = float(np.sqrt(np.mean([np.mean(m**2) for m in maps])))
+    refuse_flat(h_rms, stack, "map", detrend)
+    h = maps[0]
+    slope = float(
+        np.sqrt(np.mean((np.diff(h, axis=1) / dx) ** 2) + np.mean((np.diff(h, axis=0) / dy) ** 2))
+    )
+    return maps, h_rms, slope
+
+
 def _map_modes(maps, dx: float, dy: float, w: np.ndarray):
     """|q| and C of every Fourier mode, averaged over the maps (module docstring)."""
     ny, nx = maps[0].shape
@@ -58,9 +92,10 @@ def _map_modes(maps, dx: float, dy: float, w: np.ndarray):
     return np.hypot(qy[:, None], qx[None, :]).ravel(), C.ravel()
 
 
-def _map_range(q, C, maps, dx, dy, given, tip, noise):
+def _map_range(q, C, maps, dx, dy, rules: RangeRules):
     """The usable range of a map's modes (the profile rule with L = min(Lx, Ly) and
     dx = max(dx, dy); full rings only up to pi / max(dx, dy))."""
+    given, tip, noise = rules
     ny, nx = maps[0].shape
     measured = (2.0 * math.pi / max(nx * dx, ny * dy), math.pi / max(dx, dy))
     if given == "all":
@@ -78,6 +113,17 @@ def _map_range(q, C, maps, dx, dy, given, tip, noise):
         measured,
     )
     return lo, hi
+
+
+def _rings(q, C, usable, bins_per_decade: int) -> TabulatedPSD:
+    """The modes (q, C) averaged over rings in the usable range ``(lo, hi)``, continued to its
+    ends."""
+    lo, hi = usable
+    qb, Cb, _ = log_bins(q, C, bins_per_decade, lo, hi)
+    qb, Cb = span_bins(qb, Cb, lo, hi)
+    if qb.size < 2:
+        raise ValueError(f"the usable range ({lo:.3g}, {hi:.3g}) 1/m holds fewer than 2 rings")
+    return TabulatedPSD(qb, Cb)
 
 
 def psd_from_map(
@@ -129,37 +175,14 @@ def psd_from_map(
     TabulatedPSD
         Its ``q0``, ``q1`` are the usable range (or the extension).
     """
-    h = checked_heights(h, (2, 3))
-    stack = h if h.ndim == 3 else h[None]
-    dx = positive("dx", dx, "m")
-    dy = dx if dy is None else positive("dy", dy, "m")
-    if min(stack.shape[1:]) < MIN_POINTS:
-        raise ValueError(
-            f"h must hold at least {MIN_POINTS} points in each direction, got shape {h.shape}"
-            + (" (a single row is a profile: use psd_from_profile)" if 1 in h.shape[-2:] else "")
-        )
+    stack, dx, dy = _map_stack(h, dx, dy)
     detrend = choice("detrend", detrend, ("plane", "mean"))
     nan = choice("nan", nan, ("raise", "interpolate"))
     bins_per_decade = integer("bins_per_decade", bins_per_decade, 2)
-    given = range_argument(q_range)
-    tip = None if tip_radius is None else positive("tip_radius", tip_radius, "m")
-    noise = None if noise is None else positive("noise", noise, "m")
-    ny, nx = stack.shape[1:]
-    w = normalised_window(window, ny)[:, None] * normalised_window(window, nx)[None, :]
-
-    maps = [_detrend_map(fill_dropouts(m, nan), detrend) for m in stack]
-    h_rms = float(np.sqrt(np.mean([np.mean(m**2) for m in maps])))
-    refuse_flat(h_rms, stack, "map", detrend)
-    h = maps[0]
-    slope = float(
-        np.sqrt(np.mean((np.diff(h, axis=1) / dx) ** 2) + np.mean((np.diff(h, axis=0) / dy) ** 2))
-    )
+    rules = range_rules(q_range, tip_radius, noise)
+    w = _map_window(window, *stack.shape[1:])
+    maps, h_rms, slope = _detrended(stack, dx, dy, detrend, nan)
     check_plausible(h_rms, slope, "psd_from_map")
     q, C = _map_modes(maps, dx, dy, w)
-    lo, hi = _map_range(q, C, maps, dx, dy, given, tip, noise)
-    qb, Cb, _ = log_bins(q, C, bins_per_decade, lo, hi)
-    qb, Cb = span_bins(qb, Cb, lo, hi)
-    if qb.size < 2:
-        raise ValueError(f"the usable range ({lo:.3g}, {hi:.3g}) 1/m holds fewer than 2 rings")
-    psd = TabulatedPSD(qb, Cb)
+    psd = _rings(q, C, _map_range(q, C, maps, dx, dy, rules), bins_per_decade)
     return psd if q1 is None else extend_psd(psd, q1)

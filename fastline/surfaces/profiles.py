@@ -10,7 +10,7 @@ from __future__ import annotations
 import math
 from collections.abc import Iterator
 from dataclasses import dataclass, field
-from typing import Any, Literal
+from typing import Any, Literal, NamedTuple
 
 import numpy as np
 from numpy.typing import ArrayLike
@@ -32,9 +32,10 @@ from fastline.surfaces.ranges import (
     LOW_MODE,
     POINTS_PER_WAVELENGTH,
     QRange,
+    RangeRules,
     log_bins,
     noise_cutoff,
-    range_argument,
+    range_rules,
     span_bins,
     tip_cutoff,
     usable_range,
@@ -97,6 +98,39 @@ class ProfileSpectrum:
 _DETRENDS = ("mean", "linear", "parabola", "circle")
 
 
+def _profile_rows(h, dx) -> tuple[np.ndarray, float]:
+    """The heights as rows of at least MIN_POINTS each, and the spacing dx (m), checked."""
+    rows = np.atleast_2d(checked_heights(h, (1, 2)))
+    dx = positive("dx", dx, "m")
+    if rows.shape[-1] < MIN_POINTS:
+        raise ValueError(
+            f"h must hold at least {MIN_POINTS} points per profile, got {rows.shape[-1]}"
+        )
+    return rows, dx
+
+
+class _Detrended(NamedTuple):
+    """Profiles without their form (m), the form's radius (m) or None, their h_rms (m) and rms
+    slope."""
+
+    rows: np.ndarray
+    radius: float | None
+    h_rms: float
+    slope: float
+
+
+def _detrended(rows: np.ndarray, dx: float, detrend: str, nan: str) -> _Detrended:
+    """The rows with dropouts bridged (or refused) and their form removed; a flat profile is
+    refused."""
+    raw = fill_dropouts(rows, nan)
+    refuse_flat(float(np.std(raw)), raw, "profile", "mean")  # before a form fit divides by 0
+    rows, radius = detrend_rows(raw, dx, detrend)
+    h_rms = float(np.sqrt(np.mean(rows**2)))
+    refuse_flat(h_rms, raw, "profile", detrend)
+    slope = float(np.sqrt(np.mean((np.diff(rows, axis=-1) / dx) ** 2)))
+    return _Detrended(rows, radius, h_rms, slope)
+
+
 def _periodogram(h: np.ndarray, dx: float, w: np.ndarray):
     """``k_m, C1D(k_m)`` for m = 1 .. N//2, averaged over the rows (module docstring)."""
     n = h.shape[-1]
@@ -107,8 +141,9 @@ def _periodogram(h: np.ndarray, dx: float, w: np.ndarray):
     return k[1:], C[1:]
 
 
-def _profile_range(k, C, rows, dx, given, tip, noise):
+def _profile_range(k, C, rows, dx, rules: RangeRules):
     """The usable range of a periodogram (k, C) of rows at spacing dx, and its reasons."""
+    given, tip, noise = rules
     measured = (float(k[0]), float(k[-1]))
     if given == "all":
         return measured, {"low": "all", "high": "all"}
@@ -138,6 +173,29 @@ def _profile_points(k, C, q_rng, bins_per_decade):
     if k.size < 2:
         raise ValueError(f"the usable range {q_rng} 1/m holds fewer than 2 spectrum points")
     return k, C, counts
+
+
+def _spectrum(points, usable, form: _Detrended, dx, w, window, detrend) -> ProfileSpectrum:
+    """The ProfileSpectrum of the points ``(k, C1D, counts)`` over the usable range
+    ``(q_range, limits)``, with the data and the analysis they came from."""
+    k, C, counts = points
+    q_rng, limits = usable
+    return ProfileSpectrum(
+        k=k,
+        C1D=C,
+        counts=counts,
+        q_range=q_rng,
+        limits=limits,
+        h_rms=form.h_rms,
+        rms_slope=form.slope,
+        n_profiles=form.rows.shape[0],
+        dx=dx,
+        length=form.rows.shape[-1] * dx,
+        window="none" if window is None else str(window),
+        detrend=detrend,
+        form_radius=form.radius,
+        window_factor=float(w.size * np.sum(w**4) / np.sum(w * w) ** 2),
+    )
 
 
 def psd_from_profile(
@@ -205,54 +263,47 @@ def psd_from_profile(
     TopographyWarning
         When h_rms > 1 mm or the rms slope is outside [1e-6, 5]: a unit slip.
     """
-    h = checked_heights(h, (1, 2))
-    rows = np.atleast_2d(h)
-    dx = positive("dx", dx, "m")
-    if rows.shape[-1] < MIN_POINTS:
-        raise ValueError(
-            f"h must hold at least {MIN_POINTS} points per profile, got {rows.shape[-1]}"
-        )
+    rows, dx = _profile_rows(h, dx)
     detrend = choice("detrend", detrend, _DETRENDS)
     nan = choice("nan", nan, ("raise", "interpolate"))
     if bins_per_decade is not None:
         bins_per_decade = integer("bins_per_decade", bins_per_decade, 2)
-    given = range_argument(q_range)
-    tip = None if tip_radius is None else positive("tip_radius", tip_radius, "m")
-    noise = None if noise is None else positive("noise", noise, "m")
+    rules = range_rules(q_range, tip_radius, noise)
     w = normalised_window(window, rows.shape[-1])  # checks the name before any work
 
-    raw = fill_dropouts(rows, nan)
-    refuse_flat(float(np.std(raw)), raw, "profile", "mean")  # before a form fit divides by 0
-    rows, radius = detrend_rows(raw, dx, detrend)
-    h_rms = float(np.sqrt(np.mean(rows**2)))
-    refuse_flat(h_rms, raw, "profile", detrend)
-    slope = float(np.sqrt(np.mean((np.diff(rows, axis=-1) / dx) ** 2)))
-    check_plausible(h_rms, slope, "psd_from_profile")
-    k, C = _periodogram(rows, dx, w)
-    L = rows.shape[-1] * dx
-    q_rng, limits = _profile_range(k, C, rows, dx, given, tip, noise)
-    k, C, counts = _profile_points(k, C, q_rng, bins_per_decade)
-    return ProfileSpectrum(
-        k=k,
-        C1D=C,
-        counts=counts,
-        q_range=q_rng,
-        limits=limits,
-        h_rms=h_rms,
-        rms_slope=slope,
-        n_profiles=rows.shape[0],
-        dx=dx,
-        length=L,
-        window="none" if window is None else str(window),
-        detrend=detrend,
-        form_radius=radius,
-        window_factor=float(w.size * np.sum(w**4) / np.sum(w * w) ** 2),
-    )
+    form = _detrended(rows, dx, detrend, nan)
+    check_plausible(form.h_rms, form.slope, "psd_from_profile")
+    k, C = _periodogram(form.rows, dx, w)
+    usable = _profile_range(k, C, form.rows, dx, rules)
+    points = _profile_points(k, C, usable[0], bins_per_decade)
+    return _spectrum(points, usable, form, dx, w, window, detrend)
 
 
 # ----------------------------------------------------------------------------------------------
 # 1D -> isotropic 2D
 # ----------------------------------------------------------------------------------------------
+def _tail_slope(k: np.ndarray, C1D: np.ndarray, tail, tail_decades) -> float | None:
+    """The exponent of C1D beyond the last point (< -1), or None for no tail: the ``tail`` of
+    :func:`isotropic_from_1d`."""
+    if not isinstance(tail, str):
+        slope = finite_scalar("tail", tail)
+        if slope >= -1.0:
+            raise ValueError(f"tail must be an exponent < -1 (or 'fit', 'zero'), got {slope!r}")
+        return slope
+    choice("tail", tail, ("fit", "zero"))
+    if tail == "zero":
+        return None
+    decades = positive("tail_decades", tail_decades)
+    slope = loglog_slope(k, C1D, decades)
+    if slope >= -1.0:
+        raise ValueError(
+            f"the top of C1D does not fall off (fitted exponent {slope:.3g} >= -1 over "
+            f"the top {decades:g} decades): it is noise or instrument floor. Cut the "
+            "spectrum below it (q_range) or pass tail='zero' or an exponent < -1"
+        )
+    return slope
+
+
 def isotropic_from_1d(
     k: ArrayLike,
     C1D: ArrayLike,
@@ -294,24 +345,7 @@ def isotropic_from_1d(
         When noise makes C(q) <= 0 at some points; they are left out.
     """
     k, C1D = checked_table("k", k, "C1D", C1D, positive_values=True)
-    if isinstance(tail, str):
-        choice("tail", tail, ("fit", "zero"))
-        if tail == "zero":
-            slope = None
-        else:
-            decades = positive("tail_decades", tail_decades)
-            slope = loglog_slope(k, C1D, decades)
-            if slope >= -1.0:
-                raise ValueError(
-                    f"the top of C1D does not fall off (fitted exponent {slope:.3g} >= -1 over "
-                    f"the top {decades:g} decades): it is noise or instrument floor. Cut the "
-                    "spectrum below it (q_range) or pass tail='zero' or an exponent < -1"
-                )
-    else:
-        slope = finite_scalar("tail", tail)
-        if slope >= -1.0:
-            raise ValueError(f"tail must be an exponent < -1 (or 'fit', 'zero'), got {slope!r}")
-    C = inverse_abel(k, C1D, slope)
+    C = inverse_abel(k, C1D, _tail_slope(k, C1D, tail, tail_decades))
     good = C > 0.0
     if not good.all():
         topography_warning(

@@ -10,7 +10,7 @@ stylus-tip limit (:func:`tip_cutoff`) and the noise limit (:func:`noise_cutoff`)
 from __future__ import annotations
 
 import math
-from typing import Literal
+from typing import Literal, NamedTuple
 
 import numpy as np
 
@@ -118,6 +118,23 @@ def range_argument(q_range, name="q_range"):
     if lo is not None and hi is not None and hi <= lo:
         raise ValueError(f"{name} must have lo < hi, got ({lo:g}, {hi:g})")
     return lo, hi
+
+
+class RangeRules(NamedTuple):
+    """The arguments of the range rules, checked: the given ends (:func:`range_argument`), the
+    stylus tip radius and the rms instrument noise (m; None where that rule is not applied)."""
+
+    given: tuple[float | None, float | None] | str
+    tip: float | None
+    noise: float | None
+
+
+def range_rules(q_range, tip_radius, noise) -> RangeRules:
+    """``q_range``, ``tip_radius`` (m) and ``noise`` (m) checked, in this order."""
+    given = range_argument(q_range)
+    tip = None if tip_radius is None else positive("tip_radius", tip_radius, "m")
+    noise = None if noise is None else positive("noise", noise, "m")
+    return RangeRules(given, tip, noise)
 
 
 def tip_cutoff(h: np.ndarray, dx: float, tip_radius: float) -> float:
