@@ -248,10 +248,8 @@ def psd_from_profile(
         where C1D falls below 10 times the white-noise floor ``noise^2 dx / (2 pi)``). None:
         the whole periodogram ``2 pi / L .. pi / dx``. A pair overrides either end (None keeps
         the rule).
-    tip_radius : float, optional
-        Stylus tip radius in m.
-    noise : float, optional
-        rms instrument noise in m.
+    tip_radius, noise : float, optional
+        Stylus tip radius and rms instrument noise, in m.
 
     Returns
     -------
@@ -270,7 +268,6 @@ def psd_from_profile(
         bins_per_decade = integer("bins_per_decade", bins_per_decade, 2)
     rules = range_rules(q_range, tip_radius, noise)
     w = normalised_window(window, rows.shape[-1])  # checks the name before any work
-
     form = _detrended(rows, dx, detrend, nan)
     check_plausible(form.h_rms, form.slope, "psd_from_profile")
     k, C = _periodogram(form.rows, dx, w)
