@@ -34,6 +34,8 @@ _T = TypeVar("_T")
 
 
 def checked_heights(h, ndim_allowed: tuple[int, ...]) -> np.ndarray:
+    """Heights (m) as a float64 array of one of the allowed dimensions, without inf (NaN, a
+    dropout, is left to :func:`fill_dropouts`)."""
     try:
         arr = np.array(h, dtype=np.float64)
     except (TypeError, ValueError):
@@ -52,7 +54,7 @@ _QUIET: contextvars.ContextVar[bool] = contextvars.ContextVar("fastline_topograp
 
 @contextlib.contextmanager
 def quiet():
-    """Drop this module's TopographyWarnings inside the block. Unlike
+    """Drop the TopographyWarnings of :func:`topography_warning` inside the block. Unlike
     ``warnings.catch_warnings``, it leaves the warning filters alone: changing them (entering
     or leaving that context manager) clears the record of warnings already shown, so each call
     of a function using it would show the same warning again."""
@@ -198,6 +200,7 @@ def check_plausible(h_rms: float, slope: float, what: str) -> None:
 
 
 def choice(name: str, value: _T, allowed: tuple[str, ...]) -> _T:
+    """The argument ``name`` if it is one of ``allowed``, else a ValueError naming them."""
     if value not in allowed:
         raise ValueError(f"{name} must be one of {', '.join(map(repr, allowed))}, got {value!r}")
     return value

@@ -18,6 +18,8 @@ from fastline.theory.spectra import TabulatedPSD
 def checked_table(
     name_q: str, q: ArrayLike, name_c: str, C: ArrayLike, *, positive_values: bool
 ) -> tuple[np.ndarray, np.ndarray]:
+    """A spectrum table checked: wavenumbers q (1/m, > 0, strictly increasing, >= 3 points) and
+    finite values C of the same length (> 0 with ``positive_values``)."""
     q = real_array(name_q, q)
     C = real_array(name_c, C)
     if q.ndim != 1 or C.shape != q.shape:
