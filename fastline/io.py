@@ -3,10 +3,10 @@
 Spectrum files hold two columns, wavenumber q [1/m] and isotropic power spectrum C(q) [m^4] in
 Persson's convention (``h_rms^2 = 2 pi int q C dq``, docs/theory.md section 2), separated by
 blanks, tabs, commas or semicolons, after any header lines; ``#`` starts a comment (the
-tolerant table reader of :mod:`fastline.surfaces.read`, shared with the scan files). :func:`read_spectrum` checks that the table is
-a plausible spectrum before it is used (a height profile, x [m] against h [m], starts at x = 0
-and is refused). :func:`write_spectrum` writes such a table (``fastline psd --out``) with the
-measurement it came from in ``#`` header lines.
+tolerant table reader of :mod:`fastline.surfaces.read`, shared with the scan files).
+:func:`read_spectrum` checks that the table is a plausible spectrum before it is used (a height
+profile, x [m] against h [m], starts at x = 0 and is refused). :func:`write_spectrum` writes
+such a table (``fastline psd --out``) with the measurement it came from in ``#`` header lines.
 
 Result files are CSV: ``# key: value`` lines describing the scene (spectrum and where it came
 from, its h_rms, rms slope and q range, E*, R, model, gamma, n, fastline version), then a
@@ -25,14 +25,15 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
+from fastline._lib.version import __version__
 from fastline.errors import SpectrumFileError
 from fastline.surfaces.read import read_spectrum
+from fastline.theory.spectra import PSD, TabulatedPSD
 
-if TYPE_CHECKING:  # annotations only: this module stays light at import
+if TYPE_CHECKING:  # annotations only: results of the layers above the spectra
     from fastline.contact.line import LineContactResult
     from fastline.contact.point import PointContactResult
     from fastline.leakage.flow import LeakResult
-    from fastline.theory.spectra import PSD, TabulatedPSD
 
 __all__ = [
     "SpectrumFileError",
@@ -173,8 +174,6 @@ def scene_metadata(
     **extra
         Further entries (e.g. the load), written after these.
     """
-    from fastline import __version__
-
     meta: dict = {"fastline_version": __version__}
     if psd is None:
         meta["spectrum"] = "none (smooth surfaces)"
@@ -517,8 +516,6 @@ def write_spectrum(
         Header entries (e.g. how the spectrum was measured), written before the summary.
     title : str, optional
     """
-    from fastline.theory.spectra import TabulatedPSD
-
     if not isinstance(psd, TabulatedPSD):
         raise TypeError(f"psd must be a TabulatedPSD, got {type(psd).__name__}")
     s = spectrum_summary(psd)

@@ -19,7 +19,11 @@ from scipy.integrate import quad
 from scipy.special import gamma
 
 import fastline as fl
+from fastline.surfaces import files
 from fastline.surfaces import topography as tp
+from fastline.surfaces.fit import _c1d_shape
+from fastline.surfaces.heights import normalised_window
+from fastline.surfaces.ranges import log_bins, span_bins
 
 RTOL_EXACT = 1e-12  # identities (Parseval, explicit sums, invariances, unit factors)
 RTOL_ABEL = 1e-6  # inverse Abel round trip away from cut-offs and kinks
@@ -89,7 +93,7 @@ def test_periodogram_is_the_documented_sum(window):
     s = tp.psd_from_profile(
         h, 2e-6, window=window, detrend="mean", q_range=None, bins_per_decade=None
     )
-    w = np.ones(101) if window == "none" else tp._window("hann", 101)
+    w = np.ones(101) if window == "none" else normalised_window("hann", 101)
     assert np.sum(w * w) == pytest.approx(101, rel=RTOL_EXACT)
     k, C = naive.periodogram_1d(h - h.mean(), 2e-6, w)
     np.testing.assert_allclose(s.k, k, rtol=RTOL_EXACT)
@@ -227,8 +231,8 @@ def _expected_profiles(psd):
 
 
 def _binned(k, values, variances, lo, hi):
-    _, mean, counts = tp._log_bins(k, values, 20, lo, hi)
-    _, var_sum, _ = tp._log_bins(k, variances, 20, lo, hi)
+    _, mean, counts = log_bins(k, values, 20, lo, hi)
+    _, var_sum, _ = log_bins(k, variances, 20, lo, hi)
     return mean, var_sum / counts  # mean of the variances / n = Var of the mean
 
 
@@ -237,7 +241,7 @@ def _abel_jacobian(k, C1D, lo, hi):
     points continued to lo and hi), and its derivatives with respect to the binned values."""
 
     def inverse(values):
-        return tp.isotropic_from_1d(*tp._span(k, values, lo, hi)).C[1:-1]
+        return tp.isotropic_from_1d(*span_bins(k, values, lo, hi)).C[1:-1]
 
     base = inverse(C1D)
     J = np.empty((k.size, k.size))
@@ -535,7 +539,7 @@ def _profile_fits(truth, count, seed):
 def test_c1d_model_is_the_forward_abel_transform():
     psd = fl.SelfAffinePSD(1e-6, 0.7, 1.0, 5e4, 1e12)  # q0, q1 far outside: C1D of the model
     for k in (1e4, 4.9e4, 5.1e4, 3e5):
-        got = psd.C0 * tp._c1d_shape(k, 0.7, math.log(5e4))
+        got = psd.C0 * _c1d_shape(k, 0.7, math.log(5e4))
         assert got == pytest.approx(naive.abel_forward_quad(psd, k), rel=RTOL_ABEL)
 
 
@@ -654,7 +658,7 @@ def test_surfacetopography_agrees():
     _, _, C_map = topo.power_spectrum_from_area(window="None", return_map=True)
     q = np.hypot(_grid_q()[:, None], _grid_q()[None, :])
     lo, hi = 4 * DQ, 2 * math.pi / (4 * DX)
-    theirs = tp._log_bins(q.ravel(), np.asarray(C_map).T.ravel(), 20, lo, hi)[1]
+    theirs = log_bins(q.ravel(), np.asarray(C_map).T.ravel(), 20, lo, hi)[1]
     mine = tp.psd_from_map(h, DX, window="none", detrend="mean")
     np.testing.assert_allclose(
         tp.convert_psd(mine.C[1:-1], mine.q[1:-1], "persson", "surfacetopography"),
@@ -836,7 +840,7 @@ def test_instrument_file_without_the_extra(tmp_path, monkeypatch):
     monkeypatch.setitem(sys.modules, "SurfaceTopography", None)  # import fails
     with pytest.raises(ImportError, match="SurfaceTopography") as excinfo:
         tp.read_topography(tmp_path / "scan.sur")
-    assert tp._INSTALL in str(excinfo.value)
+    assert files._INSTALL in str(excinfo.value)
 
 
 # ------------------------------------------------------------------------------------------------

@@ -110,7 +110,7 @@ def test_walker_sees_the_public_api():
         "fastline.theory.laws.TabulatedLaw.separation_and_slope",
         "fastline.theory.asperity.GreenwoodWilliamsonLaw.real_area",
         "fastline.leakage.flow.leak_rate",
-        "fastline.surfaces.topography.psd_from_profile",
+        "fastline.surfaces.profiles.psd_from_profile",
         "fastline.surfaces.scan.analyse_scan",
         "fastline.reports.plotting.plot_profile",
         "fastline.contact.line.profile",

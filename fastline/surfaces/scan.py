@@ -1,18 +1,19 @@
 """From a measurement file to the spectrum a contact solve uses, in one call.
 
 :func:`analyse_scan` is the pipeline behind ``fastline psd`` and ``--scan``: read a line scan,
-parallel line scans or a height map (:func:`fastline.surfaces.topography.read_topography`), take its
-spectrum over the usable range (:func:`~fastline.surfaces.topography.psd_from_profile` and the exact
-inverse Abel transform :func:`~fastline.surfaces.topography.isotropic_from_1d`, or
+parallel line scans or a height map (:func:`fastline.surfaces.topography.read_topography`),
+take its spectrum over the usable range
+(:func:`~fastline.surfaces.topography.psd_from_profile` and the exact inverse Abel transform
+:func:`~fastline.surfaces.topography.isotropic_from_1d`, or
 :func:`~fastline.surfaces.topography.psd_from_map`), fit the self-affine model
-(:func:`~fastline.surfaces.topography.fit_self_affine`: to C1D for line scans, to C(q) for maps) and, on
-request, cut the table at q1 or continue it to q1 by the fitted power law
-(:func:`~fastline.surfaces.topography.extend_psd`; the fitted model ``fit.psd`` spans the same range).
-Every number is the one those functions return; this module only chains them and records what
-was done.
+(:func:`~fastline.surfaces.topography.fit_self_affine`: to C1D for line scans, to C(q) for
+maps) and, on request, cut the table at q1 or continue it to q1 by the fitted power law
+(:func:`~fastline.surfaces.topography.extend_psd`; the fitted model ``fit.psd`` spans the same
+range). Every number is the one those functions return; this module only chains them and
+records what was done.
 
-Conventions and SI units as :mod:`fastline.surfaces.topography`: heights and spacings in m, wavenumbers
-in 1/m, C1D in m^3, C(q) in m^4 with ``h_rms^2 = 2 pi int q C dq``.
+Conventions and SI units as :mod:`fastline.surfaces.topography`: heights and spacings in m,
+wavenumbers in 1/m, C1D in m^3, C(q) in m^4 with ``h_rms^2 = 2 pi int q C dq``.
 """
 
 from __future__ import annotations
@@ -21,12 +22,14 @@ import math
 import os
 import warnings
 from dataclasses import dataclass
-from typing import Literal
+from typing import Literal, NamedTuple
 
 import numpy as np
 
 from fastline._lib.validate import positive
 from fastline.surfaces import topography as tp
+from fastline.surfaces.heights import quiet
+from fastline.surfaces.read import read_spectrum
 from fastline.theory.spectra import TabulatedPSD
 
 __all__ = ["ScanSpectrum", "analyse_scan", "LIMIT_RULES"]
@@ -155,8 +158,6 @@ class ScanSpectrum:
 def _looks_like_spectrum(path: str) -> bool:
     """Whether a file reads as a spectrum table (q > 0 increasing over a decade or more, C > 0
     falling over decades): the mistake of passing a spectrum where a scan belongs."""
-    from fastline.io import read_spectrum
-
     try:
         with warnings.catch_warnings():
             warnings.simplefilter("ignore")
@@ -179,12 +180,22 @@ def _refuse_spectrum(path: str) -> None:
         )
 
 
-def _read(path: str, dx, dy, as_map: bool, unit: str, x_unit):
-    """(kind, heights, dx, dy) of a file; refuses a spectrum table passed as a scan."""
+class _Scan(NamedTuple):
+    """What a file holds: its kind (a key of ScanSpectrum.kind), heights (m), dx and dy (m; dy
+    of a map only, else None)."""
+
+    kind: str
+    h: np.ndarray
+    dx: float
+    dy: float | None
+
+
+def _read(path: str, dx, dy, as_map: bool, unit: str, x_unit) -> _Scan:
+    """The scan a file holds; refuses a spectrum table passed as a scan."""
     if os.path.isdir(path):
         raise ValueError(f"{path} is a directory, not a file")
     try:
-        return _read_file(path, dx, dy, as_map, unit, x_unit)
+        return _Scan(*_read_file(path, dx, dy, as_map, unit, x_unit))
     except ValueError as e:
         if dx is None and ("needs dx" in str(e) or "dx (m) is required" in str(e)):
             what = "a height map" if as_map else "heights only (no x column)"
@@ -213,14 +224,26 @@ def _read_file(path: str, dx, dy, as_map: bool, unit: str, x_unit):
     return "profile", h, data.dx, None
 
 
-def _profile_stage(h, dx, options):
-    """(ProfileSpectrum over the usable range, raw periodogram, C(q) over the range)."""
+class _Spectra(NamedTuple):
+    """A scan's spectra: the ProfileSpectrum (line scans) or None (a map), the raw spectrum for
+    figures, C(q) over the usable range (m^4), the range (1/m) and the rule of each end."""
+
+    spectrum: tp.ProfileSpectrum | None
+    raw: tuple
+    measured: TabulatedPSD
+    q_range: tuple
+    limits: dict
+
+
+def _profile_stage(h, dx, options) -> _Spectra:
+    """The ProfileSpectrum over the usable range, the raw periodogram, C(q) over the range."""
     spectrum = tp.psd_from_profile(h, dx, **options)
     raw_options = {**options, "q_range": None, "bins_per_decade": None}
     raw_options.pop("tip_radius"), raw_options.pop("noise")
-    with tp._quiet():  # said once, by the call above
+    with quiet():  # said once, by the call above
         raw = tp.psd_from_profile(h, dx, **raw_options)
-    return spectrum, (raw.k, raw.C1D), spectrum.isotropic()
+    measured = spectrum.isotropic()
+    return _Spectra(spectrum, (raw.k, raw.C1D), measured, spectrum.q_range, dict(spectrum.limits))
 
 
 def _map_limits(psd: TabulatedPSD, dx, dy, q_range, tip, noise) -> dict:
@@ -241,17 +264,18 @@ def _map_limits(psd: TabulatedPSD, dx, dy, q_range, tip, noise) -> dict:
     return {"low": "given" if lo is not None else "scan length", "high": high}
 
 
-def _map_stage(h, dx, dy, options):
-    """(ring averages over all full rings, C(q) over the usable range, the range's rules)."""
+def _map_stage(h, dx, dy, options) -> _Spectra:
+    """The ring averages over all full rings, C(q) over the usable range, the range's rules."""
     measured = tp.psd_from_map(h, dx, dy, **options)
     raw_options = {**options, "q_range": None}
     raw_options.pop("tip_radius"), raw_options.pop("noise")
-    with tp._quiet():  # said once, by the call above
+    with quiet():  # said once, by the call above
         raw = tp.psd_from_map(h, dx, dy, **raw_options)
     limits = _map_limits(
         measured, dx, dy, options["q_range"], options["tip_radius"], options["noise"]
     )
-    return (raw.q, raw.C), measured, limits
+    q_rng = (float(measured.q0), float(measured.q1))
+    return _Spectra(None, (raw.q, raw.C), measured, q_rng, limits)
 
 
 def _check_q1(measured: TabulatedPSD, q1, extend: bool) -> None:
@@ -284,6 +308,67 @@ def _table(measured: TabulatedPSD, fit, q1, extend: bool):
     return tp.extend_psd(measured, q1, hurst=fit.hurst), top
 
 
+def _spectra(scan: _Scan, options: dict) -> _Spectra:
+    """The spectra of a map (:func:`_map_stage`) or of line scans (:func:`_profile_stage`)."""
+    if scan.kind == "map":
+        return _map_stage(scan.h, scan.dx, scan.dy, options)
+    return _profile_stage(scan.h, scan.dx, options)
+
+
+def _scan_spectrum(path: str, scan: _Scan, spectra: _Spectra, fit, table, options) -> ScanSpectrum:
+    """The ScanSpectrum of a file's scan, its spectra, fit, ``table`` (the table to use and the
+    wavenumber above which it is extrapolated, or None) and the spectrum ``options``."""
+    psd, extended_from = table
+    window = options["window"]
+    return ScanSpectrum(
+        path=path,
+        kind=scan.kind,
+        shape=tuple(scan.h.shape),
+        dx=float(scan.dx),
+        dy=None if scan.dy is None else float(scan.dy),
+        spectrum=spectra.spectrum,
+        raw=spectra.raw,
+        measured=spectra.measured,
+        q_range=spectra.q_range,
+        limits=spectra.limits,
+        fit=fit,
+        psd=psd,
+        extended_from=extended_from,
+        window="none" if window is None else str(window),
+        detrend=options["detrend"],
+    )
+
+
+def _checked_options(as_map: bool, detrend, q1, extend: bool):
+    """The detrending (the default of a map or of line scans) and q1 (1/m), checked with
+    extend before any work."""
+    if extend and q1 is None:
+        raise ValueError("extend=True needs q1, the wavenumber (1/m) to continue C(q) to")
+    allowed = ("plane", "mean") if as_map else ("linear", "mean", "parabola", "circle")
+    detrend = allowed[0] if detrend is None else detrend
+    if detrend not in allowed:
+        what = "a map" if as_map else "line scans"
+        hint = " ('plane' is for a height map: as_map=True (--map))" if detrend == "plane" else ""
+        raise ValueError(
+            f"detrend for {what} must be one of {', '.join(allowed)}, got {detrend!r}{hint}"
+        )
+    return detrend, None if q1 is None else positive("q1", q1, "1/m")
+
+
+def _spectrum_options(window, detrend, nan, bins_per_decade, q_range, tip_radius, noise) -> dict:
+    """The keyword arguments of :func:`~fastline.surfaces.topography.psd_from_profile` (or
+    ``psd_from_map``) that the analysis passes on."""
+    return dict(
+        window=window,
+        detrend=detrend,
+        nan=nan,
+        bins_per_decade=bins_per_decade,
+        q_range=q_range,
+        tip_radius=tip_radius,
+        noise=noise,
+    )
+
+
 def analyse_scan(
     path: str | os.PathLike,
     *,
@@ -309,7 +394,8 @@ def analyse_scan(
     path : str or path-like
         A line scan (text or ``.npy``: one column h with ``dx``, or two columns x, h), parallel
         line scans (one per row of a 2D text or ``.npy`` file, with ``dx``), a height map
-        (``as_map=True``) or an instrument file (:func:`fastline.surfaces.topography.read_topography`).
+        (``as_map=True``) or an instrument file
+        (:func:`fastline.surfaces.topography.read_topography`).
     dx, dy : float, optional
         Spacing along the scans and, for a map, between its rows, in m. Taken from the file's
         x column or an instrument file when it has them.
@@ -348,56 +434,15 @@ def analyse_scan(
     Warns
     -----
     TopographyWarning
-        From :mod:`fastline.surfaces.topography`: h_rms or slopes that suggest a unit slip, C(q) <= 0
-        points left out by the inverse transform.
+        From :mod:`fastline.surfaces.topography`: h_rms or slopes that suggest a unit slip,
+        C(q) <= 0 points left out by the inverse transform.
     """
     path = os.fspath(path)
-    if extend and q1 is None:
-        raise ValueError("extend=True needs q1, the wavenumber (1/m) to continue C(q) to")
-    allowed = ("plane", "mean") if as_map else ("linear", "mean", "parabola", "circle")
-    detrend = allowed[0] if detrend is None else detrend
-    if detrend not in allowed:
-        what = "a map" if as_map else "line scans"
-        hint = " ('plane' is for a height map: as_map=True (--map))" if detrend == "plane" else ""
-        raise ValueError(
-            f"detrend for {what} must be one of {', '.join(allowed)}, got {detrend!r}{hint}"
-        )
-    if q1 is not None:
-        q1 = positive("q1", q1, "1/m")
-    options = dict(
-        window=window,
-        detrend=detrend,
-        nan=nan,
-        bins_per_decade=bins_per_decade,
-        q_range=q_range,
-        tip_radius=tip_radius,
-        noise=noise,
-    )
-    kind, h, dx, dy = _read(path, dx, dy, as_map, unit, x_unit)
-    if kind == "map":
-        spectrum = None
-        raw, measured, limits = _map_stage(h, dx, dy, options)
-        q_rng = (float(measured.q0), float(measured.q1))
-    else:
-        spectrum, raw, measured = _profile_stage(h, dx, options)
-        q_rng, limits = spectrum.q_range, spectrum.limits
-    _check_q1(measured, q1, extend)
-    fit = _fit(spectrum, measured, q1)
-    psd, extended_from = _table(measured, fit, q1, extend)
-    return ScanSpectrum(
-        path=path,
-        kind=kind,
-        shape=tuple(h.shape),
-        dx=float(dx),
-        dy=None if dy is None else float(dy),
-        spectrum=spectrum,
-        raw=raw,
-        measured=measured,
-        q_range=q_rng,
-        limits=dict(limits),
-        fit=fit,
-        psd=psd,
-        extended_from=extended_from,
-        window="none" if window is None else str(window),
-        detrend=detrend,
-    )
+    detrend, q1 = _checked_options(as_map, detrend, q1, extend)
+    options = _spectrum_options(window, detrend, nan, bins_per_decade, q_range, tip_radius, noise)
+    scan = _read(path, dx, dy, as_map, unit, x_unit)
+    spectra = _spectra(scan, options)
+    _check_q1(spectra.measured, q1, extend)
+    fit = _fit(spectra.spectrum, spectra.measured, q1)
+    table = _table(spectra.measured, fit, q1, extend)
+    return _scan_spectrum(path, scan, spectra, fit, table, options)

@@ -1,0 +1,356 @@
+"""Line scans: the 1D spectrum of profiles and the isotropic spectrum it implies.
+
+Conventions as :mod:`fastline.surfaces.topography` (docs/theory.md section 2): the two-sided 1D
+spectrum ``h_rms^2 = 2 int_0^inf C1D(k) dk`` (m^3), the isotropic spectrum
+``h_rms^2 = 2 pi int q C dq`` (m^4); heights and lengths in m, wavenumbers in 1/m.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Iterator
+from dataclasses import dataclass, field
+from typing import Any, Literal, NamedTuple
+
+import numpy as np
+from numpy.typing import ArrayLike
+
+from fastline._lib.validate import finite_scalar, integer, positive
+from fastline.surfaces.abel import inverse_abel
+from fastline.surfaces.heights import (
+    MIN_POINTS,
+    check_plausible,
+    checked_heights,
+    choice,
+    detrend_rows,
+    fill_dropouts,
+    normalised_window,
+    refuse_flat,
+    topography_warning,
+)
+from fastline.surfaces.ranges import (
+    LOW_MODE,
+    POINTS_PER_WAVELENGTH,
+    QRange,
+    RangeRules,
+    log_bins,
+    noise_cutoff,
+    range_rules,
+    span_bins,
+    tip_cutoff,
+    usable_range,
+)
+from fastline.surfaces.tables import checked_table, extend_psd, loglog_slope
+from fastline.theory.spectra import TabulatedPSD
+
+
+@dataclass(frozen=True)
+class ProfileSpectrum:
+    """The 1D spectrum of one or more parallel profiles; unpacks as ``k, C1D = ...``.
+
+    Attributes
+    ----------
+    k : ndarray
+        Wavenumbers in 1/m (bin locations, or the Fourier wavenumbers ``2 pi m / L``).
+    C1D : ndarray
+        Two-sided 1D spectrum in m^3, ``h_rms^2 = 2 int_0^inf C1D dk``.
+    counts : ndarray
+        Periodogram values averaged into each point, per profile (1 unbinned; 0 for the two
+        end points, which continue the first and last bins to the ends of ``q_range``).
+    q_range : tuple of float
+        The usable range (1/m) the spectrum was cut to, and ``limits`` the rule that set each
+        end (``"scan length"``, ``"sampling"``, ``"tip radius"``, ``"noise floor"``, ``"given"``).
+    h_rms, rms_slope : float
+        Of the detrended heights (m, dimensionless), all profiles together.
+    n_profiles, dx, length : int, float, float
+        Profiles averaged, spacing (m) and length ``N dx`` (m).
+    window, detrend : str
+        As used; ``form_radius`` (m) is the fitted radius for ``detrend="parabola"/"circle"``.
+    window_factor : float
+        ``N sum w^4 / (sum w^2)^2`` of the window: neighbouring periodogram values of a
+        windowed profile are correlated, and a mean of n of them scatters like a mean of
+        ``n / window_factor`` independent ones (1 without a window, 35/18 for Hann).
+    """
+
+    k: np.ndarray
+    C1D: np.ndarray
+    counts: np.ndarray
+    q_range: tuple[float, float]
+    limits: dict = field(repr=False)
+    h_rms: float
+    rms_slope: float
+    n_profiles: int
+    dx: float
+    length: float
+    window: str
+    detrend: str
+    form_radius: float | None = None
+    window_factor: float = 1.0
+
+    def __iter__(self) -> Iterator[np.ndarray]:
+        return iter((self.k, self.C1D))
+
+    def isotropic(self, **options: Any) -> TabulatedPSD:
+        """The isotropic 2D spectrum, ``isotropic_from_1d(k, C1D, **options)``."""
+        return isotropic_from_1d(self.k, self.C1D, **options)
+
+
+_DETRENDS = ("mean", "linear", "parabola", "circle")
+
+
+def _profile_rows(h, dx) -> tuple[np.ndarray, float]:
+    """The heights as rows of at least MIN_POINTS each, and the spacing dx (m), checked."""
+    rows = np.atleast_2d(checked_heights(h, (1, 2)))
+    dx = positive("dx", dx, "m")
+    if rows.shape[-1] < MIN_POINTS:
+        raise ValueError(
+            f"h must hold at least {MIN_POINTS} points per profile, got {rows.shape[-1]}"
+        )
+    return rows, dx
+
+
+class _Detrended(NamedTuple):
+    """Profiles without their form (m), the form's radius (m) or None, their h_rms (m) and rms
+    slope."""
+
+    rows: np.ndarray
+    radius: float | None
+    h_rms: float
+    slope: float
+
+
+def _detrended(rows: np.ndarray, dx: float, detrend: str, nan: str) -> _Detrended:
+    """The rows with dropouts bridged (or refused) and their form removed; a flat profile is
+    refused."""
+    raw = fill_dropouts(rows, nan)
+    refuse_flat(float(np.std(raw)), raw, "profile", "mean")  # before a form fit divides by 0
+    rows, radius = detrend_rows(raw, dx, detrend)
+    h_rms = float(np.sqrt(np.mean(rows**2)))
+    refuse_flat(h_rms, raw, "profile", detrend)
+    slope = float(np.sqrt(np.mean((np.diff(rows, axis=-1) / dx) ** 2)))
+    return _Detrended(rows, radius, h_rms, slope)
+
+
+def _periodogram(h: np.ndarray, dx: float, w: np.ndarray):
+    """``k_m, C1D(k_m)`` for m = 1 .. N//2, averaged over the rows (module docstring)."""
+    n = h.shape[-1]
+    L = n * dx
+    F = np.fft.rfft(h * w, axis=-1)
+    C = (dx * dx / (2.0 * math.pi * L)) * np.mean(np.abs(F) ** 2, axis=0)
+    k = 2.0 * math.pi * np.arange(F.shape[-1]) / L
+    return k[1:], C[1:]
+
+
+def _profile_range(k, C, rows, dx, rules: RangeRules):
+    """The usable range of a periodogram (k, C) of rows at spacing dx, and its reasons."""
+    given, tip, noise = rules
+    measured = (float(k[0]), float(k[-1]))
+    if given == "all":
+        return measured, {"low": "all", "high": "all"}
+    k_noise = math.inf
+    if noise is not None:
+        kb, Cb, _ = log_bins(k, C, 20, k[0], k[-1])
+        k_noise = noise_cutoff(kb, Cb, noise * noise * dx / (2.0 * math.pi))
+    return usable_range(
+        LOW_MODE * 2.0 * math.pi / (rows.shape[-1] * dx),
+        2.0 * math.pi / (POINTS_PER_WAVELENGTH * dx),
+        math.inf if tip is None else tip_cutoff(rows, dx, tip),
+        k_noise,
+        given,
+        measured,
+    )
+
+
+def _profile_points(k, C, q_rng, bins_per_decade):
+    """The periodogram cut to q_rng, raw or binned with its end points; and the counts."""
+    if bins_per_decade is None:
+        keep = (k >= q_rng[0] * (1 - 1e-12)) & (k <= q_rng[1] * (1 + 1e-12))
+        k, C, counts = k[keep], C[keep], np.ones(int(keep.sum()), dtype=int)
+    else:
+        kb, C, counts = log_bins(k, C, bins_per_decade, *q_rng)
+        k, C = span_bins(kb, C, *q_rng)
+        counts = np.concatenate([[0] * int(k[0] < kb[0]), counts, [0] * int(k[-1] > kb[-1])])
+    if k.size < 2:
+        raise ValueError(f"the usable range {q_rng} 1/m holds fewer than 2 spectrum points")
+    return k, C, counts
+
+
+def _spectrum(points, usable, form: _Detrended, dx, w, window, detrend) -> ProfileSpectrum:
+    """The ProfileSpectrum of the points ``(k, C1D, counts)`` over the usable range
+    ``(q_range, limits)``, with the data and the analysis they came from."""
+    k, C, counts = points
+    q_rng, limits = usable
+    return ProfileSpectrum(
+        k=k,
+        C1D=C,
+        counts=counts,
+        q_range=q_rng,
+        limits=limits,
+        h_rms=form.h_rms,
+        rms_slope=form.slope,
+        n_profiles=form.rows.shape[0],
+        dx=dx,
+        length=form.rows.shape[-1] * dx,
+        window="none" if window is None else str(window),
+        detrend=detrend,
+        form_radius=form.radius,
+        window_factor=float(w.size * np.sum(w**4) / np.sum(w * w) ** 2),
+    )
+
+
+def psd_from_profile(
+    h: ArrayLike,
+    dx: float,
+    *,
+    window: str | None = "hann",
+    detrend: Literal["linear", "mean", "parabola", "circle"] = "linear",
+    nan: Literal["raise", "interpolate"] = "raise",
+    bins_per_decade: int | None = 20,
+    q_range: QRange = "auto",
+    tip_radius: float | None = None,
+    noise: float | None = None,
+) -> ProfileSpectrum:
+    """The 1D spectrum of a height profile, or the average over parallel profiles.
+
+    ``C1D(k_m) = dx^2 / (2 pi L) |sum_j w_j h_j exp(-i k_m x_j)|^2`` with ``k_m = 2 pi m / L``
+    and ``sum w_j^2 = N``: two-sided, ``h_rms^2 = 2 int_0^inf C1D dk`` (docs/theory.md
+    section 2). With the rectangular window, ``sum_m C1D(k_m) 2 pi / L`` over all m equals the
+    mean square of the detrended heights exactly (Parseval).
+
+    Parameters
+    ----------
+    h : array_like
+        Heights in m: one profile (N,) or parallel profiles (P, N), averaged. At least
+        MIN_POINTS = 32 points per profile.
+    dx : float
+        Spacing in m (> 0).
+    window : str or None
+        ``"hann"`` (default), ``"none"``, or a name :func:`scipy.signal.get_window` knows;
+        normalised to ``sum w^2 = N``. A window keeps the jump between the two ends of a
+        non-periodic profile from leaking power ~k^-2 into steeper spectra.
+    detrend : {"linear", "mean", "parabola", "circle"}
+        Removed from each profile before the window. ``"parabola"`` and ``"circle"`` take out a
+        cylinder's own form (its radius is reported as ``form_radius``).
+    nan : {"raise", "interpolate"}
+        NaN heights (instrument dropouts) are refused, or bridged by straight lines (at most
+        20 % of the points; this removes a little high-k power in proportion to the bridged
+        fraction).
+    bins_per_decade : int or None
+        Average the periodogram over bins equally spaced in log k (default 20; each value is
+        placed where a power law equals the bin mean; bins are merged to hold at least
+        MIN_PER_BIN = 5 values; two end points continue the first and last bins to the ends of
+        the range), or None for the raw periodogram.
+    q_range : "auto", None or (lo, hi)
+        The usable range the spectrum is cut to. ``"auto"``: from ``LOW_MODE x 2 pi / L``
+        (the first modes carry the detrending's and the window's distortion) to the lowest of
+        the sampling limit ``2 pi / (4 dx)`` (four points per wavelength), the stylus-tip
+        limit (``tip_radius`` given; Sanner et al. 2022) and the noise limit (``noise`` given:
+        where C1D falls below 10 times the white-noise floor ``noise^2 dx / (2 pi)``). None:
+        the whole periodogram ``2 pi / L .. pi / dx``. A pair overrides either end (None keeps
+        the rule).
+    tip_radius, noise : float, optional
+        Stylus tip radius and rms instrument noise, in m.
+
+    Returns
+    -------
+    ProfileSpectrum
+        Unpacks as ``k, C1D``; also the range used, the counts per point and the data's h_rms.
+
+    Warns
+    -----
+    TopographyWarning
+        When h_rms > 1 mm or the rms slope is outside [1e-6, 5]: a unit slip.
+    """
+    rows, dx = _profile_rows(h, dx)
+    detrend = choice("detrend", detrend, _DETRENDS)
+    nan = choice("nan", nan, ("raise", "interpolate"))
+    if bins_per_decade is not None:
+        bins_per_decade = integer("bins_per_decade", bins_per_decade, 2)
+    rules = range_rules(q_range, tip_radius, noise)
+    w = normalised_window(window, rows.shape[-1])  # checks the name before any work
+    form = _detrended(rows, dx, detrend, nan)
+    check_plausible(form.h_rms, form.slope, "psd_from_profile")
+    k, C = _periodogram(form.rows, dx, w)
+    usable = _profile_range(k, C, form.rows, dx, rules)
+    points = _profile_points(k, C, usable[0], bins_per_decade)
+    return _spectrum(points, usable, form, dx, w, window, detrend)
+
+
+# ----------------------------------------------------------------------------------------------
+# 1D -> isotropic 2D
+# ----------------------------------------------------------------------------------------------
+def _tail_slope(k: np.ndarray, C1D: np.ndarray, tail, tail_decades) -> float | None:
+    """The exponent of C1D beyond the last point (< -1), or None for no tail: the ``tail`` of
+    :func:`isotropic_from_1d`."""
+    if not isinstance(tail, str):
+        slope = finite_scalar("tail", tail)
+        if slope >= -1.0:
+            raise ValueError(f"tail must be an exponent < -1 (or 'fit', 'zero'), got {slope!r}")
+        return slope
+    choice("tail", tail, ("fit", "zero"))
+    if tail == "zero":
+        return None
+    decades = positive("tail_decades", tail_decades)
+    slope = loglog_slope(k, C1D, decades)
+    if slope >= -1.0:
+        raise ValueError(
+            f"the top of C1D does not fall off (fitted exponent {slope:.3g} >= -1 over "
+            f"the top {decades:g} decades): it is noise or instrument floor. Cut the "
+            "spectrum below it (q_range) or pass tail='zero' or an exponent < -1"
+        )
+    return slope
+
+
+def isotropic_from_1d(
+    k: ArrayLike,
+    C1D: ArrayLike,
+    *,
+    tail: Literal["fit", "zero"] | float = "fit",
+    tail_decades: float = 0.5,
+    q1: float | None = None,
+) -> TabulatedPSD:
+    """The isotropic 2D spectrum C(q) of the surface a 1D spectrum was measured on.
+
+    The exact inverse Abel transform (docs/theory.md section 2)
+    ``C(q) = -(1/pi) int_q^inf C1D'(k) / sqrt(k^2 - q^2) dk`` at every point ``q = k_i``: between
+    the points ``ln C1D`` is a monotone cubic in ``ln k`` (no overshoot, continuous slope), and
+    ``k = q cosh(theta)`` removes the inverse-square-root singularity exactly
+    (:mod:`fastline.surfaces.abel`). Not the shortcut ``C = C1D / (2q)``, which is exact only for a
+    power law with H = 1/2 (14.6 % low at H = 0.8, 21.5 % low at H = 1).
+
+    Parameters
+    ----------
+    k, C1D : array_like
+        Wavenumbers (1/m, > 0, increasing, >= 3 points) and the two-sided 1D spectrum
+        (m^3, > 0) as :func:`psd_from_profile` returns them (``*spectrum`` works).
+    tail : "fit", "zero" or float
+        C1D beyond the last point: the power law fitted to the top ``tail_decades`` (default;
+        its exponent must be < -1), zero (a band-limited surface), or a given exponent < -1.
+        C(q) near the top depends on it; the measured range is what the tail continues.
+    q1 : float, optional
+        Cut the result at q1, or extend it to q1 by the power law fitted to its top half decade
+        (:func:`extend_psd`), as for a spectrum measured to 1e6 1/m used to q1 = 1e9 1/m.
+
+    Returns
+    -------
+    TabulatedPSD
+        C(q) in Persson's convention (m^4), ``h_rms^2 = 2 pi int q C dq``, on the points k.
+
+    Warns
+    -----
+    TopographyWarning
+        When noise makes C(q) <= 0 at some points; they are left out.
+    """
+    k, C1D = checked_table("k", k, "C1D", C1D, positive_values=True)
+    C = inverse_abel(k, C1D, _tail_slope(k, C1D, tail, tail_decades))
+    good = C > 0.0
+    if not good.all():
+        topography_warning(
+            f"isotropic_from_1d: C(q) <= 0 at {int((~good).sum())} of {k.size} points (noise "
+            "in C1D); they are left out. Fewer bins per decade or more profiles help.",
+            stacklevel=2,
+        )
+    if good.sum() < 2:
+        raise ValueError("the inverse transform left fewer than 2 positive values of C(q)")
+    psd = TabulatedPSD(k[good], C[good])
+    return psd if q1 is None else extend_psd(psd, q1)
