@@ -275,7 +275,7 @@ class SweepTable:
     def to_pandas(self) -> pd.DataFrame:
         """The table as a pandas DataFrame (needs pandas)."""
         try:
-            import pandas as pd
+            import pandas as pd  # optional
         except ImportError:
             raise ImportError("SweepTable.to_pandas needs pandas (not installed)") from None
         return pd.DataFrame({name: self.table[name] for name in self.columns})

@@ -145,7 +145,7 @@ def _is_point(result) -> bool:
 
 def _plot_point_profile(result, hertz, label, ax):
     """:func:`plot_profile` of a point contact: p along a diameter, the Hertz sphere dashed."""
-    from matplotlib.ticker import MaxNLocator
+    from matplotlib.ticker import MaxNLocator  # optional: the plot extra
 
     fig, ax, _ = figure_and_axes(ax)
     x, p = result.diameter_profile()

@@ -61,7 +61,7 @@ def log_axis(axis) -> None:
 
     Left to matplotlib's own labels when the axis spans fewer than two powers of ten.
     """
-    from matplotlib.ticker import FuncFormatter, NullFormatter
+    from matplotlib.ticker import FuncFormatter, NullFormatter  # optional: the plot extra
 
     lo, hi = sorted(axis.get_view_interval())
     if lo <= 0.0 or math.floor(math.log10(hi)) - math.ceil(math.log10(lo)) < 1:

@@ -28,7 +28,7 @@ def _pressure_unit(p_max: float) -> tuple[float, str]:
 
 def _pressure_axis(ax) -> None:
     """Log pressure axis labelled at 1, 2, 5 times powers of ten (often less than two decades)."""
-    from matplotlib.ticker import FuncFormatter, LogLocator, NullFormatter
+    from matplotlib.ticker import FuncFormatter, LogLocator, NullFormatter  # optional: plot extra
 
     ax.set_xscale("log")
     ax.set_xlabel(r"nominal pressure $p$ (Pa)")
