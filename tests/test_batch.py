@@ -24,6 +24,7 @@ import fastline.contact.line as _line_contact
 import fastline.contact.point as _point_contact
 import fastline.theory.variants as _variants
 from fastline import batch
+from fastline.batch.scenes import BY_NAME
 from fastline.cli import sphere as cli_sphere
 from fastline.contact.diagnostics import ValidityWarning
 from fastline.contact.line import ConvergenceWarning
@@ -527,7 +528,7 @@ def test_csv_round_trip(serial, tmp_path):
     meta, cols = read_csv(path)
     assert meta["scenes"] == "27" and meta["failed"] == "3" and meta["chunksize"] == "5"
     for name, col in zip(serial.columns, cols, strict=True):
-        c = batch._BY_NAME[name]
+        c = BY_NAME[name]
         assert col == c.csv_name
         if c.kind == "float":
             assert np.array_equal(cols[col], serial[name], equal_nan=True), name

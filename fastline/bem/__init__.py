@@ -1,4 +1,4 @@
-"""Boundary-element checks of the theory on the user's own surface (issue 15).
+"""Boundary-element checks of the theory on the user's own surface.
 
 A periodic 2D FFT boundary-element solver (constrained conjugate gradients, Polonsky & Keer,
 Wear 231, 206 (1999)) for a rigid cylinder, sphere or flat pressed on an elastic half-space
@@ -8,7 +8,8 @@ Reynolds flow through the gap of a nominally flat contact.
 Modules: :mod:`~fastline.bem.surface` (grids, random surfaces, spectrum estimate),
 :mod:`~fastline.bem.halfspace` (Love's influence coefficients, FFT convolution),
 :mod:`~fastline.bem.contact` (the CCG solver), :mod:`~fastline.bem.flow` (Reynolds flow),
-:mod:`~fastline.bem.ensemble` (scenes, realisations, ensembles),
+:mod:`~fastline.bem.scene` (scenes and their default grids),
+:mod:`~fastline.bem.ensemble` (realisations, ensembles),
 :mod:`~fastline.bem.compare` (theory against the ensemble in units of its error bar).
 """
 
@@ -31,17 +32,19 @@ from fastline.bem.ensemble import (
     FlatEnsemble,
     ProfileEnsemble,
     Realization,
-    Scene,
     ensemble_executor,
-    flat_contact_scene,
-    line_contact_scene,
-    point_contact_scene,
     run_ensemble,
     run_realization,
-    with_grid,
 )
 from fastline.bem.flow import FlowResult, reynolds_flow
 from fastline.bem.halfspace import ElasticHalfSpace, love_coefficient
+from fastline.bem.scene import (
+    Scene,
+    flat_contact_scene,
+    line_contact_scene,
+    point_contact_scene,
+    with_grid,
+)
 from fastline.bem.surface import (
     Grid,
     RoughSurface,

@@ -23,7 +23,8 @@ from typing import Any
 import numpy as np
 
 from fastline._lib.validate import finite_array, positive
-from fastline.bem.ensemble import ProfileEnsemble, _ring_index
+from fastline.bem.ensemble import ProfileEnsemble
+from fastline.bem.scene import ring_index
 
 __all__ = [
     "Difference",
@@ -154,7 +155,7 @@ def _bin_average(x, p, centres, width):
 def _ring_average(r, p, scene):
     """The BEM's ring average applied to the theory's p(r) (linear interpolation, 0 outside)
     sampled at the BEM's cell centres."""
-    idx, _, count = _ring_index(scene)
+    idx, _, count = ring_index(scene)
     grid = scene.grid
     radius = np.hypot(grid.x[:, None], grid.y[None, :])
     sampled = np.interp(radius.ravel(), r, p, right=0.0)

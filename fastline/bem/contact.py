@@ -317,6 +317,18 @@ def solve_contact(
     ContactResult
         ``converged`` is False if ``max_iter`` was reached (no warning: check the flag).
     """
+    g0, E_star, load, tol, max_iter = _checked(g0, grid, E_star, load, tol, max_iter)
+    p = _start_pressure(p_init, grid, load)
+    op = ElasticHalfSpace(grid.nx, grid.ny, grid.dx, grid.dy, E_star, periodic=periodic)
+    g0_flat = np.ascontiguousarray(g0).ravel()
+    p_flat = np.ascontiguousarray(p).ravel()
+    iterations, residual = _ccg(op, g0_flat, load / grid.cell_area, tol, max_iter, p_flat)
+    return _finish(op, g0, p_flat.reshape(grid.shape), grid, load, iterations, residual, tol)
+
+
+def _checked(g0, grid, E_star, load, tol, max_iter):
+    """The inputs of :func:`solve_contact` checked, in order: ``(g0, E_star, load, tol,
+    max_iter)`` (``g0`` as a float array of the grid's shape)."""
     _check_grid(grid)
     g0 = finite_array("g0", g0, ndim=2)
     if g0.shape != grid.shape:
@@ -326,18 +338,17 @@ def solve_contact(
     tol = positive("tol", tol)
     if tol >= 0.1:
         raise ValueError(f"tol must lie in (0, 0.1), got {tol!r}")
-    max_iter = integer("max_iter", max_iter, 1)
+    return g0, E_star, load, tol, integer("max_iter", max_iter, 1)
+
+
+def _start_pressure(p_init, grid, load) -> np.ndarray:
+    """The starting pressure [Pa]: ``p_init`` checked and copied, or uniform at the load."""
     if p_init is None:
-        p = np.full(grid.shape, load / (grid.lx * grid.ly))
-    else:
-        p = finite_array("p_init", p_init, ndim=2).copy()
-        if p.shape != grid.shape or np.any(p < 0.0) or p.sum() <= 0.0:
-            raise ValueError(f"p_init must have shape {grid.shape}, be >= 0 and not all zero")
-    op = ElasticHalfSpace(grid.nx, grid.ny, grid.dx, grid.dy, E_star, periodic=periodic)
-    g0_flat = np.ascontiguousarray(g0).ravel()
-    p_flat = np.ascontiguousarray(p).ravel()
-    iterations, residual = _ccg(op, g0_flat, load / grid.cell_area, tol, max_iter, p_flat)
-    return _finish(op, g0, p_flat.reshape(grid.shape), grid, load, iterations, residual, tol)
+        return np.full(grid.shape, load / (grid.lx * grid.ly))
+    p = finite_array("p_init", p_init, ndim=2).copy()
+    if p.shape != grid.shape or np.any(p < 0.0) or p.sum() <= 0.0:
+        raise ValueError(f"p_init must have shape {grid.shape}, be >= 0 and not all zero")
+    return p
 
 
 def _finish(op, g0, p, grid, load, iterations, residual, tol):

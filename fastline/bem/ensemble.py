@@ -1,8 +1,9 @@
 """Ensembles of BEM realisations: the nominal pressure of a rough cylinder or sphere, and the
 contact and leakage of a nominally flat interface, with error bars over realisations.
 
-A :class:`Scene` holds everything one realisation needs (spectrum, material, geometry, load,
-grid, solver settings).  :func:`run_realization` ``(seed, scene)`` is a plain module-level
+A :class:`~fastline.bem.scene.Scene` (:mod:`fastline.bem.scene`, whose names this module
+re-exports) holds everything one realisation needs (spectrum, material, geometry, load, grid,
+solver settings).  :func:`run_realization` ``(seed, scene)`` is a plain module-level
 function: it draws the surface from ``seed``, solves the contact (and for a flat scene the
 Reynolds flow through the gap) and returns a small picklable :class:`Realization`, so an
 ensemble runs wherever :func:`fastline.sweep` runs its tasks (:func:`run_ensemble`
@@ -38,25 +39,32 @@ import time
 from collections.abc import Iterator
 from concurrent.futures import Executor
 from contextlib import contextmanager
-from dataclasses import dataclass, field, replace
+from dataclasses import dataclass, field
 from typing import TYPE_CHECKING
 
 import numpy as np
-import scipy.fft
 
 from fastline._lib.executors import close_engine, open_engine
-from fastline._lib.validate import finite_scalar, integer, positive
+from fastline._lib.validate import integer
 from fastline.bem import _profile
 from fastline.bem.contact import (
-    DEFAULT_TOL,
+    ContactResult,
     cylinder_gap,
     image_curvature,
     solve_contact,
     sphere_gap,
 )
 from fastline.bem.flow import reynolds_flow
-from fastline.bem.surface import Amplitudes, Grid, random_surface, spectral_grid
-from fastline.theory.spectra import PSD
+from fastline.bem.scene import (
+    Scene,
+    cells_per_bin,
+    flat_contact_scene,
+    line_contact_scene,
+    point_contact_scene,
+    ring_index,
+    with_grid,
+)
+from fastline.bem.surface import random_surface
 
 if TYPE_CHECKING:  # annotations only: dask is optional
     from distributed import Client
@@ -78,318 +86,8 @@ __all__ = [
     "with_grid",
 ]
 
+
 #: u0 / h_rms of the exponential law, used only to size default grids (paper: ~0.4).
-_GAMMA_U = 0.4
-#: Default cells across the profile's width scale, and the cell's width in width scales.
-_CELLS_PER_WIDTH = 64
-_IMAGE_SPACING = 4.0  # cylinder: Lx = 4 widths (8 a): Hertz s +2e-5 with the image correction
-_PATCH_WIDTHS = 4.0  # sphere (isolated patch): L = 4 widths
-
-
-@dataclass(frozen=True)
-class Scene:
-    """One BEM scene: what :func:`run_realization` needs besides the seed.
-
-    Build it with :func:`line_contact_scene`, :func:`point_contact_scene` or
-    :func:`flat_contact_scene`, which validate the inputs and size the grid.
-
-    Attributes
-    ----------
-    geometry : {"cylinder", "sphere", "flat"}
-    psd : PSD or None
-        Roughness spectrum (None: smooth, for checks against Hertz).
-    E_star : float
-        Effective modulus [Pa].
-    load : float
-        Cylinder: load per unit length [N/m]; sphere: force [N]; flat: nominal pressure [Pa].
-    radius : float
-        Cylinder or sphere radius [m] (NaN for flat).
-    grid : Grid
-    periodic : bool
-        Periodic cell (cylinder, flat) or isolated patch (sphere).
-    amplitudes : str
-        Surface synthesis (:func:`~fastline.bem.surface.random_surface`).
-    tol : float
-    max_iter : int
-        CCG settings (:func:`~fastline.bem.contact.solve_contact`).
-    viscosity : float
-        Fluid viscosity for the flat scene's flow [Pa s].
-    bin_width : float
-        Width of the x bins (cylinder) or rings (sphere) of the reported ``p_bar`` [m], from
-        which ``p0`` and ``w`` are read (``s`` uses every cell); 0 means one cell.  The
-        nominal pressure is defined on scales above the roughness: the builders default to a
-        quarter of the longest wavelength ``2 pi / q0`` (one cell if smooth).
-    image_correction : bool
-        Cylinder: cancel the leading effect of the periodic images in x
-        (:func:`~fastline.bem.contact.image_curvature`).
-    """
-
-    geometry: str
-    psd: PSD | None
-    E_star: float
-    load: float
-    radius: float
-    grid: Grid
-    periodic: bool = True
-    amplitudes: Amplitudes = "fixed"
-    tol: float = DEFAULT_TOL
-    max_iter: int = 5000
-    viscosity: float = 1e-3
-    bin_width: float = 0.0
-    image_correction: bool = True
-
-    @property
-    def total_load(self) -> float:
-        """Load on the grid [N]."""
-        if self.geometry == "cylinder":
-            return self.load * self.grid.ly
-        if self.geometry == "flat":
-            return self.load * self.grid.lx * self.grid.ly
-        return self.load
-
-    def hertz(self) -> tuple[float, float, float]:
-        """Smooth-contact ``(p0, a, delta)`` [Pa, m, m] (NaN for flat): THEORY sections 5, 9."""
-        E, R, f = self.E_star, self.radius, self.load
-        if self.geometry == "cylinder":
-            delta = 4.0 * f / (math.pi * E)
-            return math.sqrt(E * f / (math.pi * R)), math.sqrt(R * delta), delta
-        if self.geometry == "sphere":
-            a = (3.0 * f * R / (4.0 * E)) ** (1.0 / 3.0)
-            return 3.0 * f / (2.0 * math.pi * a * a), a, a * a / R
-        return math.nan, math.nan, math.nan
-
-
-def _check_common(psd, E_star, load, unit):
-    if psd is not None and not isinstance(psd, PSD):
-        raise TypeError(f"psd must be a fastline PSD or None, got {type(psd).__name__}")
-    return positive("E_star", E_star, "Pa"), positive("load", load, unit)
-
-
-def _check_settings(grid, amplitudes, tol, max_iter):
-    if grid is not None and not isinstance(grid, Grid):
-        raise TypeError(f"grid must be a fastline.bem.Grid or None, got {type(grid).__name__}")
-    if amplitudes not in ("fixed", "gaussian"):
-        raise ValueError(f"amplitudes must be 'fixed' or 'gaussian', got {amplitudes!r}")
-    tol = positive("tol", tol)
-    if tol >= 0.1:
-        raise ValueError(f"tol must lie in (0, 0.1), got {tol!r}")
-    return tol, integer("max_iter", max_iter, 1)
-
-
-def _width_scale(psd, radius, a_hertz):
-    """A length covering the profile: Hertz width 2a, or 4 Gaussian-limit s = sqrt(R u0)."""
-    if psd is None:
-        return 2.0 * a_hertz
-    return max(2.0 * a_hertz, 4.0 * math.sqrt(radius * _GAMMA_U * psd.h_rms))
-
-
-def _cell_size(psd, width, points_per_wavelength):
-    dx = width / _CELLS_PER_WIDTH
-    if psd is not None:
-        dx = min(dx, 2.0 * math.pi / (psd.q1 * points_per_wavelength))
-    return dx
-
-
-def _fast(n):
-    return int(scipy.fft.next_fast_len(max(int(n), 2), real=True))
-
-
-def line_contact_scene(
-    psd: PSD | None,
-    E_star: float,
-    radius: float,
-    load: float,
-    *,
-    grid: Grid | None = None,
-    points_per_wavelength: float = 4.0,
-    periods: float = 2.0,
-    bin_width: float | None = None,
-    image_correction: bool = True,
-    amplitudes: Amplitudes = "fixed",
-    tol: float = DEFAULT_TOL,
-    max_iter: int = 5000,
-) -> Scene:
-    """A rigid cylinder (axis y) on a rough half-space, periodic along its axis.
-
-    Default grid: ``dx = min(2 pi / (q1 points_per_wavelength), width / 64)`` with ``width =
-    max(2 a_Hertz, 4 sqrt(0.4 R h_rms))``; ``Lx = 4 width`` (with ``image_correction`` the
-    periodic images in x then move the Hertz ``s`` by 2e-5; without, by
-    ``-(pi^2/12)(a/Lx)^2 = -1.3 %``: :func:`~fastline.bem.contact.image_curvature`);
-    ``Ly = periods * 2 pi / q0``.  Cell counts are rounded up to FFT-friendly sizes.
-
-    Parameters
-    ----------
-    psd : PSD or None
-        Roughness spectrum (None: smooth cylinder).
-    E_star : float
-        Effective modulus [Pa], > 0.
-    radius : float
-        Cylinder radius ``R`` [m], > 0.
-    load : float
-        Load per unit length ``f_N`` [N/m], > 0.
-    grid : Grid, optional
-        Override the default grid.
-    points_per_wavelength, periods : float
-        Default-grid resolution of ``2 pi / q1`` (>= 2) and ``Ly`` in ``2 pi / q0`` (> 0).
-    bin_width : float, optional
-        Bin width of ``p_bar`` [m], >= 0 (:class:`Scene`; default ``pi / (2 q0)``).
-    image_correction : bool
-        Cancel the periodic images' curvature (default True; :class:`Scene`).
-    amplitudes, tol, max_iter
-        Passed to the surface generator and the contact solver.
-    """
-    E_star, load = _check_common(psd, E_star, load, "N/m")
-    radius = positive("radius", radius, "m")
-    tol, max_iter = _check_settings(grid, amplitudes, tol, max_iter)
-    if grid is None:
-        ppw, periods = _grid_options(points_per_wavelength, periods)
-        a = math.sqrt(4.0 * radius * load / (math.pi * E_star))
-        width = _width_scale(psd, radius, a)
-        dx = _cell_size(psd, width, ppw)
-        nx = _fast(math.ceil(_IMAGE_SPACING * width / dx))
-        ly = 8.0 * dx if psd is None else periods * 2.0 * math.pi / psd.q0
-        ny = _fast(math.ceil(ly / dx - 1e-9))
-        grid = Grid(nx, ny, dx, ly / ny)
-    return Scene(
-        "cylinder",
-        psd,
-        E_star,
-        load,
-        radius,
-        grid,
-        True,
-        amplitudes,
-        tol,
-        max_iter,
-        bin_width=_bin_width(psd, bin_width),
-        image_correction=_flag("image_correction", image_correction),
-    )
-
-
-def point_contact_scene(
-    psd: PSD | None,
-    E_star: float,
-    radius: float,
-    load: float,
-    *,
-    grid: Grid | None = None,
-    points_per_wavelength: float = 4.0,
-    bin_width: float | None = None,
-    amplitudes: Amplitudes = "fixed",
-    tol: float = DEFAULT_TOL,
-    max_iter: int = 5000,
-) -> Scene:
-    """A rigid sphere on a rough half-space: an isolated patch (no periodic images).
-
-    Default grid: square cells as for :func:`line_contact_scene` (``width = max(2 a_Hertz,
-    4 sqrt(0.4 R h_rms))``), patch ``4 width`` on a side; the rough surface is periodic on the
-    patch.  The pressure must vanish well inside the patch (check ``p_bar`` at the rim).
-
-    Parameters
-    ----------
-    psd : PSD or None
-        Roughness spectrum (None: smooth sphere).
-    E_star : float
-        Effective modulus [Pa], > 0.
-    radius : float
-        Sphere radius ``R`` [m], > 0.
-    load : float
-        Normal force ``F_N`` [N], > 0.
-    grid, points_per_wavelength, bin_width, amplitudes, tol, max_iter
-        As :func:`line_contact_scene` (``bin_width``: ring width).
-    """
-    E_star, load = _check_common(psd, E_star, load, "N")
-    radius = positive("radius", radius, "m")
-    tol, max_iter = _check_settings(grid, amplitudes, tol, max_iter)
-    if grid is None:
-        ppw, _ = _grid_options(points_per_wavelength, 1.0)
-        a = (3.0 * load * radius / (4.0 * E_star)) ** (1.0 / 3.0)
-        width = _width_scale(psd, radius, a)
-        dx = _cell_size(psd, width, ppw)
-        n = _fast(math.ceil(_PATCH_WIDTHS * width / dx))
-        grid = Grid(n, n, dx, dx)
-    return Scene(
-        "sphere",
-        psd,
-        E_star,
-        load,
-        radius,
-        grid,
-        False,
-        amplitudes,
-        tol,
-        max_iter,
-        bin_width=_bin_width(psd, bin_width),
-    )
-
-
-def flat_contact_scene(
-    psd: PSD,
-    E_star: float,
-    pressure: float,
-    *,
-    grid: Grid | None = None,
-    points_per_wavelength: float = 4.0,
-    periods: float = 2.0,
-    viscosity: float = 1e-3,
-    amplitudes: Amplitudes = "fixed",
-    tol: float = DEFAULT_TOL,
-    max_iter: int = 5000,
-) -> Scene:
-    """A nominally flat rigid body on a rough half-space under a uniform nominal pressure,
-    periodic in x and y; each realisation also solves the Reynolds flow across x.
-
-    Default grid: :func:`~fastline.bem.surface.spectral_grid` ``(psd, points_per_wavelength,
-    periods)``.
-
-    Parameters
-    ----------
-    psd : PSD
-        Roughness spectrum (required).
-    E_star : float
-        Effective modulus [Pa], > 0.
-    pressure : float
-        Nominal contact pressure [Pa], > 0.
-    viscosity : float
-        Fluid viscosity [Pa s], > 0 (the effective gap does not depend on it).
-    grid, points_per_wavelength, periods, amplitudes, tol, max_iter
-        As :func:`line_contact_scene`.
-    """
-    if psd is None:
-        raise ValueError("psd is required for a flat contact (a smooth flat is trivial)")
-    E_star, pressure = _check_common(psd, E_star, pressure, "Pa")
-    viscosity = positive("viscosity", viscosity, "Pa s")
-    tol, max_iter = _check_settings(grid, amplitudes, tol, max_iter)
-    if grid is None:
-        ppw, periods = _grid_options(points_per_wavelength, periods)
-        grid = spectral_grid(psd, points_per_wavelength=ppw, periods=periods)
-    return Scene(
-        "flat", psd, E_star, pressure, math.nan, grid, True, amplitudes, tol, max_iter, viscosity
-    )
-
-
-def _flag(name, value):
-    if not isinstance(value, (bool, np.bool_)):
-        raise TypeError(f"{name} must be a bool, got {type(value).__name__}")
-    return bool(value)
-
-
-def _bin_width(psd, bin_width):
-    if bin_width is not None:
-        out = finite_scalar("bin_width", bin_width)
-        if out < 0.0:
-            raise ValueError(f"bin_width must be >= 0 m (allowed range [0, inf)), got {out!r}")
-        return out
-    return 0.0 if psd is None else 0.5 * math.pi / psd.q0
-
-
-def _grid_options(points_per_wavelength, periods):
-    ppw = positive("points_per_wavelength", points_per_wavelength)
-    if ppw < 2.0:
-        raise ValueError(f"points_per_wavelength must be >= 2 (Nyquist), got {ppw!r}")
-    return ppw, positive("periods", periods)
-
-
 # ---- one realisation ---------------------------------------------------------------------------
 @dataclass(frozen=True)
 class Realization:
@@ -438,24 +136,6 @@ class Realization:
     seconds: float
 
 
-def _cells_per_bin(scene):
-    return max(1, int(round(scene.bin_width / scene.grid.dx)))
-
-
-def _ring_index(scene):
-    """Ring number ``floor(r / width)`` of every cell (width: a whole number of cells), the
-    mean radius of each full ring inside the patch's inscribed circle, and their cell counts."""
-    grid = scene.grid
-    width = _cells_per_bin(scene) * grid.dx
-    x, y = grid.x[:, None], grid.y[None, :]
-    r = np.sqrt(x * x + y * y)
-    nring = max(int(0.5 * min(grid.lx, grid.ly) / width), 1)
-    idx = np.minimum((r / width).astype(np.int64), nring)
-    count = np.bincount(idx.ravel(), minlength=nring + 1)[:nring]
-    rmean = np.bincount(idx.ravel(), weights=r.ravel(), minlength=nring + 1)[:nring] / count
-    return idx, rmean, count
-
-
 def _image_curvature(scene):
     if scene.geometry != "cylinder":
         return math.nan
@@ -489,43 +169,21 @@ def run_realization(seed: int | np.random.SeedSequence | None, scene: Scene) -> 
     if not isinstance(scene, Scene):
         raise TypeError(f"scene must be a fastline.bem.Scene, got {type(scene).__name__}")
     start = time.perf_counter()
-    grid = scene.grid
-    if scene.psd is None:
-        heights = np.zeros(grid.shape)
-    else:
-        heights = random_surface(scene.psd, grid, seed, amplitudes=scene.amplitudes).heights
+    heights = _heights(scene, seed)
     res = solve_contact(
         _undeformed_gap(scene, heights),
-        grid,
+        scene.grid,
         scene.E_star,
         scene.total_load,
         periodic=scene.periodic,
         tol=scene.tol,
         max_iter=scene.max_iter,
     )
-    p = res.pressure
-    x, y = grid.x[:, None], grid.y[None, :]
-    moments = np.array([p.sum(), (x * p).sum(), (y * p).sum(), ((x * x + y * y) * p).sum()])
-    profile = None
-    conductance = effective_gap = math.nan
-    percolating = False
-    if scene.geometry == "cylinder":
-        profile = p.mean(axis=1)
-    elif scene.geometry == "sphere":
-        idx, _, count = _ring_index(scene)
-        sums = np.bincount(idx.ravel(), weights=p.ravel(), minlength=count.size + 1)
-        profile = sums[: count.size] / count
-    else:
-        flow = reynolds_flow(res.gap, grid.dx, grid.dy, viscosity=scene.viscosity)
-        conductance, effective_gap, percolating = (
-            flow.conductance,
-            flow.effective_gap,
-            flow.percolating,
-        )
+    profile, (conductance, effective_gap, percolating) = _profile_and_flow(scene, res)
     return Realization(
         seed=seed,
         profile=profile,
-        moments=moments,
+        moments=_moments(scene, res.pressure),
         contact_fraction=res.contact_fraction,
         mean_gap=float(res.gap.mean()),
         conductance=conductance,
@@ -538,6 +196,36 @@ def run_realization(seed: int | np.random.SeedSequence | None, scene: Scene) -> 
         max_penetration=res.max_penetration,
         seconds=time.perf_counter() - start,
     )
+
+
+def _heights(scene: Scene, seed: int | np.random.SeedSequence | None) -> np.ndarray:
+    """The realisation's surface heights [m] (zero for a smooth scene)."""
+    if scene.psd is None:
+        return np.zeros(scene.grid.shape)
+    return random_surface(scene.psd, scene.grid, seed, amplitudes=scene.amplitudes).heights
+
+
+def _moments(scene: Scene, p: np.ndarray) -> np.ndarray:
+    """``(sum p, sum x p, sum y p, sum (x^2 + y^2) p)`` over the cells [Pa, Pa m, Pa m, Pa m^2]."""
+    x, y = scene.grid.x[:, None], scene.grid.y[None, :]
+    return np.array([p.sum(), (x * p).sum(), (y * p).sum(), ((x * x + y * y) * p).sum()])
+
+
+def _profile_and_flow(
+    scene: Scene, res: ContactResult
+) -> tuple[np.ndarray | None, tuple[float, float, bool]]:
+    """The realisation's profile (cylinder: pressure averaged along y; sphere: over rings;
+    flat: None) [Pa] and ``(conductance, effective_gap, percolating)`` of the Reynolds flow
+    through the gap (flat only; else NaN, NaN, False)."""
+    p = res.pressure
+    if scene.geometry == "cylinder":
+        return p.mean(axis=1), (math.nan, math.nan, False)
+    if scene.geometry == "sphere":
+        idx, _, count = ring_index(scene)
+        sums = np.bincount(idx.ravel(), weights=p.ravel(), minlength=count.size + 1)
+        return sums[: count.size] / count, (math.nan, math.nan, False)
+    flow = reynolds_flow(res.gap, scene.grid.dx, scene.grid.dy, viscosity=scene.viscosity)
+    return None, (flow.conductance, flow.effective_gap, flow.percolating)
 
 
 # ---- ensembles ---------------------------------------------------------------------------------
@@ -652,7 +340,7 @@ def _line_bins(scene):
 
     ``m`` has the parity of ``nx`` (or is 1) so that the bins are symmetric about the axis."""
     grid = scene.grid
-    m = _cells_per_bin(scene)
+    m = cells_per_bin(scene)
     if m > 1 and m % 2 != grid.nx % 2:
         m += 1
     if m == 1:
@@ -705,7 +393,7 @@ def _profile_ensemble(scene, runs):
         coord = _line_bins(scene)[2]
         profiles = binner(profiles)
     else:
-        _, coord, count = _ring_index(scene)
+        _, coord, count = ring_index(scene)
         samples = np.concatenate([profiles, np.array([r.moments for r in runs])], axis=1)
         stat = _sphere_statistic(coord, count.astype(np.float64), grid.dx, grid.dy)
     (p0, s, w, ws), (p0_e, s_e, w_e, ws_e) = _profile.jackknife(samples, stat)
@@ -865,10 +553,3 @@ def run_ensemble(
     if scene.geometry == "flat":
         return _flat_ensemble(scene, runs)
     return _profile_ensemble(scene, runs)
-
-
-def with_grid(scene: Scene, grid: Grid) -> Scene:
-    """The same scene on another grid (for convergence and domain-size studies)."""
-    if not isinstance(grid, Grid):
-        raise TypeError(f"grid must be a fastline.bem.Grid, got {type(grid).__name__}")
-    return replace(scene, grid=grid)

@@ -36,8 +36,21 @@ import numpy as np
 from numpy.typing import ArrayLike
 
 from fastline._lib.validate import real_array
+from fastline.contact.line import solve_line_contact
+from fastline.contact.point import PointContact
+from fastline.io import scene_metadata, sweep_rows, write_csv
+from fastline.reports import plotting
+from fastline.theory.limits import (
+    hertz_line_contact,
+    hertz_point_contact,
+    p0_ratio_gaussian,
+    p0_ratio_gaussian_sphere,
+)
+from fastline.theory.persson import PerssonTheory
+from fastline.theory.spectra import SelfAffinePSD
+from fastline.theory.variants import DEFAULT_VARIANT, get_variant
 
-if TYPE_CHECKING:  # annotations only: the solvers load on first use
+if TYPE_CHECKING:  # annotations only
     from fastline.theory.variants import Variant, VariantName
 
 __all__ = [
@@ -91,8 +104,6 @@ SURFACES = (
 
 def surfaces(q1: float = Q1) -> tuple:
     """The paper's three spectra as :class:`~fastline.SelfAffinePSD` (surface 1, 2, 3)."""
-    from fastline.theory.spectra import SelfAffinePSD
-
     return tuple(SelfAffinePSD(h, H, Q0, QR, q1) for _label, h, H in SURFACES)
 
 
@@ -209,10 +220,6 @@ def paper_data(
         The validity warnings of the solves are not emitted; they are in each result's
         ``diagnostics`` (see :func:`fastline.contact.diagnostics.warn_once`).
     """
-    from fastline.contact.line import solve_line_contact
-    from fastline.theory.persson import PerssonTheory
-    from fastline.theory.variants import get_variant
-
     kw = {**solve_options, "warn": False}
     fN = paper_loads(loads)
     out = []
@@ -284,10 +291,6 @@ def sphere_paper_data(
         ``loads`` holds the alphas' loads of surface 1 in N (each surface has its own: see the
         results' ``load``); the validity warnings are in each result's ``diagnostics``.
     """
-    from fastline.contact.point import PointContact
-    from fastline.theory.persson import PerssonTheory
-    from fastline.theory.variants import get_variant
-
     kw = {**solve_options, "warn": False}
     alphas = np.geomspace(SPHERE_ALPHA_RANGE[0], SPHERE_ALPHA_RANGE[1], loads)
     out = []
@@ -341,10 +344,6 @@ def write_files(
     list of str
         The names of the files written (relative to ``out``), in the order written.
     """
-    from fastline.io import sweep_rows
-    from fastline.reports import plotting
-    from fastline.theory.limits import hertz_line_contact, p0_ratio_gaussian
-
     files, surfs, meta = _Files(out, format, dpi), data.surfaces, _files_metadata(data)
     q = np.geomspace(Q0, data.q1, 400)
     cols = [s.psd(q) for s in surfs]
@@ -363,6 +362,14 @@ def write_files(
     )
     files.figure("fig3_profile", plotting.plot_profile(r3, label="rough (surface 1)"))
 
+    title = "Figs. 4-5: load sweeps 1e3..1.5e6 N/m (log-spaced)"
+    _sweep_files(files, ("fig4_ws", "fig5_p0ratio"), data, _line_sweep_table(surfs), meta, title)
+    return files.written
+
+
+def _line_sweep_table(surfs: list[PaperSurface]) -> tuple[list, list]:
+    """Header and rows of the tables of Figs. 4-5: one row per surface and load, with the
+    Gaussian asymptote of paper eq. 14."""
     header = ["surface", "h_rms_m", "hurst", "load_N_per_m", "alpha", "p0_Pa", "p0_ratio", "s_m"]
     header += ["w_m", "w_over_s", "converged", "gamma_u", "p0_ratio_eq14"]
     rows = []
@@ -370,9 +377,7 @@ def write_files(
         for row in sweep_rows(s.results):
             eq14 = float(p0_ratio_gaussian(row[1], s.gamma_u))
             rows.append((str(i + 1), s.h_rms, s.hurst, *row[:7], row[7], s.gamma_u, eq14))
-    title = "Figs. 4-5: load sweeps 1e3..1.5e6 N/m (log-spaced)"
-    _sweep_files(files, ("fig4_ws", "fig5_p0ratio"), data, (header, rows), meta, title)
-    return files.written
+    return header, rows
 
 
 def write_sphere_files(
@@ -406,10 +411,6 @@ def write_sphere_files(
     list of str
         The names of the files written (relative to ``out``), in the order written.
     """
-    from fastline.io import sweep_rows
-    from fastline.reports import plotting
-    from fastline.theory.limits import hertz_point_contact, p0_ratio_gaussian_sphere
-
     files, meta = _Files(out, format, dpi), _files_metadata(data, geometry="sphere")
     r3 = data.fig3
     hz = hertz_point_contact(E_STAR, RADIUS, r3.load)
@@ -422,13 +423,6 @@ def write_sphere_files(
     )
     files.figure("fig3_profile_sphere", plotting.plot_profile(r3, label="rough (surface 1)"))
 
-    header = ["surface", "h_rms_m", "hurst", "load_N", "alpha", "p0_Pa", "p0_ratio", "s_m"]
-    header += ["w_m", "w_over_s", "converged", "gamma_u", "p0_ratio_gaussian"]
-    rows = []
-    for i, s in enumerate(data.surfaces):
-        for row in sweep_rows(s.results):
-            gauss = float(p0_ratio_gaussian_sphere(row[1], s.gamma_u))
-            rows.append((str(i + 1), s.h_rms, s.hurst, *row, s.gamma_u, gauss))
     lo, hi = SPHERE_ALPHA_RANGE
     title = (
         f"Sphere versions of Figs. 4-5: loads F [N] per surface with alpha log-spaced over "
@@ -436,8 +430,21 @@ def write_sphere_files(
         "1/(3 gamma_u alpha)"
     )
     names = ("fig4_ws_sphere", "fig5_p0ratio_sphere")
-    _sweep_files(files, names, data, (header, rows), meta, title)
+    _sweep_files(files, names, data, _sphere_sweep_table(data.surfaces), meta, title)
     return files.written
+
+
+def _sphere_sweep_table(surfs: list[PaperSurface]) -> tuple[list, list]:
+    """Header and rows of the tables of the sphere versions of Figs. 4-5: one row per surface
+    and load, with the Gaussian asymptote 1/(3 gamma_u alpha)."""
+    header = ["surface", "h_rms_m", "hurst", "load_N", "alpha", "p0_Pa", "p0_ratio", "s_m"]
+    header += ["w_m", "w_over_s", "converged", "gamma_u", "p0_ratio_gaussian"]
+    rows = []
+    for i, s in enumerate(surfs):
+        for row in sweep_rows(s.results):
+            gauss = float(p0_ratio_gaussian_sphere(row[1], s.gamma_u))
+            rows.append((str(i + 1), s.h_rms, s.hurst, *row, s.gamma_u, gauss))
+    return header, rows
 
 
 class _Files:
@@ -452,15 +459,11 @@ class _Files:
         return os.path.join(self.out, name)
 
     def csv(self, name: str, header: list, rows: Iterable, meta: dict, title: str) -> None:
-        from fastline.io import write_csv
-
         write_csv(self._path(f"{name}.csv"), header, rows, meta, title=title)
 
     def figure(self, name: str, fig: Any) -> None:
-        from fastline.reports.plotting import save_figure
-
         path = self._path(f"{name}.{self.format or 'png'}")
-        save_figure(fig, path, format=self.format, dpi=self.dpi)
+        plotting.save_figure(fig, path, format=self.format, dpi=self.dpi)
 
 
 def _sweep_files(
@@ -472,8 +475,6 @@ def _sweep_files(
     title: str,
 ) -> None:
     """The two sweep tables (the same rows in each CSV), then Figs. 4 (w/s) and 5 (p0 ratio)."""
-    from fastline.reports import plotting
-
     fig4, fig5 = names
     header, rows = table
     files.csv(fig4, header, rows, meta, title)
@@ -486,9 +487,6 @@ def _sweep_files(
 
 def _files_metadata(data: PaperData, **geometry: str) -> dict:
     """The header of every CSV: the scene without a single spectrum, then the three surfaces."""
-    from fastline.io import scene_metadata
-    from fastline.theory.variants import DEFAULT_VARIANT
-
     variant = {} if data.variant == DEFAULT_VARIANT else {"variant": data.variant}
     meta = scene_metadata(
         None, E_STAR, RADIUS, model="persson", gamma=data.gamma, n=data.n, **variant

@@ -1,10 +1,10 @@
-"""The theory against a boundary-element simulation of the user's own surface (issue 15).
+"""The theory against a boundary-element simulation of the user's own surface.
 
 :func:`validate_line_contact` runs the BEM ensemble of a cylinder on a random surface of the given
 spectrum (:func:`fastline.bem.run_ensemble`) and solves the same scene with each pressure law
 asked for (the variants of :mod:`fastline.theory.variants`, the Greenwood-Williamson law of
-:mod:`fastline.theory.asperity`); :func:`fastline.bem.compare_line_contact` gives each law's p0, s, w
-and w/s and its profile against the BEM in units of the BEM's error bar.
+:mod:`fastline.theory.asperity`); :func:`fastline.bem.compare_line_contact` gives each law's p0,
+s, w and w/s and its profile against the BEM in units of the BEM's error bar.
 
 :func:`validate_point_contact` does the same for a sphere: the BEM's ring-averaged nominal
 pressure p_bar(r) against the theory's p(r) (:class:`fastline.PointContact`,
@@ -36,6 +36,8 @@ from numpy.typing import ArrayLike
 from fastline import bem
 from fastline._lib.validate import integer, positive, positive_array
 from fastline.bem.compare import Difference, compare_line_contact, compare_point_contact
+from fastline.contact.line import LineContact
+from fastline.contact.point import PointContact
 from fastline.theory.asperity import GreenwoodWilliamsonLaw
 from fastline.theory.laws import PerssonLaw
 from fastline.theory.persson import PerssonTheory
@@ -248,18 +250,10 @@ def validate_line_contact(
     """
     models = _check_inputs(psd, models, realizations, seed)
     if scene is None:
-        scene = bem.line_contact_scene(
-            psd,
-            E_star,
-            radius,
-            load,
-            points_per_wavelength=points_per_wavelength,
-            periods=periods,
-        )
+        grid = {"points_per_wavelength": points_per_wavelength, "periods": periods}
+        scene = bem.line_contact_scene(psd, E_star, radius, load, **grid)
     elif not isinstance(scene, bem.Scene) or scene.geometry != "cylinder":
         raise ValueError("scene must be a cylinder scene (fastline.bem.line_contact_scene)")
-    from fastline.contact.line import LineContact
-
     results, seconds_theory = _theory_results(
         LineContact, psd, E_star, radius, load, models, gamma, n
     )
@@ -319,8 +313,6 @@ def validate_point_contact(
         )
     elif not isinstance(scene, bem.Scene) or scene.geometry != "sphere":
         raise ValueError("scene must be a sphere scene (fastline.bem.point_contact_scene)")
-    from fastline.contact.point import PointContact
-
     results, seconds_theory = _theory_results(
         PointContact, psd, E_star, radius, load, models, gamma, n
     )
@@ -468,18 +460,9 @@ def validate_flat_contact(
     E_star = positive("E_star", E_star, "Pa")
     p = np.atleast_1d(positive_array("pressures", pressures)).ravel()
     laws = {m: law_of(m, psd, E_star, gamma) for m in models}
-    persson = [m for m in models if m != GW and not VARIANTS[m].area_correction]
-    leak_model = persson[0] if persson else DEFAULT_VARIANT
-    leak_law = laws.get(leak_model)
-    leak_theory = (
-        leak_law.theory if isinstance(leak_law, PerssonLaw) else PerssonTheory(psd, E_star)
-    )
-    scenes = [
-        bem.flat_contact_scene(
-            psd, E_star, float(pi), points_per_wavelength=points_per_wavelength, periods=periods
-        )
-        for pi in p
-    ]
+    leak_model, leak_theory = _leak_theory(models, laws, psd, E_star)
+    grid = {"points_per_wavelength": points_per_wavelength, "periods": periods}
+    scenes = [bem.flat_contact_scene(psd, E_star, float(pi), **grid) for pi in p]
     t0 = time.perf_counter()
     with bem.ensemble_executor(executor, workers, realizations) as ex:
         ensembles = [
@@ -487,6 +470,26 @@ def validate_flat_contact(
             for i, scene in enumerate(scenes)
         ]
     seconds = time.perf_counter() - t0
+    area, separation = _area_and_separation(laws, p, ensembles)
+    gaps = _critical_gaps(leak_theory, p, ensembles, thresholds)
+    return FlatValidation(p, ensembles, area, separation, gaps, leak_model, laws, seconds)
+
+
+def _leak_theory(models, laws, psd, E_star) -> tuple[str, PerssonTheory]:
+    """The model of the critical gap (the first Yang-Persson variant in ``models``, else the
+    default variant) and its Persson theory."""
+    persson = [m for m in models if m != GW and not VARIANTS[m].area_correction]
+    leak_model = persson[0] if persson else DEFAULT_VARIANT
+    leak_law = laws.get(leak_model)
+    leak_theory = (
+        leak_law.theory if isinstance(leak_law, PerssonLaw) else PerssonTheory(psd, E_star)
+    )
+    return leak_model, leak_theory
+
+
+def _area_and_separation(laws, p, ensembles) -> tuple[dict, dict]:
+    """Model -> Differences of the real contact area against the BEM contact fraction, and of
+    u(p) [m] against the BEM mean gap, one per pressure."""
     area, separation = {}, {}
     for m, law in laws.items():
         u, _ = law.separation_and_slope(np.log(p))
@@ -499,6 +502,12 @@ def validate_flat_contact(
             _difference(ui, e.mean_gap, e.mean_gap_error)
             for ui, e in zip(u, ensembles, strict=True)
         ]
+    return area, separation
+
+
+def _critical_gaps(leak_theory, p, ensembles, thresholds) -> dict:
+    """Threshold -> Differences of ``u_c`` [m] against the BEM effective gap, one per
+    pressure."""
     gaps = {}
     for t in thresholds:
         uc = leak_theory.critical_gap(p, threshold=t).u_c
@@ -506,4 +515,4 @@ def validate_flat_contact(
             _difference(g, e.effective_gap, e.effective_gap_error)
             for g, e in zip(np.atleast_1d(uc), ensembles, strict=True)
         ]
-    return FlatValidation(p, ensembles, area, separation, gaps, leak_model, laws, seconds)
+    return gaps
