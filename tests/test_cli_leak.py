@@ -583,7 +583,7 @@ def test_sphere_sweep_squeeze_stops_the_leak(ball_sweep_run):
 
 
 def test_sphere_default_load(capsys):
-    from fastline.cli.sphere import GEOMETRY_DEFAULTS
+    from fastline.cli.common import GEOMETRY_DEFAULTS
 
     status, out, _ = run([*BALL_SCENE, "--inner-radius", HOLE, *BALL_FLUID], capsys)
     assert status == 0
