@@ -667,6 +667,7 @@ def test_cli_sphere_sweep_on_workers_and_scheduler(tmp_path, dask_client, monkey
         return real(scenes, executor, **kw)
 
     real = batch.sweep
+    monkeypatch.setattr(fl, "sweep", spy)  # the name the CLI calls
     monkeypatch.setattr(batch, "sweep", spy)
     files, printed = {}, {}
     for name, extra in [
