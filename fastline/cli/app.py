@@ -298,12 +298,14 @@ def _batch_parser(sub, fmt) -> None:
 # commands
 # ----------------------------------------------------------------------------------------------
 def cmd_profile(args) -> int:
+    """``fastline profile``: one scene; returns the exit status."""
     if geometry_defaults(args) == "sphere":
         return cmd_sphere_profile(args)
     return run_profile(args, fl.solve_line_contact, result_lines, fl.io.write_profile_csv, metadata)
 
 
 def cmd_sweep(args) -> int:
+    """``fastline sweep``: log-spaced loads; returns the exit status."""
     import numpy as np
 
     if geometry_defaults(args) == "sphere":
@@ -342,6 +344,7 @@ def cmd_sweep(args) -> int:
 
 
 def cmd_batch(args) -> int:
+    """``fastline batch``: a table of scenes from a CSV file; returns the exit status."""
     from fastline import batch  # on use: the module loads NumPy at import
 
     fl.io.check_output_file(args.out)
@@ -361,6 +364,7 @@ def cmd_batch(args) -> int:
 
 
 def cmd_paper(args) -> int:
+    """``fastline paper``: the paper's figures; returns the exit status."""
     paper = fl.paper
     if geometry_defaults(args) == "sphere":
         return cmd_sphere_paper(args)

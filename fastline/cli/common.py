@@ -26,6 +26,49 @@ import sys
 import fastline as fl
 from fastline import contact, theory
 
+__all__ = [
+    # option types and groups
+    "CLIError",
+    "number",
+    "positive",
+    "count",
+    "fraction",
+    "gamma",
+    "SPECTRUM_DEFAULTS",
+    "SPECTRUM_FLAGS",
+    "GEOMETRIES",
+    "GEOMETRY_DEFAULTS",
+    "geometry_defaults",
+    "spectrum_options",
+    "material_options",
+    "numerics_options",
+    "variant_option",
+    "model_checks",
+    "figure_options",
+    # outputs and printing
+    "ScanSource",
+    "check_outputs",
+    "require_matplotlib",
+    "spectrum_line",
+    "warn",
+    "report_warnings",
+    "convergence_status",
+    "progress",
+    "solve_kwargs",
+    "persson_theory",
+    "save",
+    "result_lines",
+    "roughness_lines",
+    "alpha_cell",
+    "asperity_lines",
+    "law_lines",
+    "metadata",
+    # sweeps on executors
+    "open_executor",
+    "run_table",
+    "table_status",
+    "sweep_in_parallel",
+]
 #: defaults of the self-affine spectrum options (the paper's surface 1)
 SPECTRUM_DEFAULTS = {"h_rms": 10e-6, "hurst": 0.8, "q0": 1e3, "qr": 1e4, "q1": 1e9}
 SPECTRUM_FLAGS = {"h_rms": "--h-rms", "hurst": "--hurst", "q0": "--q0", "qr": "--qr", "q1": "--q1"}
@@ -45,6 +88,7 @@ class CLIError(Exception):
 # option types
 # ----------------------------------------------------------------------------------------------
 def number(text: str) -> float:
+    """A finite number."""
     try:
         v = float(text)
     except ValueError:
@@ -55,6 +99,7 @@ def number(text: str) -> float:
 
 
 def positive(text: str) -> float:
+    """A finite number > 0."""
     v = number(text)
     if v <= 0.0:
         raise argparse.ArgumentTypeError(f"must be > 0, got {text!r}")
@@ -62,6 +107,7 @@ def positive(text: str) -> float:
 
 
 def count(text: str) -> int:
+    """An integer >= 1."""
     try:
         v = int(text)
     except ValueError:
@@ -72,6 +118,7 @@ def count(text: str) -> int:
 
 
 def fraction(text: str) -> float:
+    """A number inside (0, 1)."""
     v = number(text)
     if not 0.0 < v < 1.0:
         raise argparse.ArgumentTypeError(f"must lie in (0, 1), got {text!r}")
@@ -79,6 +126,7 @@ def fraction(text: str) -> float:
 
 
 def gamma(text: str) -> float:
+    """gamma of the theory's correction S(P), inside the theory's range."""
     v = number(text)
     lo, hi = theory.GAMMA_RANGE
     if not lo <= v <= hi:
@@ -90,6 +138,7 @@ def gamma(text: str) -> float:
 # parser
 # ----------------------------------------------------------------------------------------------
 def spectrum_options(parser: argparse.ArgumentParser) -> None:
+    """The roughness spectrum: self-affine with roll-off, or a measured table (--psd)."""
     g = parser.add_argument_group(
         "roughness spectrum",
         "Self-affine spectrum with roll-off: C(q) = C0 for q0 <= q < qr, C0 (q/qr)^(-2(1+H)) for "
@@ -125,6 +174,7 @@ def spectrum_options(parser: argparse.ArgumentParser) -> None:
 
 
 def material_options(parser: argparse.ArgumentParser, load: bool, geometry: bool = False) -> None:
+    """E* or the solids' constants, the radius, the load (``load``), --geometry (``geometry``)."""
     m = parser.add_argument_group(
         "material and geometry",
         "Give the effective modulus directly or the two solids' elastic constants "
@@ -200,6 +250,7 @@ def geometry_defaults(args: argparse.Namespace) -> str:
 def numerics_options(
     parser: argparse.ArgumentParser, model: bool = True, geometry: bool = False
 ) -> None:
+    """--model (when ``model``), --gamma, --variant, --n, --max-iter and --hardness."""
     s = parser.add_argument_group("model and numerics")
     if model:
         s.add_argument(
@@ -243,6 +294,7 @@ def numerics_options(
 
 
 def variant_option(group) -> None:
+    """--variant, the theory's u(p) (None when not given: main fills in the default)."""
     group.add_argument(
         "--variant",
         choices=tuple(theory.VARIANTS),
@@ -281,6 +333,7 @@ def model_checks(args) -> None:
 
 
 def figure_options(parser: argparse.ArgumentParser) -> None:
+    """--format and --dpi of the figures."""
     g = parser.add_argument_group("figures")
     g.add_argument(
         "--format",
@@ -342,6 +395,7 @@ def spectrum_line(psd, source, model: str | None = None) -> str:
 
 
 def warn(msg: str) -> None:
+    """One ``fastline: warning: ...`` line on stderr."""
     print(f"fastline: warning: {msg}", file=sys.stderr)
 
 
@@ -352,6 +406,7 @@ def report_warnings(results) -> None:
 
 
 def convergence_status(results) -> int:
+    """0, or 1 after an error line naming the loads whose solve did not converge."""
     bad = [r for r in results if not r.converged]
     if not bad:
         return 0
@@ -400,6 +455,7 @@ def save(fig, path, args) -> None:
 # results
 # ----------------------------------------------------------------------------------------------
 def result_lines(r, diag) -> list[str]:
+    """The printed result of a cylinder's solve (``profile``, ``leak``)."""
     lines = [
         f"model            {r.model} (method {r.method}, n = {r.diagnostics.get('n', '?')})",
         f"load f_N         {r.load:.6g} N/m",
