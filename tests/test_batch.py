@@ -668,6 +668,7 @@ def test_cli_sphere_sweep_on_workers_and_scheduler(tmp_path, dask_client, monkey
         return real(scenes, executor, **kw)
 
     real = batch.sweep
+    monkeypatch.setattr(fl, "sweep", spy)  # the name the CLI calls
     monkeypatch.setattr(batch, "sweep", spy)
     files, printed = {}, {}
     for name, extra in [
@@ -700,7 +701,7 @@ def test_cli_sphere_sweep_plot_on_workers(tmp_path, monkeypatch):
     import matplotlib.pyplot as plt
 
     figures = []
-    monkeypatch.setattr(cli_sphere, "_save", lambda fig, path, args: figures.append(fig))
+    monkeypatch.setattr(cli_sphere, "save", lambda fig, path, args: figures.append(fig))
     status, _, err = cli([*SPHERE_SWEEP_ARGS, "--workers", 2, "--plot", tmp_path / "s.png"])
     assert status == 0, err
     ws_axes = figures[0].axes[0]

@@ -354,6 +354,7 @@ def test_hertz_refuses_roughness_options(command, extra, named, monkeypatch, cap
     def no_solve(*args, **kwargs):
         raise AssertionError("solved")
 
+    monkeypatch.setattr(fl, "solve_line_contact", no_solve)  # the name the CLI calls
     monkeypatch.setattr(fastline.contact.line, "solve_line_contact", no_solve)
     monkeypatch.setattr(fastline.contact.line.LineContact, "sweep", no_solve)
     status, out, err = run([command, "--model", "hertz", *extra], capsys)
@@ -404,6 +405,7 @@ def test_output_paths_checked_before_solving(argv, monkeypatch, capsys):
     def no_solve(*args, **kwargs):
         raise AssertionError("solved before checking the output path")
 
+    monkeypatch.setattr(fl, "solve_line_contact", no_solve)  # the name the CLI calls
     monkeypatch.setattr(fastline.contact.line, "solve_line_contact", no_solve)
     monkeypatch.setattr(fastline.reports.paper, "paper_data", no_solve)
     status, _, err = run(argv, capsys)

@@ -328,6 +328,7 @@ def test_bad_options(extra, needle, monkeypatch, capsys):
     def no_solve(*args, **kwargs):
         raise AssertionError("solved before checking the input")
 
+    monkeypatch.setattr(fl, "solve_line_contact", no_solve)  # the name the CLI calls
     monkeypatch.setattr(fastline.contact.line, "solve_line_contact", no_solve)
     monkeypatch.setattr(fastline.contact.line.LineContact, "sweep", no_solve)
     status, out, err = run(["leak", *REQUIRED, "--n", N, *extra], capsys)
@@ -360,6 +361,7 @@ def test_output_paths_checked_before_solving(argv, monkeypatch, capsys):
     def no_solve(*args, **kwargs):
         raise AssertionError("solved before checking the output path")
 
+    monkeypatch.setattr(fl, "solve_line_contact", no_solve)  # the name the CLI calls
     monkeypatch.setattr(fastline.contact.line, "solve_line_contact", no_solve)
     monkeypatch.setattr(fastline.contact.line.LineContact, "sweep", no_solve)
     status, _, err = run(argv, capsys)
@@ -583,7 +585,7 @@ def test_sphere_sweep_squeeze_stops_the_leak(ball_sweep_run):
 
 
 def test_sphere_default_load(capsys):
-    from fastline.cli.sphere import GEOMETRY_DEFAULTS
+    from fastline.cli.common import GEOMETRY_DEFAULTS
 
     status, out, _ = run([*BALL_SCENE, "--inner-radius", HOLE, *BALL_FLUID], capsys)
     assert status == 0

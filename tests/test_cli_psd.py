@@ -13,7 +13,7 @@ import numpy as np
 import pytest
 
 import fastline as fl
-import fastline.surfaces.scan
+import fastline.surfaces
 from fastline.cli.app import main
 from fastline.contact.line import solve_line_contact
 from fastline.io import read_csv, read_spectrum
@@ -318,7 +318,7 @@ def test_output_paths_checked_before_work(argv, scans, monkeypatch, capsys):
     def no_work(*args, **kwargs):
         raise AssertionError("read the scan before checking the output path")
 
-    monkeypatch.setattr(fastline.surfaces.scan, "analyse_scan", no_work)
+    monkeypatch.setattr(fastline.surfaces, "analyse_scan", no_work)
     d, _ = scans
     status, _, err = run([str(a).format(d=d) for a in argv], capsys)
     assert status == 2 and "/nonexistent-dir" in err and "does not exist" in err
@@ -329,7 +329,7 @@ def test_plot_without_matplotlib_is_refused_before_work(scans, monkeypatch, tmp_
 
     d, _ = scans
     monkeypatch.setitem(sys.modules, "matplotlib", None)
-    monkeypatch.setattr(fastline.surfaces.scan, "analyse_scan", None)  # any call would fail loudly
+    monkeypatch.setattr(fastline.surfaces, "analyse_scan", None)  # any call would fail loudly
     status, _, err = run(["psd", d / "rows.txt", *ROWS, "--plot", tmp_path / "x.png"], capsys)
     assert status == 2 and "plotting needs matplotlib" in err
 

@@ -120,6 +120,7 @@ def test_sphere_output_paths_checked_before_solving(monkeypatch, capsys):
     def no_solve(*args, **kwargs):
         raise AssertionError("solved before checking the output path")
 
+    monkeypatch.setattr(fl, "solve_point_contact", no_solve)  # the name the CLI calls
     monkeypatch.setattr(fastline.contact.point, "solve_point_contact", no_solve)
     status, _, err = run(["profile", "--geometry", "sphere", "--csv", "/nonexistent/p.csv"], capsys)
     assert status == 2 and "/nonexistent" in err

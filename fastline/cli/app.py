@@ -1,13 +1,14 @@
 """Command-line interface: ``fastline paper | profile | sweep | leak | batch | psd | validate``
 (``python -m fastline``).
 
-Argument parsing and printing only: the scenes of the paper live in :mod:`fastline.reports.paper`,
-files in :mod:`fastline.io`, figures in :mod:`fastline.reports.plotting`, validity checks in
-:mod:`fastline.contact.diagnostics`, measured surfaces in :mod:`fastline.surfaces.scan`. This module holds the
-parser, the cylinder's ``profile``, ``sweep``, ``batch`` and ``paper`` and :func:`main`; the
-other commands have their own modules (:mod:`fastline.cli.leak`, :mod:`fastline.cli.psd`,
-:mod:`fastline.cli.sphere` for ``--geometry sphere``, :mod:`fastline.cli.validate`) and what
-they share is in :mod:`fastline.cli.common`.
+Argument parsing and printing only: the scenes of the paper live in :mod:`fastline.paper`, files
+in :mod:`fastline.io`, figures in :mod:`fastline.plotting`, validity checks in
+:func:`fastline.assess`, measured surfaces in :func:`fastline.surfaces.analyse_scan`. This module
+holds the parser, the cylinder's ``profile``, ``sweep``, ``batch`` and ``paper`` and
+:func:`main`, on top of the others: the other commands have their own modules
+(:mod:`fastline.cli.leak`, :mod:`fastline.cli.psd`, :mod:`fastline.cli.sphere` for ``--geometry
+sphere``, :mod:`fastline.cli.validate`), the scene of the options is :mod:`fastline.cli.scene`
+and what they all share is in :mod:`fastline.cli.common`.
 
 Exit status: 0 done; 1 a solve did not converge or a scene of a batch failed (results are still
 printed and written); 2 bad usage or input (one ``fastline: error: ...`` line on stderr,
@@ -20,48 +21,43 @@ moduli in Pa, loads per unit cylinder length in N/m.
 from __future__ import annotations
 
 import argparse
-import math
 import re
 import sys
 import time
 
-# the shared options and printing (_gamma, _number, _variant_option: for fastline.cli.validate)
-from fastline.cli.common import (  # noqa: F401
+import fastline as fl
+from fastline import theory
+from fastline.cli.common import (
+    GEOMETRIES,
     CLIError,
-    _alpha_cell,
-    _check_outputs,
-    _convergence_status,
-    _count,
-    _figure_options,
-    _gamma,
-    _material_options,
-    _meta,
-    _model_checks,
-    _number,
-    _numerics_options,
-    _positive,
-    _progress,
-    _report_warnings,
-    _result_lines,
-    _save,
-    _scene,
-    _solve_kwargs,
-    _spectrum_line,
-    _spectrum_options,
-    _theory,
-    _variant_option,
-    _warn,
-    run_profile,
+    alpha_cell,
+    check_outputs,
+    convergence_status,
+    count,
+    figure_options,
+    geometry_defaults,
+    material_options,
+    metadata,
+    model_checks,
+    numerics_options,
+    persson_theory,
+    positive,
+    progress,
+    report_warnings,
+    result_lines,
+    run_table,
+    save,
+    solve_kwargs,
+    spectrum_line,
+    spectrum_options,
+    sweep_in_parallel,
+    table_status,
 )
 from fastline.cli.leak import cmd_leak, leak_parser
-from fastline.cli.psd import _scan_options, cmd_psd, psd_parser
-from fastline.cli.sphere import (
-    GEOMETRIES,
-    cmd_sphere_paper,
-    cmd_sphere_profile,
-    cmd_sphere_sweep,
-    geometry_defaults,
-)
+from fastline.cli.psd import cmd_psd, psd_parser
+from fastline.cli.scene import run_profile, scan_options, scene
+from fastline.cli.sphere import cmd_sphere_paper, cmd_sphere_profile, cmd_sphere_sweep
+from fastline.cli.validate import cmd_validate, validate_parser
 
 DESCRIPTION = """\
 fastline: nominal contact pressure of a rigid cylinder (radius R) pressed onto a randomly rough
@@ -133,7 +129,7 @@ def _parallel_options(parser: argparse.ArgumentParser, default: str) -> None:
     )
     g.add_argument(
         "--workers",
-        type=_count,
+        type=count,
         metavar="N",
         help="solve on N local processes (1: in this process)",
     )
@@ -145,7 +141,7 @@ def _parallel_options(parser: argparse.ArgumentParser, default: str) -> None:
     )
     g.add_argument(
         "--chunksize",
-        type=_count,
+        type=count,
         metavar="K",
         help="scenes per task at most (default: about 64 tasks, 8 to 256 scenes each)",
     )
@@ -154,11 +150,9 @@ def _parallel_options(parser: argparse.ArgumentParser, default: str) -> None:
 def build_parser() -> argparse.ArgumentParser:
     """The ``fastline`` argument parser (commands ``paper``, ``profile``, ``sweep``,
     ``batch``, ``leak``, ``psd``, ``validate``), one function per command."""
-    from fastline import __version__
-
     fmt = argparse.RawDescriptionHelpFormatter
     parser = _Parser(prog="fastline", description=DESCRIPTION, epilog=EPILOG, formatter_class=fmt)
-    parser.add_argument("--version", action="version", version=f"fastline {__version__}")
+    parser.add_argument("--version", action="version", version=f"fastline {fl.__version__}")
     sub = parser.add_subparsers(dest="command", metavar="COMMAND")
 
     _paper_parser(sub, fmt)
@@ -167,8 +161,6 @@ def build_parser() -> argparse.ArgumentParser:
     _batch_parser(sub, fmt)
     leak_parser(sub, fmt)
     psd_parser(sub, fmt)
-    from fastline.cli.validate import validate_parser
-
     validate_parser(sub, fmt)
     return parser
 
@@ -190,7 +182,7 @@ def _paper_parser(sub, fmt) -> None:
     p.add_argument("--out", required=True, metavar="DIR", help="output directory (created)")
     p.add_argument(
         "--loads",
-        type=_count,
+        type=count,
         default=40,
         metavar="N",
         help="loads per surface, log-spaced from 1e3 to 1.5e6 N/m (default 40); with --geometry "
@@ -198,7 +190,7 @@ def _paper_parser(sub, fmt) -> None:
     )
     p.add_argument(
         "--q1",
-        type=_positive,
+        type=positive,
         default=1e9,
         metavar="1/M",
         help="large-wavenumber cut-off q1 [1/m] (the paper does not state it; default 1e9)",
@@ -209,8 +201,8 @@ def _paper_parser(sub, fmt) -> None:
         default="cylinder",
         help="cylinder on a flat (the paper's figures, default) or sphere on a flat",
     )
-    _numerics_options(p, model=False, geometry=True)
-    _figure_options(p)
+    numerics_options(p, model=False, geometry=True)
+    figure_options(p)
 
 
 def _profile_parser(sub, fmt) -> None:
@@ -223,17 +215,17 @@ def _profile_parser(sub, fmt) -> None:
         "sphere-on-flat) and print the spectrum, the peak pressure, widths, alpha, regime, "
         "validity diagnostics and solver convergence.",
     )
-    _spectrum_options(p)
-    _scan_options(p)
-    _material_options(p, load=True, geometry=True)
-    _numerics_options(p, geometry=True)
+    spectrum_options(p)
+    scan_options(p)
+    material_options(p, load=True, geometry=True)
+    numerics_options(p, geometry=True)
     p.add_argument(
         "--csv",
         metavar="FILE",
         help="write x [m], p [Pa], u [m] columns to FILE (a sphere: r [m] from the axis)",
     )
     p.add_argument("--plot", metavar="FILE", help="write a figure of p(x) with Hertz to FILE")
-    _figure_options(p)
+    figure_options(p)
 
 
 def _sweep_parser(sub, fmt) -> None:
@@ -245,27 +237,27 @@ def _sweep_parser(sub, fmt) -> None:
         description="Solve the scene for log-spaced loads and tabulate alpha, p0, p0 ratio, "
         "s, w and w/s.",
     )
-    _spectrum_options(p)
-    _scan_options(p)
-    _material_options(p, load=False, geometry=True)
+    spectrum_options(p)
+    scan_options(p)
+    material_options(p, load=False, geometry=True)
     p.add_argument(
         "--loads-from",
-        type=_positive,
+        type=positive,
         metavar="LOAD",
         help="smallest load: per unit length [N/m] (default 1e3); with --geometry sphere the "
         "total load F [N] (default 0.1)",
     )
     p.add_argument(
         "--loads-to",
-        type=_positive,
+        type=positive,
         metavar="LOAD",
         help="largest load: per unit length [N/m] (default 1.5e6); with --geometry sphere the "
         "total load F [N] (default 1e3)",
     )
     p.add_argument(
-        "--loads-num", type=_count, default=20, metavar="N", help="number of loads (default 20)"
+        "--loads-num", type=count, default=20, metavar="N", help="number of loads (default 20)"
     )
-    _numerics_options(p, geometry=True)
+    numerics_options(p, geometry=True)
     p.add_argument(
         "--csv",
         metavar="FILE",
@@ -273,7 +265,7 @@ def _sweep_parser(sub, fmt) -> None:
         "s [m], w [m], w_over_s, converged) to FILE",
     )
     p.add_argument("--plot", metavar="FILE", help="write a figure of w/s and p0 ratio vs alpha")
-    _figure_options(p)
+    figure_options(p)
     _parallel_options(
         p,
         "one continuation sweep in this process (its numbers differ from the tasks' within "
@@ -306,140 +298,57 @@ def _batch_parser(sub, fmt) -> None:
 # commands
 # ----------------------------------------------------------------------------------------------
 def cmd_profile(args) -> int:
+    """``fastline profile``: one scene; returns the exit status."""
     if geometry_defaults(args) == "sphere":
         return cmd_sphere_profile(args)
-    from fastline.contact.line import solve_line_contact
-    from fastline.io import write_profile_csv
-
-    return run_profile(args, solve_line_contact, _result_lines, write_profile_csv, _meta)
-
-
-def _executor(args):
-    """(executor for fastline.sweep, a function that releases it) from --scheduler."""
-    if args.workers is not None and args.scheduler is not None:
-        raise CLIError("give either --workers or --scheduler, not both")
-    if args.scheduler is None:
-        return None, lambda: None
-    try:
-        from distributed import Client
-    except ImportError:
-        raise CLIError(
-            '--scheduler needs dask.distributed: pip install "fastline-contact[dask]" (the '
-            "dask extra)"
-        ) from None
-    try:
-        client = Client(args.scheduler, timeout=10)
-    except (OSError, ValueError, TypeError) as e:
-        raise CLIError(f"cannot connect to the dask scheduler at {args.scheduler}: {e}") from None
-    return client, client.close
-
-
-def _run_table(scenes, args):
-    """fastline.sweep on the executor the options name; bad tables are usage errors."""
-    from fastline.batch import sweep
-
-    executor, release = _executor(args)
-    try:
-        return sweep(
-            scenes,
-            executor,
-            workers=args.workers if executor is None else None,
-            chunksize=args.chunksize,
-            progress=None,
-            warn=False,
-        )
-    except TypeError as e:
-        raise CLIError(str(e)) from None
-    finally:
-        release()
-
-
-def _table_status(table) -> int:
-    """Print the failed and non-converged scenes of a sweep table (as errors); 0 or 1."""
-    status = 0
-    for cause, msg in table.warnings:
-        if cause in ("failed", "not_converged"):
-            print(f"fastline: error: {msg}", file=sys.stderr)
-            status = 1
-        else:
-            _warn(msg)
-    return status
-
-
-def _sweep_in_parallel(psd, E, args, loads):
-    """The loads of the sweep command (either geometry) as a scene table on
-    --workers/--scheduler: rows with the attributes of a result (load, alpha, p0, ...) and the
-    table."""
-    import numpy as np
-
-    k = len(loads)
-    scenes = {
-        "geometry": [args.geometry] * k,
-        "psd": [psd] * k,
-        "E_star": [E] * k,
-        "radius": [args.radius] * k,
-        "load": [float(f) for f in loads],
-        "model": [args.model] * k,
-        "n": [args.n] * k,
-        "gamma": [args.gamma] * k,
-        "variant": [args.variant] * k,
-        "max_iter": [args.max_iter or 0] * k,
-        "hardness": [math.nan if args.hardness is None else args.hardness] * k,
-    }
-    table = _run_table(scenes, args)
-    return table.table.view(np.recarray), table
+    return run_profile(args, fl.solve_line_contact, result_lines, fl.io.write_profile_csv, metadata)
 
 
 def cmd_sweep(args) -> int:
+    """``fastline sweep``: log-spaced loads; returns the exit status."""
     import numpy as np
-
-    from fastline.contact.line import LineContact
 
     if geometry_defaults(args) == "sphere":
         return cmd_sphere_sweep(args)
-    psd, E, source = _scene(args)
+    psd, E, source = scene(args)
     if args.loads_to < args.loads_from:
         raise CLIError("--loads-to must be >= --loads-from")
-    _check_outputs(args)
+    check_outputs(args)
     loads = np.geomspace(args.loads_from, args.loads_to, args.loads_num)
-    th = _theory(psd, E, args)
+    th = persson_theory(psd, E, args)
     table = None
     if args.workers is None and args.scheduler is None:
-        model = LineContact(psd, E, args.radius, model=args.model, **_solve_kwargs(args, th))
-        with _progress(len(loads), "sweep") as bar:
+        model = fl.LineContact(psd, E, args.radius, model=args.model, **solve_kwargs(args, th))
+        with progress(len(loads), "sweep") as bar:
             results = model.sweep(loads, progress=bar.update)
     else:
-        results, table = _sweep_in_parallel(psd, E, args, loads)
-    print(_spectrum_line(psd, source, args.model))
+        results, table = sweep_in_parallel(psd, E, args, loads)
+    print(spectrum_line(psd, source, args.model))
     print(
         f"{'load [N/m]':>12}{'alpha':>12}{'p0 [Pa]':>13}{'p0 ratio':>10}{'s [m]':>12}"
         f"{'w [m]':>12}{'w/s':>8}{'conv':>6}"
     )
     for r in results:
         print(
-            f"{r.load:>12.4g}{_alpha_cell(r, 12)}{r.p0:>13.5g}{r.p0_ratio:>10.5f}{r.s:>12.4g}"
+            f"{r.load:>12.4g}{alpha_cell(r, 12)}{r.p0:>13.5g}{r.p0_ratio:>10.5f}{r.s:>12.4g}"
             f"{r.fwhm:>12.4g}{r.w_over_s:>8.4f}{'yes' if r.converged else 'NO':>6}"
         )
     if table is None:
-        _report_warnings(results)
+        report_warnings(results)
     if args.csv:
-        from fastline.io import write_sweep_csv
-
-        write_sweep_csv(args.csv, results, _meta(psd, E, args, source))
+        fl.io.write_sweep_csv(args.csv, results, metadata(psd, E, args, source))
     if args.plot:
-        from fastline.reports.plotting import plot_sweep
-
         gu = th.exponential_fit().gamma_u if th is not None else None
-        _save(plot_sweep(results, gamma_u=gu), args.plot, args)
-    return _convergence_status(results) if table is None else _table_status(table)
+        save(fl.plotting.plot_sweep(results, gamma_u=gu), args.plot, args)
+    return convergence_status(results) if table is None else table_status(table)
 
 
 def cmd_batch(args) -> int:
-    from fastline.batch import read_scenes
-    from fastline.io import check_output_file
+    """``fastline batch``: a table of scenes from a CSV file; returns the exit status."""
+    from fastline import batch  # on use: the module loads NumPy at import
 
-    check_output_file(args.out)
-    table = _run_table(read_scenes(args.scenes), args)
+    fl.io.check_output_file(args.out)
+    table = run_table(batch.read_scenes(args.scenes), args)
     table.to_csv(args.out)
     st = table.stats
     failed = int(table.failed.sum())
@@ -449,20 +358,19 @@ def cmd_batch(args) -> int:
         f"{st.scenes - ok - failed} not converged, {failed} failed; {st.wall_seconds:.2f} s "
         f"({st.scenes_per_second:.0f} scenes/s, {st.tasks} task(s)) on {st.executor}"
     )
-    status = _table_status(table)
+    status = table_status(table)
     print(f"wrote {args.out}")
     return status
 
 
 def cmd_paper(args) -> int:
-    from fastline.io import spectrum_summary
-    from fastline.reports import paper
-
+    """``fastline paper``: the paper's figures; returns the exit status."""
+    paper = fl.paper
     if geometry_defaults(args) == "sphere":
         return cmd_sphere_paper(args)
-    _check_outputs(args)
+    check_outputs(args)
     t0 = time.perf_counter()
-    with _progress(len(paper.SURFACES) * args.loads, "paper") as bar:
+    with progress(len(paper.SURFACES) * args.loads, "paper") as bar:
         data = paper.paper_data(
             q1=args.q1,
             loads=args.loads,
@@ -491,7 +399,7 @@ def cmd_paper(args) -> int:
         rs = s.results
         a, ws, pr = ([getattr(r, k) for r in rs] for k in ("alpha", "w_over_s", "p0_ratio"))
         bad = sum(not r.converged for r in rs)
-        slope = spectrum_summary(s.psd)["rms_slope"]
+        slope = fl.io.spectrum_summary(s.psd)["rms_slope"]
         print(
             f"{s.label:<10}{s.h_rms:>10.3g}{s.hurst:>5.2g}{slope:>10.4g}{s.gamma_u:>9.4f}"
             f"{min(a):>10.3g}-{max(a):<9.3g}{min(ws):>8.4f}-{max(ws):<8.4f}"
@@ -499,11 +407,11 @@ def cmd_paper(args) -> int:
         )
     print(
         f"spectra          q {paper.Q0:g}-{args.q1:g} 1/m (longest wavelength "
-        f"{spectrum_summary(data.surfaces[0].psd)['longest_wavelength']:.3g} m)"
+        f"{fl.io.spectrum_summary(data.surfaces[0].psd)['longest_wavelength']:.3g} m)"
     )
-    _report_warnings(data.results)
+    report_warnings(data.results)
     print(f"wrote {', '.join(written)} to {args.out}")
-    return _convergence_status(data.results)
+    return convergence_status(data.results)
 
 
 COMMANDS = {
@@ -513,16 +421,8 @@ COMMANDS = {
     "leak": cmd_leak,
     "batch": cmd_batch,
     "psd": cmd_psd,
+    "validate": cmd_validate,
 }
-
-
-def _cmd_validate(args) -> int:
-    from fastline.cli.validate import cmd_validate
-
-    return cmd_validate(args)
-
-
-COMMANDS["validate"] = _cmd_validate
 
 
 def main(argv: list[str] | None = None) -> int:
@@ -535,15 +435,11 @@ def main(argv: list[str] | None = None) -> int:
             parser.print_help()
             return 2
         if args.command in ("profile", "sweep"):  # leak refuses --model hertz outright
-            _model_checks(args)
+            model_checks(args)
         if getattr(args, "variant", 0) is None:
-            from fastline.theory.variants import DEFAULT_VARIANT
-
-            args.variant = DEFAULT_VARIANT
+            args.variant = theory.DEFAULT_VARIANT
         if getattr(args, "gamma", 0.0) is None:  # the variant's own gamma
-            from fastline.theory.variants import get_variant
-
-            args.gamma = get_variant(args.variant).default_gamma
+            args.gamma = theory.get_variant(args.variant).default_gamma
         return COMMANDS[args.command](args)
     except (CLIError, ValueError) as e:
         msg = " ".join(str(e).split())

@@ -1,14 +1,17 @@
-"""What the commands of :mod:`fastline.cli.app` share: option types and groups, the scene, outputs.
+"""What the commands of the command line share: option types and groups, outputs, printing.
 
-The option types (``_number``, ``_positive``, ...) check one value for argparse; the option
-groups (spectrum, material, numerics, figures) are added to several commands; ``_scene`` turns
-the options into (spectrum, E*, source), ``_check_outputs`` checks every output path before any
-solve, and the printing helpers report results, warnings (once per cause) and convergence.
+The option types (:func:`number`, :func:`positive`, ...) check one value for argparse; the
+option groups (spectrum, material and geometry, numerics, figures) are added to several
+commands; :func:`check_outputs` checks every output path before any solve; the printing helpers
+report results, warnings (once per cause) and convergence; :func:`sweep_in_parallel` runs a
+sweep's loads on ``--workers``/``--scheduler`` through :func:`fastline.sweep`.
 
-The command modules (:mod:`fastline.cli.leak`, :mod:`fastline.cli.psd`,
-:mod:`fastline.cli.sphere`) import this one; the two options that belong to them (``--scan``
-and ``--geometry``) are taken from them on use, so that no module imports another at import
-time in a cycle. Nothing heavy is imported here at import time.
+The bottom of :mod:`fastline.cli`: it imports no other module of it. :mod:`fastline.cli.scene`
+builds on it (the scene of the options, measured surfaces), the command modules
+(:mod:`~fastline.cli.leak`, :mod:`~fastline.cli.psd`, :mod:`~fastline.cli.sphere`,
+:mod:`~fastline.cli.validate`) on both, and :mod:`fastline.cli.app` (the parser and
+:func:`~fastline.cli.app.main`) on all. Nothing heavy is imported here at import time: the
+names of fastline load their modules on first use.
 
 SI units throughout: m, 1/m, m^4, Pa, N/m (N for a sphere).
 """
@@ -16,12 +19,65 @@ SI units throughout: m, 1/m, m^4, Pa, N/m (N for a sphere).
 from __future__ import annotations
 
 import argparse
+import importlib.util
 import math
 import sys
 
+import fastline as fl
+from fastline import contact, theory
+
+__all__ = [
+    # option types and groups
+    "CLIError",
+    "number",
+    "positive",
+    "count",
+    "fraction",
+    "gamma",
+    "SPECTRUM_DEFAULTS",
+    "SPECTRUM_FLAGS",
+    "GEOMETRIES",
+    "GEOMETRY_DEFAULTS",
+    "geometry_defaults",
+    "spectrum_options",
+    "material_options",
+    "numerics_options",
+    "variant_option",
+    "model_checks",
+    "figure_options",
+    # outputs and printing
+    "ScanSource",
+    "check_outputs",
+    "require_matplotlib",
+    "spectrum_line",
+    "warn",
+    "report_warnings",
+    "convergence_status",
+    "progress",
+    "solve_kwargs",
+    "persson_theory",
+    "save",
+    "result_lines",
+    "roughness_lines",
+    "alpha_cell",
+    "asperity_lines",
+    "law_lines",
+    "metadata",
+    # sweeps on executors
+    "open_executor",
+    "run_table",
+    "table_status",
+    "sweep_in_parallel",
+]
 #: defaults of the self-affine spectrum options (the paper's surface 1)
 SPECTRUM_DEFAULTS = {"h_rms": 10e-6, "hurst": 0.8, "q0": 1e3, "qr": 1e4, "q1": 1e9}
-_SPECTRUM_FLAGS = {"h_rms": "--h-rms", "hurst": "--hurst", "q0": "--q0", "qr": "--qr", "q1": "--q1"}
+SPECTRUM_FLAGS = {"h_rms": "--h-rms", "hurst": "--hurst", "q0": "--q0", "qr": "--qr", "q1": "--q1"}
+GEOMETRIES = ("cylinder", "sphere")
+#: defaults that depend on the geometry (loads in N/m for a cylinder, N for a sphere)
+GEOMETRY_DEFAULTS = {
+    "cylinder": {"load": 1e4, "loads_from": 1e3, "loads_to": 1.5e6, "n": 1024},
+    "sphere": {"load": 10.0, "loads_from": 0.1, "loads_to": 1e3, "n": 512},
+}
 
 
 class CLIError(Exception):
@@ -31,7 +87,8 @@ class CLIError(Exception):
 # ----------------------------------------------------------------------------------------------
 # option types
 # ----------------------------------------------------------------------------------------------
-def _number(text: str) -> float:
+def number(text: str) -> float:
+    """A finite number."""
     try:
         v = float(text)
     except ValueError:
@@ -41,14 +98,16 @@ def _number(text: str) -> float:
     return v
 
 
-def _positive(text: str) -> float:
-    v = _number(text)
+def positive(text: str) -> float:
+    """A finite number > 0."""
+    v = number(text)
     if v <= 0.0:
         raise argparse.ArgumentTypeError(f"must be > 0, got {text!r}")
     return v
 
 
-def _count(text: str) -> int:
+def count(text: str) -> int:
+    """An integer >= 1."""
     try:
         v = int(text)
     except ValueError:
@@ -58,18 +117,18 @@ def _count(text: str) -> int:
     return v
 
 
-def _fraction(text: str) -> float:
-    v = _number(text)
+def fraction(text: str) -> float:
+    """A number inside (0, 1)."""
+    v = number(text)
     if not 0.0 < v < 1.0:
         raise argparse.ArgumentTypeError(f"must lie in (0, 1), got {text!r}")
     return v
 
 
-def _gamma(text: str) -> float:
-    from fastline.theory.persson import GAMMA_RANGE
-
-    v = _number(text)
-    lo, hi = GAMMA_RANGE
+def gamma(text: str) -> float:
+    """gamma of the theory's correction S(P), inside the theory's range."""
+    v = number(text)
+    lo, hi = theory.GAMMA_RANGE
     if not lo <= v <= hi:
         raise argparse.ArgumentTypeError(f"must lie in [{lo:g}, {hi:g}], got {text!r}")
     return v
@@ -78,7 +137,8 @@ def _gamma(text: str) -> float:
 # ----------------------------------------------------------------------------------------------
 # parser
 # ----------------------------------------------------------------------------------------------
-def _spectrum_options(parser: argparse.ArgumentParser) -> None:
+def spectrum_options(parser: argparse.ArgumentParser) -> None:
+    """The roughness spectrum: self-affine with roll-off, or a measured table (--psd)."""
     g = parser.add_argument_group(
         "roughness spectrum",
         "Self-affine spectrum with roll-off: C(q) = C0 for q0 <= q < qr, C0 (q/qr)^(-2(1+H)) for "
@@ -87,20 +147,20 @@ def _spectrum_options(parser: argparse.ArgumentParser) -> None:
         "combined spectrum of both surfaces (C = C1 + C2). Defaults: the paper's surface 1.",
     )
     g.add_argument(
-        "--h-rms", type=_positive, metavar="M", help="rms roughness h_rms [m] (default 10e-6)"
+        "--h-rms", type=positive, metavar="M", help="rms roughness h_rms [m] (default 10e-6)"
     )
     g.add_argument(
-        "--hurst", type=_number, metavar="H", help="Hurst exponent H [-], 0 < H <= 1 (default 0.8)"
+        "--hurst", type=number, metavar="H", help="Hurst exponent H [-], 0 < H <= 1 (default 0.8)"
     )
     g.add_argument(
-        "--q0", type=_positive, metavar="1/M", help="smallest wavenumber q0 [1/m] (default 1e3)"
+        "--q0", type=positive, metavar="1/M", help="smallest wavenumber q0 [1/m] (default 1e3)"
     )
     g.add_argument(
-        "--qr", type=_positive, metavar="1/M", help="roll-off wavenumber qr [1/m] (default 1e4)"
+        "--qr", type=positive, metavar="1/M", help="roll-off wavenumber qr [1/m] (default 1e4)"
     )
     g.add_argument(
         "--q1",
-        type=_positive,
+        type=positive,
         metavar="1/M",
         help="large-wavenumber cut-off q1 [1/m] (default 1e9)",
     )
@@ -113,7 +173,8 @@ def _spectrum_options(parser: argparse.ArgumentParser) -> None:
     )
 
 
-def _material_options(parser: argparse.ArgumentParser, load: bool, geometry: bool = False) -> None:
+def material_options(parser: argparse.ArgumentParser, load: bool, geometry: bool = False) -> None:
+    """E* or the solids' constants, the radius, the load (``load``), --geometry (``geometry``)."""
     m = parser.add_argument_group(
         "material and geometry",
         "Give the effective modulus directly or the two solids' elastic constants "
@@ -121,23 +182,21 @@ def _material_options(parser: argparse.ArgumentParser, load: bool, geometry: boo
     )
     m.add_argument(
         "--E-star",
-        type=_positive,
+        type=positive,
         metavar="PA",
         help="effective (plane-strain) modulus E* [Pa] (default 1.33e9 when no "
         "--E1/--nu1/--E2/--nu2 are given)",
     )
-    m.add_argument("--E1", type=_positive, metavar="PA", help="Young's modulus of solid 1 [Pa]")
-    m.add_argument("--nu1", type=_number, metavar="NU", help="Poisson ratio of solid 1 [-]")
-    m.add_argument("--E2", type=_positive, metavar="PA", help="Young's modulus of solid 2 [Pa]")
-    m.add_argument("--nu2", type=_number, metavar="NU", help="Poisson ratio of solid 2 [-]")
+    m.add_argument("--E1", type=positive, metavar="PA", help="Young's modulus of solid 1 [Pa]")
+    m.add_argument("--nu1", type=number, metavar="NU", help="Poisson ratio of solid 1 [-]")
+    m.add_argument("--E2", type=positive, metavar="PA", help="Young's modulus of solid 2 [Pa]")
+    m.add_argument("--nu2", type=number, metavar="NU", help="Poisson ratio of solid 2 [-]")
     if geometry:
-        from fastline.cli.sphere import _geometry_options
-
         _geometry_options(m, load)
         return
     m.add_argument(
         "--radius",
-        type=_positive,
+        type=positive,
         default=0.01,
         metavar="M",
         help="cylinder radius R [m] (default 0.01)",
@@ -145,16 +204,53 @@ def _material_options(parser: argparse.ArgumentParser, load: bool, geometry: boo
     if load:
         m.add_argument(
             "--load",
-            type=_positive,
+            type=positive,
             default=1e4,
             metavar="N/M",
             help="normal load per unit cylinder length f_N [N/m] (default 1e4)",
         )
 
 
-def _numerics_options(
+def _geometry_options(m, load: bool) -> None:
+    """--geometry, --radius and (``load``) --load, whose unit follows the geometry."""
+    m.add_argument(
+        "--geometry",
+        choices=GEOMETRIES,
+        default="cylinder",
+        help="rigid cylinder on a flat (line contact, default) or sphere on a flat (point "
+        "contact); the load is per unit length [N/m] for a cylinder, the total load [N] for a "
+        "sphere",
+    )
+    m.add_argument(
+        "--radius",
+        type=positive,
+        default=0.01,
+        metavar="M",
+        help="cylinder radius R [m], or the sphere's with --geometry sphere (default 0.01)",
+    )
+    if load:
+        m.add_argument(
+            "--load",
+            type=positive,
+            metavar="LOAD",
+            help="normal load per unit cylinder length f_N [N/m] (default 1e4); with "
+            "--geometry sphere the total load F on the sphere [N] (default 10)",
+        )
+
+
+def geometry_defaults(args: argparse.Namespace) -> str:
+    """Fill the options whose default depends on the geometry; returns the geometry."""
+    geometry = getattr(args, "geometry", "cylinder")
+    for key, value in GEOMETRY_DEFAULTS[geometry].items():
+        if hasattr(args, key) and getattr(args, key) is None:
+            setattr(args, key, value)
+    return geometry
+
+
+def numerics_options(
     parser: argparse.ArgumentParser, model: bool = True, geometry: bool = False
 ) -> None:
+    """--model (when ``model``), --gamma, --variant, --n, --max-iter and --hardness."""
     s = parser.add_argument_group("model and numerics")
     if model:
         s.add_argument(
@@ -166,16 +262,16 @@ def _numerics_options(
         )
     s.add_argument(
         "--gamma",
-        type=_gamma,
+        type=gamma,
         default=None,
         metavar="G",
         help="parameter gamma of the theory's correction S(P), in [0.05, 1] (default: the "
         "variant's, 0.45; 5/9 for wang-mueser)",
     )
-    _variant_option(s)
+    variant_option(s)
     s.add_argument(
         "--n",
-        type=_count,
+        type=count,
         default=None if geometry else 1024,
         metavar="N",
         help="grid points across the contact (default 1024, at least 16)"
@@ -184,36 +280,36 @@ def _numerics_options(
     )  # fmt: skip
     s.add_argument(
         "--max-iter",
-        type=_count,
+        type=count,
         metavar="K",
         help="Newton steps allowed per solve (default: the solver's, 100)",
     )
     s.add_argument(
         "--hardness",
-        type=_positive,
+        type=positive,
         metavar="PA",
         help="indentation hardness of the softer solid [Pa]: warns when the elastic mean "
         "asperity pressure h' E*/2 exceeds it (plastic flow likely)",
     )
 
 
-def _variant_option(group) -> None:
-    from fastline.theory.variants import DEFAULT_VARIANT, VARIANTS
-
+def variant_option(group) -> None:
+    """--variant, the theory's u(p) (None when not given: main fills in the default)."""
     group.add_argument(
         "--variant",
-        choices=tuple(VARIANTS),
+        choices=tuple(theory.VARIANTS),
         default=None,  # fastline.cli.app.main fills in DEFAULT_VARIANT: None says 'not given'
         help="variant of the theory's u(p) (docs/theory.md, Variants): the bracket gamma + "
-        "3(1-gamma)P^2 of the energy derivation (default, " + DEFAULT_VARIANT + "), the printed "
-        "gamma + (1-gamma)P^2, or Wang & Mueser's correction, which also enters the contact "
-        "area (not with leak)",
+        "3(1-gamma)P^2 of the energy derivation (default, "
+        + theory.DEFAULT_VARIANT
+        + "), the printed gamma + (1-gamma)P^2, or Wang & Mueser's correction, which also "
+        "enters the contact area (not with leak)",
     )
 
 
 #: options a smooth (--model hertz) solve does not use: the roughness and the theory's
 _ROUGH_ONLY = {
-    **_SPECTRUM_FLAGS,
+    **SPECTRUM_FLAGS,
     "psd": "--psd",
     "scan": "--scan",
     "gamma": "--gamma",
@@ -222,7 +318,7 @@ _ROUGH_ONLY = {
 }
 
 
-def _model_checks(args) -> None:
+def model_checks(args) -> None:
     """Refuse roughness and theory options that a smooth Hertz solve would ignore (before the
     defaults of --gamma and --variant are filled in: None means not given)."""
     if getattr(args, "model", None) != "hertz":
@@ -236,7 +332,8 @@ def _model_checks(args) -> None:
         )
 
 
-def _figure_options(parser: argparse.ArgumentParser) -> None:
+def figure_options(parser: argparse.ArgumentParser) -> None:
+    """--format and --dpi of the figures."""
     g = parser.add_argument_group("figures")
     g.add_argument(
         "--format",
@@ -245,70 +342,37 @@ def _figure_options(parser: argparse.ArgumentParser) -> None:
     )
     g.add_argument(
         "--dpi",
-        type=_positive,
+        type=positive,
         metavar="DPI",
         help="resolution of PNG figures in dots per inch (default 150)",
     )
 
 
 # ----------------------------------------------------------------------------------------------
-# scene, outputs, printing
+# outputs, printing
 # ----------------------------------------------------------------------------------------------
-class _ScanSource(str):
+class ScanSource(str):
     """The scan file a spectrum was measured from: its path (a str) with the analysis
-    (``.scan``, a :class:`fastline.surfaces.scan.ScanSpectrum`) attached."""
+    (``.scan``, the :class:`~fastline.surfaces.ScanSpectrum` of
+    :func:`fastline.surfaces.analyse_scan`) attached."""
 
     scan = None
 
 
-def _scene(args):
-    """(psd, E_star, source file or None) from the scene options."""
-    import fastline as fl
-    from fastline.cli.psd import _scan_checks, _scan_scene
-    from fastline.io import read_spectrum
-
-    elastic = [args.E1, args.nu1, args.E2, args.nu2]
-    if any(v is not None for v in elastic):
-        if args.E_star is not None:
-            raise CLIError("give either --E-star or --E1/--nu1/--E2/--nu2, not both")
-        if any(v is None for v in elastic):
-            raise CLIError("--E1, --nu1, --E2 and --nu2 must be given together")
-        E_star = fl.effective_modulus(args.E1, args.nu1, args.E2, args.nu2)
-    else:
-        E_star = 1.33e9 if args.E_star is None else args.E_star
-    if _scan_checks(args):
-        psd, source = _scan_scene(args)
-        return psd, E_star, source
-    given = [flag for key, flag in _SPECTRUM_FLAGS.items() if getattr(args, key) is not None]
-    if args.psd is not None:
-        if given:
-            raise CLIError(
-                f"--psd cannot be combined with {', '.join(given)}: the file defines the spectrum"
-            )
-        return read_spectrum(args.psd), E_star, args.psd
-    spec = {
-        k: v if getattr(args, k) is None else getattr(args, k) for k, v in SPECTRUM_DEFAULTS.items()
-    }
-    return fl.SelfAffinePSD(**spec), E_star, None
-
-
-def _check_outputs(args) -> None:
+def check_outputs(args) -> None:
     """Check every output path before any solve."""
-    from fastline.io import check_output_dir, check_output_file
-
     for name in ("csv", "plot"):
         path = getattr(args, name, None)
         if path is not None:
-            check_output_file(path)
+            fl.io.check_output_file(path)
     if getattr(args, "plot", None) is not None or getattr(args, "out", None) is not None:
-        _require_matplotlib()
+        require_matplotlib()
     if getattr(args, "out", None) is not None:
-        check_output_dir(args.out)
+        fl.io.check_output_dir(args.out)
 
 
-def _require_matplotlib() -> None:
-    import importlib.util
-
+def require_matplotlib() -> None:
+    """Refuse a figure when matplotlib (an optional dependency) is not installed."""
     if sys.modules.get("matplotlib", 0) is None or importlib.util.find_spec("matplotlib") is None:
         raise CLIError(
             'plotting needs matplotlib: pip install matplotlib (the "plot" extra of '
@@ -316,15 +380,13 @@ def _require_matplotlib() -> None:
         )
 
 
-def _spectrum_line(psd, source, model: str | None = None) -> str:
+def spectrum_line(psd, source, model: str | None = None) -> str:
     """The spectrum the scene uses; for ``--model hertz`` that there is none."""
-    from fastline.io import spectrum_summary
-
     if model == "hertz":
         return "spectrum         none: --model hertz solves the smooth contact (no roughness)"
-    s = spectrum_summary(psd)
+    s = fl.io.spectrum_summary(psd)
     what = f"file {source}" if source else "self-affine"
-    if isinstance(source, _ScanSource):
+    if isinstance(source, ScanSource):
         what = f"measured, scan {source}"
     return (
         f"spectrum         {what}: h_rms {s['h_rms']:.4g} m, rms slope h' {s['rms_slope']:.4g}, "
@@ -332,19 +394,19 @@ def _spectrum_line(psd, source, model: str | None = None) -> str:
     )
 
 
-def _warn(msg: str) -> None:
+def warn(msg: str) -> None:
+    """One ``fastline: warning: ...`` line on stderr."""
     print(f"fastline: warning: {msg}", file=sys.stderr)
 
 
-def _report_warnings(results) -> None:
+def report_warnings(results) -> None:
     """Print what the diagnostics found, once per cause, naming the loads."""
-    from fastline.contact.diagnostics import summarise_warnings
-
-    for _cause, msg in summarise_warnings(results):
-        _warn(msg)
+    for _cause, msg in contact.summarise_warnings(results):
+        warn(msg)
 
 
-def _convergence_status(results) -> int:
+def convergence_status(results) -> int:
+    """0, or 1 after an error line naming the loads whose solve did not converge."""
     bad = [r for r in results if not r.converged]
     if not bad:
         return 0
@@ -358,81 +420,61 @@ def _convergence_status(results) -> int:
     return 1
 
 
-def _progress(total: int, desc: str):
+def progress(total: int, desc: str):
     """A tqdm bar on stderr; silent when stderr is not a terminal (log files, pipes)."""
     from tqdm import tqdm
 
     return tqdm(total=total, desc=desc, unit="solve", file=sys.stderr, disable=None, leave=False)
 
 
-def _solve_kwargs(args, theory) -> dict:
+def solve_kwargs(args, th) -> dict:
+    """The solver settings of the options, with the scene's theory ``th``."""
     return dict(
         n=args.n,
         gamma=args.gamma,
-        theory=theory,
+        theory=th,
         max_iter=args.max_iter,
         hardness=args.hardness,
         warn=False,
     )
 
 
-def _theory(psd, E_star, args):
+def persson_theory(psd, E_star, args):
+    """The theory of the scene (None for the smooth ``--model hertz``)."""
     if getattr(args, "model", "persson") == "hertz":
         return None
-    from fastline.theory.persson import PerssonTheory
-
-    return PerssonTheory(psd, E_star, gamma=args.gamma, variant=args.variant)
+    return fl.PerssonTheory(psd, E_star, gamma=args.gamma, variant=args.variant)
 
 
-def _save(fig, path, args) -> None:
-    from fastline.reports.plotting import save_figure
-
-    save_figure(fig, path, format=args.format, dpi=args.dpi)
-
-
-def run_profile(args, solve, result_lines, write_csv, meta) -> int:
-    """One scene of ``fastline profile`` for either geometry: solve with ``solve(psd, E*, R,
-    load, ...)``, print the spectrum and ``result_lines``, report the warnings, write the CSV
-    (``write_csv(path, result, meta(psd, E*, args, source))``) and the figure; the exit status."""
-    psd, E, source = _scene(args)
-    _check_outputs(args)
-    th = _theory(psd, E, args)
-    r = solve(psd, E, args.radius, args.load, model=args.model, **_solve_kwargs(args, th))
-    print(_spectrum_line(psd, source, args.model))
-    print("\n".join(result_lines(r, r.diagnostics)))
-    _report_warnings([r])
-    if args.csv:
-        write_csv(args.csv, r, meta(psd, E, args, source))
-    if args.plot:
-        from fastline.reports.plotting import plot_profile
-
-        _save(plot_profile(r), args.plot, args)
-    return _convergence_status([r])
+def save(fig, path, args) -> None:
+    """Write a figure in the format and resolution of the figure options."""
+    fl.plotting.save_figure(fig, path, format=args.format, dpi=args.dpi)
 
 
 # ----------------------------------------------------------------------------------------------
 # results
 # ----------------------------------------------------------------------------------------------
-def _result_lines(r, diag) -> list[str]:
+def result_lines(r, diag) -> list[str]:
+    """The printed result of a cylinder's solve (``profile``, ``leak``)."""
     lines = [
         f"model            {r.model} (method {r.method}, n = {r.diagnostics.get('n', '?')})",
         f"load f_N         {r.load:.6g} N/m",
         f"E*, R            {r.E_star:.6g} Pa, {r.radius:.6g} m",
-        *_roughness_lines(r, diag),
+        *roughness_lines(r, diag),
         f"peak pressure p0 {r.p0:.6g} Pa",
         f"p0 / p0(Hertz)   {r.p0_ratio:.6g}",
         f"std. dev. s      {r.s:.6g} m",
         f"FWHM w           {r.fwhm:.6g} m ({diag['fwhm_cells']:.3g} grid cells)",
         f"w/s              {r.w_over_s:.6g}   (Hertz 3.464, Gaussian 2.355)",
     ]
-    lines += _asperity_lines(diag)
+    lines += asperity_lines(diag)
     lines.append(f"half-width / R   {diag['half_width_over_radius']:.4g}")
     if diag.get("longest_wavelength") is not None:
         lines.append(
             f"width / (2pi/q0) {diag['contact_width'] / diag['longest_wavelength']:.3g} "
             "(contact width over the longest roughness wavelength; the theory wants >= 1)"
         )
-    lines += _law_lines(diag)
+    lines += law_lines(diag)
     lines += [
         f"converged        {'yes' if r.converged else 'NO'} ({r.iterations} iterations, "
         f"{r.convolutions} FFT convolutions, residual {r.residual:.3g})",
@@ -443,7 +485,7 @@ def _result_lines(r, diag) -> list[str]:
     return lines
 
 
-def _roughness_lines(r, diag, delta: str = "delta") -> list[str]:
+def roughness_lines(r, diag, delta: str = "delta") -> list[str]:
     """alpha and the regime it puts the scene in (none for the smooth ``hertz`` model)."""
     if r.model == "hertz":
         return []
@@ -453,12 +495,12 @@ def _roughness_lines(r, diag, delta: str = "delta") -> list[str]:
     ]
 
 
-def _alpha_cell(r, width: int) -> str:
+def alpha_cell(r, width: int) -> str:
     """alpha in a sweep table's column (``-`` for the smooth ``hertz`` model)."""
     return f"{'-':>{width}}" if r.model == "hertz" else f"{r.alpha:>{width}.4g}"
 
 
-def _asperity_lines(diag) -> list[str]:
+def asperity_lines(diag) -> list[str]:
     """The elastic asperity pressure, the real area at the peak and the plasticity verdict."""
     lines = []
     if diag.get("rms_slope") is not None:
@@ -471,7 +513,7 @@ def _asperity_lines(diag) -> list[str]:
     return lines
 
 
-def _law_lines(diag) -> list[str]:
+def law_lines(diag) -> list[str]:
     """Where the peak sits against the exponential law, and whether that law holds."""
     lines = []
     if "p0_over_beta_E_star" in diag:
@@ -489,10 +531,9 @@ def _law_lines(diag) -> list[str]:
     return lines
 
 
-def _meta(psd, E_star, args, source):
-    from fastline.io import scene_metadata
-
-    meta = scene_metadata(
+def metadata(psd, E_star, args, source):
+    """The scene's ``# key: value`` lines of a result file (a scan's analysis included)."""
+    meta = fl.io.scene_metadata(
         psd,
         E_star,
         args.radius,
@@ -502,7 +543,7 @@ def _meta(psd, E_star, args, source):
         source=source,
         **_variant_meta(args),
     )
-    if isinstance(source, _ScanSource):
+    if isinstance(source, ScanSource):
         meta["spectrum"] = f"measured: scan {source}"
         meta.update(source.scan.metadata())
     return meta
@@ -510,7 +551,82 @@ def _meta(psd, E_star, args, source):
 
 def _variant_meta(args) -> dict:
     """The variant as a metadata entry when it is not the default (older files unchanged)."""
-    from fastline.theory.variants import DEFAULT_VARIANT
+    v = getattr(args, "variant", theory.DEFAULT_VARIANT)
+    return {} if v == theory.DEFAULT_VARIANT else {"variant": v}
 
-    v = getattr(args, "variant", DEFAULT_VARIANT)
-    return {} if v == DEFAULT_VARIANT else {"variant": v}
+
+# ----------------------------------------------------------------------------------------------
+# sweeps on executors
+# ----------------------------------------------------------------------------------------------
+def open_executor(args):
+    """(executor for fastline.sweep, a function that releases it) from --scheduler."""
+    if args.workers is not None and args.scheduler is not None:
+        raise CLIError("give either --workers or --scheduler, not both")
+    if args.scheduler is None:
+        return None, lambda: None
+    try:
+        from distributed import Client
+    except ImportError:
+        raise CLIError(
+            '--scheduler needs dask.distributed: pip install "fastline-contact[dask]" (the '
+            "dask extra)"
+        ) from None
+    try:
+        client = Client(args.scheduler, timeout=10)
+    except (OSError, ValueError, TypeError) as e:
+        raise CLIError(f"cannot connect to the dask scheduler at {args.scheduler}: {e}") from None
+    return client, client.close
+
+
+def run_table(scenes, args):
+    """fastline.sweep on the executor the options name; bad tables are usage errors."""
+    executor, release = open_executor(args)
+    try:
+        return fl.sweep(
+            scenes,
+            executor,
+            workers=args.workers if executor is None else None,
+            chunksize=args.chunksize,
+            progress=None,
+            warn=False,
+        )
+    except TypeError as e:
+        raise CLIError(str(e)) from None
+    finally:
+        release()
+
+
+def table_status(table) -> int:
+    """Print the failed and non-converged scenes of a sweep table (as errors); 0 or 1."""
+    status = 0
+    for cause, msg in table.warnings:
+        if cause in ("failed", "not_converged"):
+            print(f"fastline: error: {msg}", file=sys.stderr)
+            status = 1
+        else:
+            warn(msg)
+    return status
+
+
+def sweep_in_parallel(psd, E, args, loads):
+    """The loads of the sweep command (either geometry) as a scene table on
+    --workers/--scheduler: rows with the attributes of a result (load, alpha, p0, ...) and the
+    table."""
+    import numpy as np
+
+    k = len(loads)
+    scenes = {
+        "geometry": [args.geometry] * k,
+        "psd": [psd] * k,
+        "E_star": [E] * k,
+        "radius": [args.radius] * k,
+        "load": [float(f) for f in loads],
+        "model": [args.model] * k,
+        "n": [args.n] * k,
+        "gamma": [args.gamma] * k,
+        "variant": [args.variant] * k,
+        "max_iter": [args.max_iter or 0] * k,
+        "hardness": [math.nan if args.hardness is None else args.hardness] * k,
+    }
+    table = run_table(scenes, args)
+    return table.table.view(np.recarray), table

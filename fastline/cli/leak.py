@@ -3,10 +3,10 @@
 A cylinder on a flat (the default) leaks across the contact line, along x, over a seal of length
 ``--length``; with ``--geometry sphere`` a ball pressed on a flat seat leaks radially, from the
 edge of the seat's hole (``--inner-radius``) outwards through the rings around the axis.
-Argument parsing and printing only: the contact is solved by :mod:`fastline.contact.line` or
-:mod:`fastline.contact.point`, the leak rate is :func:`fastline.leakage.flow.leak_rate` (Persson's
+Argument parsing and printing only: the contact is solved by :class:`fastline.LineContact` or
+:class:`fastline.PointContact`, the leak rate is :func:`fastline.leak_rate` (Persson's
 critical-junction theory, the strips or rings of the contact in series; docs/leakage.md), the
-files are written by :mod:`fastline.io`, the figures drawn by :mod:`fastline.reports.plotting`.
+files are written by :mod:`fastline.io`, the figures drawn by :mod:`fastline.plotting`.
 :mod:`fastline.cli.app` wires :func:`leak_parser` and :func:`cmd_leak` in.
 
 SI units throughout: m, Pa, Pa s, m^3/s, N/m (load per unit cylinder length), N (load on a
@@ -17,35 +17,33 @@ from __future__ import annotations
 
 import argparse
 
+import fastline as fl
+from fastline import theory
 from fastline.cli.common import (
-    CLIError,
-    _check_outputs,
-    _convergence_status,
-    _count,
-    _figure_options,
-    _fraction,
-    _material_options,
-    _meta,
-    _numerics_options,
-    _positive,
-    _progress,
-    _report_warnings,
-    _result_lines,
-    _save,
-    _scene,
-    _solve_kwargs,
-    _spectrum_line,
-    _spectrum_options,
-    _theory,
-    _warn,
-)
-from fastline.cli.psd import _scan_options
-from fastline.cli.sphere import (
     GEOMETRY_DEFAULTS,
-    _sphere_meta,
-    _sphere_result_lines,
+    CLIError,
+    check_outputs,
+    convergence_status,
+    count,
+    figure_options,
+    fraction,
     geometry_defaults,
+    material_options,
+    metadata,
+    numerics_options,
+    persson_theory,
+    positive,
+    progress,
+    report_warnings,
+    result_lines,
+    save,
+    solve_kwargs,
+    spectrum_line,
+    spectrum_options,
+    warn,
 )
+from fastline.cli.scene import scan_options, scene
+from fastline.cli.sphere import sphere_meta, sphere_result_lines
 
 __all__ = ["leak_parser", "cmd_leak", "LEAK_SWEEP_DEFAULTS"]
 
@@ -62,8 +60,6 @@ _DEFAULT_LENGTH = 1.0
 
 def leak_parser(sub: argparse._SubParsersAction, fmt: type[argparse.HelpFormatter]) -> None:
     """The ``leak`` command: the options of ``profile``, the fluid and seal, ``--sweep``."""
-    from fastline.leakage.flow import THRESHOLD_PERSSON
-
     p = sub.add_parser(
         "leak",
         help="leak rate of a seal, line or point contact (Persson's critical-junction theory); "
@@ -80,12 +76,12 @@ def leak_parser(sub: argparse._SubParsersAction, fmt: type[argparse.HelpFormatte
         "(--loads-from/--loads-to/--loads-num instead of --load), how much squeeze stops the "
         "leak.",
     )
-    _spectrum_options(p)
-    _scan_options(p)
-    _material_options(p, load=True, geometry=True)  # --load: one scene, not with --sweep
-    _fluid_options(p, THRESHOLD_PERSSON)
+    spectrum_options(p)
+    scan_options(p)
+    material_options(p, load=True, geometry=True)  # --load: one scene, not with --sweep
+    _fluid_options(p, theory.THRESHOLD_PERSSON)
     _sweep_options(p)
-    _numerics_options(p, geometry=True)
+    numerics_options(p, geometry=True)
     p.add_argument(
         "--csv",
         metavar="FILE",
@@ -100,35 +96,35 @@ def leak_parser(sub: argparse._SubParsersAction, fmt: type[argparse.HelpFormatte
         help="write a figure of p and u_c against x (a sphere: against r, the hole shaded; with "
         "--sweep: Q against load, log-log)",
     )
-    _figure_options(p)
+    figure_options(p)
 
 
 def _fluid_options(p: argparse.ArgumentParser, threshold: float) -> None:
     g = p.add_argument_group("fluid and seal")
     g.add_argument(
         "--pressure-drop",
-        type=_positive,
+        type=positive,
         required=True,
         metavar="PA",
         help="fluid pressure difference across the seal dP [Pa] (required)",
     )
     g.add_argument(
         "--viscosity",
-        type=_positive,
+        type=positive,
         required=True,
         metavar="PA_S",
         help="dynamic viscosity of the fluid eta [Pa s] (required; water at 20 C: 1e-3)",
     )
     g.add_argument(
         "--length",
-        type=_positive,
+        type=positive,
         metavar="M",
         help="seal length L_y across the flow [m] (an O-ring's circumference; default 1); "
         "a cylinder only: the rings around a sphere's hole have their circumferences",
     )
     g.add_argument(
         "--inner-radius",
-        type=_positive,
+        type=positive,
         metavar="M",
         help="radius r_in [m] of the hole in the flat seat that the ball closes (required with "
         "--geometry sphere, not for a cylinder): the fluid flows radially from r = r_in "
@@ -137,7 +133,7 @@ def _fluid_options(p: argparse.ArgumentParser, threshold: float) -> None:
     )
     g.add_argument(
         "--threshold",
-        type=_fraction,
+        type=fraction,
         default=threshold,
         metavar="A",
         help="percolation threshold of the apparent contact area [-], in (0, 1) (default "
@@ -145,7 +141,7 @@ def _fluid_options(p: argparse.ArgumentParser, threshold: float) -> None:
     )
     g.add_argument(
         "--mean-free-path",
-        type=_positive,
+        type=positive,
         metavar="M",
         help="mean free path of a gas [m] (about 70e-9 for air at 1 bar): warns when the flow "
         "is not viscous; omit for liquids",
@@ -162,21 +158,21 @@ def _sweep_options(p: argparse.ArgumentParser) -> None:
     )
     g.add_argument(
         "--loads-from",
-        type=_positive,
+        type=positive,
         metavar="LOAD",
         help=f"smallest load per unit length [N/m] (with --sweep; default {cyl['loads_from']:g})"
         f"; with --geometry sphere the total load F [N] (default {sph['loads_from']:g})",
     )
     g.add_argument(
         "--loads-to",
-        type=_positive,
+        type=positive,
         metavar="LOAD",
         help=f"largest load per unit length [N/m] (with --sweep; default {cyl['loads_to']:g}); "
         f"with --geometry sphere the total load F [N] (default {sph['loads_to']:g})",
     )
     g.add_argument(
         "--loads-num",
-        type=_count,
+        type=count,
         metavar="N",
         help=f"number of loads (with --sweep; default {LEAK_SWEEP_DEFAULTS['loads_num']})",
     )
@@ -185,9 +181,7 @@ def _sweep_options(p: argparse.ArgumentParser) -> None:
 def _leak_checks(args) -> str:
     """Reject what cannot give a leak rate, before any work; fill in the defaults that depend
     on the geometry (load, loads, n, the cylinder's seal length). Returns the geometry."""
-    from fastline.theory.variants import get_variant
-
-    if get_variant(args.variant).area_correction:
+    if theory.get_variant(args.variant).area_correction:
         raise CLIError(
             f"--variant {args.variant} corrects the contact area, which the critical-junction "
             "leak theory does not: use yang-persson-energy or yang-persson-printed"
@@ -255,9 +249,7 @@ def _check_inner_radius(args, results) -> None:
 
 
 def _leak_of(r, th, args):
-    from fastline.leakage.flow import leak_rate
-
-    return leak_rate(
+    return fl.leak_rate(
         r,
         args.pressure_drop,
         args.viscosity,
@@ -271,7 +263,7 @@ def _leak_of(r, th, args):
 
 
 def _leak_meta(psd, E, args, source) -> dict:
-    meta = (_sphere_meta if args.geometry == "sphere" else _meta)(psd, E, args, source)
+    meta = (sphere_meta if args.geometry == "sphere" else metadata)(psd, E, args, source)
     if args.mean_free_path is not None:
         meta["mean_free_path_m"] = args.mean_free_path
     return meta
@@ -353,13 +345,13 @@ def _loads_span(loads: list[float], total: int, symbol: str = "f_N", unit: str =
 
 def _report_leak_warnings(results, leaks) -> None:
     """The solves' diagnostics, then each leakage warning once, naming the loads."""
-    _report_warnings(results)
+    report_warnings(results)
     found: dict[str, list[float]] = {}
     for r, k in zip(results, leaks, strict=True):
         for msg in k.diagnostics["warnings"]:
             found.setdefault(msg, []).append(r.load)
     for msg, loads in found.items():
-        _warn(f"{msg} [{_loads_span(loads, len(leaks), *_load_name(results))}]")
+        warn(f"{msg} [{_loads_span(loads, len(leaks), *_load_name(results))}]")
 
 
 def _sealing_line(results, leaks) -> str:
@@ -382,33 +374,25 @@ def _sealing_line(results, leaks) -> str:
 def _contact(geometry: str):
     """(one-call solver, reusable model class, result lines) of the geometry."""
     if geometry == "sphere":
-        from fastline.contact.point import PointContact, solve_point_contact
-
-        return solve_point_contact, PointContact, _sphere_result_lines
-    from fastline.contact.line import LineContact, solve_line_contact
-
-    return solve_line_contact, LineContact, _result_lines
+        return fl.solve_point_contact, fl.PointContact, sphere_result_lines
+    return fl.solve_line_contact, fl.LineContact, result_lines
 
 
 def _leak_one(args, geometry, psd, E, source, th) -> int:
     solve, _, result_lines = _contact(geometry)
-    r = solve(psd, E, args.radius, args.load, model=args.model, **_solve_kwargs(args, th))
+    r = solve(psd, E, args.radius, args.load, model=args.model, **solve_kwargs(args, th))
     _check_inner_radius(args, [r])
     leak = _leak_of(r, th, args)
-    print(_spectrum_line(psd, source))
+    print(spectrum_line(psd, source))
     print("\n".join(result_lines(r, r.diagnostics)))
     print(_fluid_line(args))
     print("\n".join(_leak_lines(leak)))
     _report_leak_warnings([r], [leak])
     if args.csv:
-        from fastline.io import write_leak_csv
-
-        write_leak_csv(args.csv, leak, _leak_meta(psd, E, args, source), result=r)
+        fl.io.write_leak_csv(args.csv, leak, _leak_meta(psd, E, args, source), result=r)
     if args.plot:
-        from fastline.reports.plotting import plot_leak
-
-        _save(plot_leak(leak), args.plot, args)
-    return _convergence_status([r])
+        save(fl.plotting.plot_leak(leak), args.plot, args)
+    return convergence_status([r])
 
 
 def _leak_sweep(args, geometry, psd, E, source, th) -> int:
@@ -416,12 +400,12 @@ def _leak_sweep(args, geometry, psd, E, source, th) -> int:
 
     _, model_class, _ = _contact(geometry)
     loads = np.geomspace(args.loads_from, args.loads_to, args.loads_num)
-    model = model_class(psd, E, args.radius, model=args.model, **_solve_kwargs(args, th))
-    with _progress(len(loads), "leak sweep") as bar:
+    model = model_class(psd, E, args.radius, model=args.model, **solve_kwargs(args, th))
+    with progress(len(loads), "leak sweep") as bar:
         results = model.sweep(loads, progress=bar.update)
     _check_inner_radius(args, results)
     leaks = [_leak_of(r, th, args) for r in results]
-    print(_spectrum_line(psd, source))
+    print(spectrum_line(psd, source))
     load_head = "load [N/m]"
     if geometry == "sphere":
         print(f"geometry         sphere on a flat, R = {args.radius:.6g} m; loads F in N")
@@ -445,22 +429,18 @@ def _leak_sweep(args, geometry, psd, E, source, th) -> int:
     print(_sealing_line(results, leaks))
     _report_leak_warnings(results, leaks)
     if args.csv:
-        from fastline.io import write_leak_sweep_csv
-
-        write_leak_sweep_csv(args.csv, results, leaks, _leak_meta(psd, E, args, source))
+        fl.io.write_leak_sweep_csv(args.csv, results, leaks, _leak_meta(psd, E, args, source))
     if args.plot:
-        from fastline.reports.plotting import plot_leak_sweep
-
-        _save(plot_leak_sweep(loads, leaks), args.plot, args)
-    return _convergence_status(results)
+        save(fl.plotting.plot_leak_sweep(loads, leaks), args.plot, args)
+    return convergence_status(results)
 
 
 def cmd_leak(args: argparse.Namespace) -> int:
     """Run ``fastline leak``; returns the exit status (0 done, 1 a solve did not converge)."""
-    psd, E, source = _scene(args)
+    psd, E, source = scene(args)
     geometry = _leak_checks(args)
-    _check_outputs(args)
-    th = _theory(psd, E, args)
+    check_outputs(args)
+    th = persson_theory(psd, E, args)
     if args.sweep:
         return _leak_sweep(args, geometry, psd, E, source, th)
     return _leak_one(args, geometry, psd, E, source, th)

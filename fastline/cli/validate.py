@@ -2,9 +2,9 @@
 
 A line-contact scene (with ``--geometry sphere`` a sphere on a flat; with ``--leak`` a nominally
 flat contact under uniform pressures) is solved by the theory with each law asked for and by an
-ensemble of BEM realisations on random surfaces of the same spectrum (:mod:`fastline.reports.validation`,
-:mod:`fastline.bem`); the differences are printed in units of the BEM's standard error. Argument
-parsing and printing only.
+ensemble of BEM realisations on random surfaces of the same spectrum
+(:mod:`fastline.reports.validation`, :mod:`fastline.bem`); the differences are printed in units of
+the BEM's standard error. Argument parsing and printing only.
 """
 
 from __future__ import annotations
@@ -16,20 +16,22 @@ import sys
 import time
 from typing import Any
 
-from fastline.cli.app import (
+import fastline as fl
+from fastline import reports, theory
+from fastline.cli.common import (
+    GEOMETRIES,
     CLIError,
-    _check_outputs,
-    _count,
-    _executor,
-    _figure_options,
-    _gamma,
-    _number,
-    _positive,
-    _save,
-    _spectrum_line,
-    _variant_option,
+    check_outputs,
+    count,
+    figure_options,
+    gamma,
+    number,
+    open_executor,
+    positive,
+    save,
+    spectrum_line,
+    variant_option,
 )
-from fastline.cli.sphere import GEOMETRIES
 
 __all__ = ["validate_parser", "cmd_validate", "VALIDATE_DEFAULTS"]
 
@@ -52,8 +54,8 @@ GEOMETRY_DEFAULTS: dict[str, dict[str, Any]] = {
 }
 #: largest BEM grid accepted (cells): about 1.5 GB of working arrays
 MAX_CELLS = 2**24
-#: fewest BEM realisations: fastline.reports.validation.MIN_REALIZATIONS (that module loads the BEM, not
-#: wanted to build the parser; tests/test_validation.py holds the two equal)
+#: fewest BEM realisations: fastline.reports.validation.MIN_REALIZATIONS (that module loads the
+#: BEM, not wanted to build the parser; tests/test_validation.py holds the two equal)
 MIN_REALIZATIONS = 2
 
 DESCRIPTION = """\
@@ -103,7 +105,7 @@ def validate_parser(sub: argparse._SubParsersAction, fmt: type[argparse.HelpForm
     _bem_group(p)
     p.add_argument("--csv", metavar="FILE", help="write the profiles (or flat results) to FILE")
     p.add_argument("--plot", metavar="FILE", help="write a figure to FILE")
-    _figure_options(p)
+    figure_options(p)
 
 
 def _spectrum_group(p: argparse.ArgumentParser) -> None:
@@ -113,18 +115,18 @@ def _spectrum_group(p: argparse.ArgumentParser) -> None:
         "Self-affine spectrum with roll-off (as for profile) or a measured one (--psd). "
         "Defaults: h_rms 0.5e-6 m, H 0.8, q0 = 2 pi/40e-6 1/m, qr = q0, q1 = 32 q0.",
     )
-    g.add_argument("--h-rms", type=_positive, metavar="M", help="rms roughness h_rms [m]")
-    g.add_argument("--hurst", type=_number, metavar="H", help="Hurst exponent H, 0 < H <= 1")
-    g.add_argument("--q0", type=_positive, metavar="1/M", help="smallest wavenumber q0 [1/m]")
-    g.add_argument("--qr", type=_positive, metavar="1/M", help="roll-off wavenumber [1/m]")
-    g.add_argument("--q1", type=_positive, metavar="1/M", help="cut-off wavenumber q1 [1/m]")
+    g.add_argument("--h-rms", type=positive, metavar="M", help="rms roughness h_rms [m]")
+    g.add_argument("--hurst", type=number, metavar="H", help="Hurst exponent H, 0 < H <= 1")
+    g.add_argument("--q0", type=positive, metavar="1/M", help="smallest wavenumber q0 [1/m]")
+    g.add_argument("--qr", type=positive, metavar="1/M", help="roll-off wavenumber [1/m]")
+    g.add_argument("--q1", type=positive, metavar="1/M", help="cut-off wavenumber q1 [1/m]")
     g.add_argument("--psd", metavar="FILE", help="measured isotropic spectrum (q [1/m], C [m^4])")
 
 
 def _scene_group(p: argparse.ArgumentParser) -> None:
     """Material and scene: E*, geometry, radius, the load (or alpha), or the flat contact."""
     m = p.add_argument_group("material and scene")
-    m.add_argument("--E-star", type=_positive, metavar="PA", help="E* [Pa] (default 10e6)")
+    m.add_argument("--E-star", type=positive, metavar="PA", help="E* [Pa] (default 10e6)")
     m.add_argument(
         "--geometry",
         choices=GEOMETRIES,
@@ -135,21 +137,21 @@ def _scene_group(p: argparse.ArgumentParser) -> None:
     )
     m.add_argument(
         "--radius",
-        type=_positive,
+        type=positive,
         metavar="M",
         help="cylinder radius [m], or the sphere's with --geometry sphere (default 32.8e-3)",
     )
     load = m.add_mutually_exclusive_group()
     load.add_argument(
         "--load",
-        type=_positive,
+        type=positive,
         metavar="LOAD",
         help="load per unit cylinder length f_N [N/m]; with --geometry sphere the total load "
         "F on the sphere [N]",
     )
     load.add_argument(
         "--alpha",
-        type=_positive,
+        type=positive,
         metavar="A",
         help="load from alpha = h_rms/delta (default 1): delta = 4 f_N/(pi E*) for a "
         "cylinder, delta = a^2/R with a = (3 F R/(4 E*))^(1/3) for a sphere",
@@ -161,7 +163,7 @@ def _scene_group(p: argparse.ArgumentParser) -> None:
     )
     m.add_argument(
         "--pressure",
-        type=_positive,
+        type=positive,
         nargs="+",
         metavar="PA",
         help="nominal pressures of the flat contact [Pa] (with --leak)",
@@ -171,10 +173,10 @@ def _scene_group(p: argparse.ArgumentParser) -> None:
 def _theory_group(p: argparse.ArgumentParser) -> None:
     """The theory's variants, gamma, the Greenwood-Williamson law and its grid."""
     t = p.add_argument_group("theory")
-    _variant_option(t)
+    variant_option(t)
     t.add_argument(
         "--gamma",
-        type=_gamma,
+        type=gamma,
         dest="validate_gamma",
         metavar="G",
         help="gamma of the variants' S(P) (default: each variant's own, 0.45; 5/9 wang-mueser)",
@@ -187,7 +189,7 @@ def _theory_group(p: argparse.ArgumentParser) -> None:
     )
     t.add_argument(
         "--n",
-        type=_count,
+        type=count,
         metavar="N",
         help="theory grid: cells across the cylinder's domain (1024), or from the sphere's "
         "axis (512)",
@@ -208,7 +210,7 @@ def _bem_group(p: argparse.ArgumentParser) -> None:
     b.add_argument("--seed", type=int, default=0, metavar="S", help="root seed (0)")
     b.add_argument(
         "--workers",
-        type=_count,
+        type=count,
         metavar="N",
         help="processes for the realisations (default: the CPUs, at most --realizations; 1: "
         "in this process)",
@@ -222,14 +224,14 @@ def _bem_group(p: argparse.ArgumentParser) -> None:
     )
     b.add_argument(
         "--points-per-wavelength",
-        type=_positive,
+        type=positive,
         default=4.0,
         metavar="P",
         help="cells per shortest wavelength 2 pi/q1 (default 4, at least 2)",
     )
     b.add_argument(
         "--periods",
-        type=_positive,
+        type=positive,
         metavar="K",
         help="cell length along the axis (flat: both ways) in 2 pi/q0 (default 2; not for "
         "the sphere, whose patch is sized from the contact)",
@@ -239,7 +241,7 @@ def _bem_group(p: argparse.ArgumentParser) -> None:
 def _realizations(text: str) -> int:
     """--realizations: an integer >= MIN_REALIZATIONS (one surface has no standard error, and
     every z of the table would be NaN)."""
-    k = _count(text)
+    k = count(text)
     if k < MIN_REALIZATIONS:
         raise argparse.ArgumentTypeError(
             f"must be >= {MIN_REALIZATIONS}, got {text!r}: the theory is compared in units of "
@@ -253,16 +255,13 @@ def _realizations(text: str) -> int:
 # ----------------------------------------------------------------------------------------------
 def _scene(args):
     """(psd, E*, source) with the validate defaults."""
-    import fastline as fl
-    from fastline.io import read_spectrum
-
     E = VALIDATE_DEFAULTS["E_star"] if args.E_star is None else args.E_star
     keys = ("h_rms", "hurst", "q0", "qr", "q1")
     if args.psd is not None:
         given = [f"--{k.replace('_', '-')}" for k in keys if getattr(args, k) is not None]
         if given:
             raise CLIError(f"--psd cannot be combined with {', '.join(given)}")
-        return read_spectrum(args.psd), E, args.psd
+        return fl.io.read_spectrum(args.psd), E, args.psd
     v = {k: VALIDATE_DEFAULTS[k] if getattr(args, k) is None else getattr(args, k) for k in keys}
     v["qr"] = v["q0"] if v["qr"] is None else v["qr"]
     v["q1"] = 32.0 * v["q0"] if v["q1"] is None else v["q1"]
@@ -270,9 +269,7 @@ def _scene(args):
 
 
 def _models(args) -> tuple[str, ...]:
-    from fastline.theory.variants import VARIANTS
-
-    models = list(VARIANTS) if args.all_variants else [args.variant]
+    models = list(theory.VARIANTS) if args.all_variants else [args.variant]
     if args.gw:
         models.append("greenwood-williamson")
     return tuple(models)
@@ -306,15 +303,12 @@ def _where(args) -> str:
 # ----------------------------------------------------------------------------------------------
 def cmd_validate(args: argparse.Namespace) -> int:
     """``fastline validate``: exit status 0, or 1 when a BEM or theory solve did not converge."""
-    from fastline._lib.validate import in_span
-    from fastline.theory.persson import GAMMA_RANGE
-
     if args.points_per_wavelength < 2.0:
         raise CLIError("--points-per-wavelength must be >= 2 (Nyquist)")
     if args.workers is not None and args.scheduler is not None:
         raise CLIError("give either --workers or --scheduler, not both")
     if args.validate_gamma is not None:
-        in_span("gamma", args.validate_gamma, GAMMA_RANGE, "(dimensionless)")
+        _check_gamma(args.validate_gamma)
     if args.geometry == "sphere":
         if args.leak:
             raise CLIError("--leak is a flat contact: it cannot be combined with --geometry sphere")
@@ -337,12 +331,19 @@ def cmd_validate(args: argparse.Namespace) -> int:
     return _profile(args)
 
 
-def _header(psd, E, source, grid, args, what: str) -> list[str]:
-    from fastline.bem import lattice_moments
+def _check_gamma(value: float) -> None:
+    """gamma inside the theory's range (the message of the theory's own check)."""
+    lo, hi = theory.GAMMA_RANGE
+    if not lo <= value <= hi:
+        raise ValueError(f"gamma must lie in [{lo:g}, {hi:g}] (dimensionless), got {value!r}")
 
-    h_rms, slope = lattice_moments(psd, grid)
+
+def _header(psd, E, source, grid, args, what: str) -> list[str]:
+    from fastline import bem  # on use: the subpackage loads Numba at import
+
+    h_rms, slope = bem.lattice_moments(psd, grid)
     return [
-        _spectrum_line(psd, source),
+        spectrum_line(psd, source),
         f"BEM              {what}: {args.realizations} realisations (seed {args.seed}) on "
         f"{grid.nx} x {grid.ny} cells of {grid.dx:.4g} m, {_where(args)}",
         f"BEM surfaces     h_rms {h_rms:.4g} m (spectrum {psd.h_rms:.4g} m), rms slope "
@@ -352,7 +353,7 @@ def _header(psd, E, source, grid, args, what: str) -> list[str]:
 
 def _run(args, validate, *params, **options):
     """``validate(*params, **options)`` on the workers or the dask scheduler of the options."""
-    client, release = _executor(args)
+    client, release = open_executor(args)
     try:
         workers = _workers(args) if client is None else None
         return validate(*params, executor=client, workers=workers, **options)
@@ -379,7 +380,7 @@ def _load(args, psd, E: float, R: float) -> float:
 
 
 def _profile_scene(args, psd, E: float, R: float, load: float):
-    from fastline import bem
+    from fastline import bem  # on use: the subpackage loads Numba at import
 
     ppw = args.points_per_wavelength
     if args.geometry == "sphere":
@@ -389,18 +390,21 @@ def _profile_scene(args, psd, E: float, R: float, load: float):
 
 def _profile(args) -> int:
     """A cylinder or a sphere: BEM ensemble against each model's profile."""
-    from fastline.reports.validation import validate_line_contact, validate_point_contact
-
     psd, E, source = _scene(args)
     R = VALIDATE_DEFAULTS["radius"] if args.radius is None else args.radius
     load = _load(args, psd, E, R)
-    _check_outputs(args)
+    check_outputs(args)
     scene = _profile_scene(args, psd, E, R, load)
     _check_grid(scene.grid)
     what, unit, _ = _PROFILE_WORDS[args.geometry]
     print("\n".join(_header(psd, E, source, scene.grid, args, what)))
     print(f"scene            E* {E:.4g} Pa, R {R:.4g} m, load {load:.6g} {unit}")
-    validate = validate_point_contact if args.geometry == "sphere" else validate_line_contact
+    validation = reports.validation
+    validate = (
+        validation.validate_point_contact
+        if args.geometry == "sphere"
+        else validation.validate_line_contact
+    )
     v = _run(
         args,
         validate,
@@ -426,9 +430,7 @@ def _profile(args) -> int:
     if args.csv:
         _profile_csv(args.csv, v, psd, E, R, source, args)
     if args.plot:
-        from fastline.reports.plotting import plot_validation
-
-        _save(plot_validation(v), args.plot, args)
+        save(fl.plotting.plot_validation(v), args.plot, args)
     ok = e.converged and all(r.converged for r in v.results.values())
     return _status(ok)
 
@@ -436,11 +438,10 @@ def _profile(args) -> int:
 def _flat(args) -> int:
     import numpy as np
 
-    from fastline import bem
-    from fastline.reports.validation import validate_flat_contact
+    from fastline import bem  # on use: the subpackage loads Numba at import
 
     psd, E, source = _scene(args)
-    _check_outputs(args)
+    check_outputs(args)
     grid = bem.spectral_grid(
         psd, points_per_wavelength=args.points_per_wavelength, periods=args.periods
     )
@@ -448,7 +449,7 @@ def _flat(args) -> int:
     print("\n".join(_header(psd, E, source, grid, args, "flat contact")))
     fv = _run(
         args,
-        validate_flat_contact,
+        reports.validation.validate_flat_contact,
         psd,
         E,
         np.asarray(args.pressure),
@@ -467,9 +468,7 @@ def _flat(args) -> int:
     if args.csv:
         _flat_csv(args.csv, fv, psd, E, source, args)
     if args.plot:
-        from fastline.reports.plotting import plot_flat_validation
-
-        _save(plot_flat_validation(fv), args.plot, args)
+        save(fl.plotting.plot_flat_validation(fv), args.plot, args)
     return _status(all(e.converged for e in fv.ensembles))
 
 
@@ -484,9 +483,7 @@ def _status(ok: bool) -> int:
 # files
 # ----------------------------------------------------------------------------------------------
 def _meta(psd, E, args, source, **extra) -> dict:
-    from fastline.io import spectrum_summary
-
-    s = spectrum_summary(psd)
+    s = fl.io.spectrum_summary(psd)
     meta = {
         "spectrum": f"file {source}" if source else repr(psd),
         "h_rms_m": s["h_rms"],
@@ -509,8 +506,6 @@ def _key(model: str) -> str:
 
 
 def _profile_csv(path, v, psd, E, R, source, args) -> None:
-    from fastline.io import write_csv
-
     e = v.ensemble
     sphere = v.geometry == "sphere"
     extra = {
@@ -542,12 +537,10 @@ def _profile_csv(path, v, psd, E, R, source, args) -> None:
         if sphere
         else "fastline validate: BEM p_bar(x) (bins) and the theory's p(x) averaged over them"
     )
-    write_csv(path, cols, rows, _meta(psd, E, args, source, **extra), title=title)
+    fl.io.write_csv(path, cols, rows, _meta(psd, E, args, source, **extra), title=title)
 
 
 def _flat_csv(path, fv, psd, E, source, args) -> None:
-    from fastline.io import write_csv
-
     cols = [
         "p_Pa",
         "bem_contact",
@@ -568,7 +561,7 @@ def _flat_csv(path, fv, psd, E, source, args) -> None:
         row += [fv.separation[m][i].theory for m in fv.separation]
         row += [fv.critical_gap[t][i].theory for t in fv.critical_gap]
         rows.append(row)
-    write_csv(
+    fl.io.write_csv(
         path,
         cols,
         rows,

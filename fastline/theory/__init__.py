@@ -59,6 +59,7 @@ __getattr__, __dir__, __all__ = _lazy.attach(
         "persson": [
             "PerssonTheory",
             "ExponentialFit",
+            "GAMMA_RANGE",
             "TableSettings",
             "PerssonTables",
             "pressure_at",
