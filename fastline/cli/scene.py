@@ -80,8 +80,8 @@ def scan_options(parser: argparse.ArgumentParser, standalone: bool = False) -> N
         "measured surface" + ("" if standalone else " (--scan)"),
         "A line scan, parallel line scans or a height map, read from a file and turned into the "
         "isotropic spectrum C(q) over the range the measurement can be trusted "
-        "(fastline.scan.analyse_scan; docs/topography.md). Lengths in m whatever the file's units; "
-        "wavenumbers in 1/m."
+        "(fastline.surfaces.analyse_scan; docs/topography.md). Lengths in m whatever the file's "
+        "units; wavenumbers in 1/m."
         + (
             ""
             if standalone
