@@ -49,32 +49,19 @@ does, the loop over an executor), :mod:`~fastline.batch.table` (:class:`SweepTab
 
 from __future__ import annotations
 
-from fastline.batch.plan import DEFAULT_TASKS as DEFAULT_TASKS
-from fastline.batch.plan import MAX_CHUNK as MAX_CHUNK
-from fastline.batch.plan import MIN_CHUNK as MIN_CHUNK
-from fastline.batch.plan import default_chunksize
-from fastline.batch.run import sweep
-from fastline.batch.scenes import (
-    GEOMETRIES,
-    LOAD_UNITS,
-    RESULT_COLUMNS,
-    SCENE_COLUMNS,
-    read_scenes,
-)
-from fastline.batch.table import SweepStats, SweepTable
-from fastline.batch.worker import CACHE_SIZES
+import lazy_loader as _lazy
+
 from fastline.errors import SceneFailureWarning
 
-__all__ = [
-    "sweep",
-    "SweepTable",
-    "SweepStats",
-    "SceneFailureWarning",
-    "read_scenes",
-    "default_chunksize",
-    "SCENE_COLUMNS",
-    "RESULT_COLUMNS",
-    "GEOMETRIES",
-    "LOAD_UNITS",
-    "CACHE_SIZES",
-]
+#: what the other subpackages may use, by the module that defines it (loaded on first use)
+__getattr__, __dir__, __all__ = _lazy.attach(
+    __name__,
+    submod_attrs={
+        "plan": ["DEFAULT_TASKS", "MAX_CHUNK", "MIN_CHUNK", "default_chunksize"],
+        "run": ["sweep"],
+        "scenes": ["GEOMETRIES", "LOAD_UNITS", "RESULT_COLUMNS", "SCENE_COLUMNS", "read_scenes"],
+        "table": ["SweepStats", "SweepTable"],
+        "worker": ["CACHE_SIZES"],
+    },
+)
+__all__ += ["SceneFailureWarning"]

@@ -13,78 +13,53 @@ Modules: :mod:`~fastline.bem.surface` (grids, random surfaces, spectrum estimate
 :mod:`~fastline.bem.compare` (theory against the ensemble in units of its error bar).
 """
 
-from fastline.bem.compare import (
-    Difference,
-    LineComparison,
-    PointComparison,
-    ProfileComparison,
-    compare_line_contact,
-    compare_point_contact,
-)
-from fastline.bem.contact import (
-    ContactResult,
-    cylinder_gap,
-    image_curvature,
-    solve_contact,
-    sphere_gap,
-)
-from fastline.bem.ensemble import (
-    FlatEnsemble,
-    ProfileEnsemble,
-    Realization,
-    ensemble_executor,
-    run_ensemble,
-    run_realization,
-)
-from fastline.bem.flow import FlowResult, reynolds_flow
-from fastline.bem.halfspace import ElasticHalfSpace, love_coefficient
-from fastline.bem.scene import (
-    Scene,
-    flat_contact_scene,
-    line_contact_scene,
-    point_contact_scene,
-    with_grid,
-)
-from fastline.bem.surface import (
-    Grid,
-    RoughSurface,
-    isotropic_spectrum,
-    lattice_moments,
-    random_surface,
-    spectral_grid,
-)
+from __future__ import annotations
 
-__all__ = [
-    "Grid",
-    "RoughSurface",
-    "spectral_grid",
-    "lattice_moments",
-    "random_surface",
-    "isotropic_spectrum",
-    "ElasticHalfSpace",
-    "love_coefficient",
-    "ContactResult",
-    "solve_contact",
-    "cylinder_gap",
-    "sphere_gap",
-    "image_curvature",
-    "FlowResult",
-    "reynolds_flow",
-    "Scene",
-    "Realization",
-    "ProfileEnsemble",
-    "FlatEnsemble",
-    "line_contact_scene",
-    "point_contact_scene",
-    "flat_contact_scene",
-    "run_realization",
-    "run_ensemble",
-    "ensemble_executor",
-    "with_grid",
-    "Difference",
-    "ProfileComparison",
-    "LineComparison",
-    "PointComparison",
-    "compare_line_contact",
-    "compare_point_contact",
-]
+import lazy_loader as _lazy
+
+#: what the other subpackages may use, by the module that defines it (loaded on first use)
+__getattr__, __dir__, __all__ = _lazy.attach(
+    __name__,
+    submod_attrs={
+        "compare": [
+            "Difference",
+            "LineComparison",
+            "PointComparison",
+            "ProfileComparison",
+            "compare_line_contact",
+            "compare_point_contact",
+        ],
+        "contact": [
+            "ContactResult",
+            "cylinder_gap",
+            "image_curvature",
+            "solve_contact",
+            "sphere_gap",
+        ],
+        "ensemble": [
+            "FlatEnsemble",
+            "ProfileEnsemble",
+            "Realization",
+            "ensemble_executor",
+            "run_ensemble",
+            "run_realization",
+        ],
+        "flow": ["FlowResult", "reynolds_flow"],
+        "halfspace": ["ElasticHalfSpace", "love_coefficient"],
+        "scene": [
+            "Scene",
+            "flat_contact_scene",
+            "line_contact_scene",
+            "point_contact_scene",
+            "with_grid",
+        ],
+        "surface": [
+            "Grid",
+            "RoughSurface",
+            "isotropic_spectrum",
+            "lattice_moments",
+            "random_surface",
+            "spectral_grid",
+        ],
+    },
+)

@@ -26,7 +26,7 @@ import sys
 import time
 
 import fastline as fl
-from fastline import theory
+from fastline import batch, theory
 from fastline.cli.common import (
     GEOMETRIES,
     CLIError,
@@ -345,7 +345,6 @@ def cmd_sweep(args) -> int:
 
 def cmd_batch(args) -> int:
     """``fastline batch``: a table of scenes from a CSV file; returns the exit status."""
-    from fastline import batch  # on use: the module loads NumPy at import
 
     fl.io.check_output_file(args.out)
     table = run_table(batch.read_scenes(args.scenes), args)

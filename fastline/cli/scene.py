@@ -17,6 +17,7 @@ import argparse
 import warnings
 
 import fastline as fl
+from fastline import surfaces
 from fastline.cli.common import (
     SPECTRUM_DEFAULTS,
     SPECTRUM_FLAGS,
@@ -254,7 +255,6 @@ def _cli_message(text: str) -> str:
 
 def scan_analysis(args):
     """analyse_scan on --scan / SCAN; its warnings once each, its errors as usage errors."""
-    from fastline import surfaces  # on use: the subpackage loads Numba at import
 
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always")
@@ -284,7 +284,6 @@ def _print_warnings(caught, unit_warning) -> None:
 
 def scan_lines(scan, table: bool) -> list[str]:
     """The spectrum summary: what was read, the data, the range and why, the fit, the table."""
-    from fastline import surfaces  # on use: the subpackage loads Numba at import
 
     rules = surfaces.LIMIT_RULES
     lines = [f"scan             {scan.path}: {scan.describe()}"]

@@ -17,7 +17,7 @@ import time
 from typing import Any
 
 import fastline as fl
-from fastline import reports, theory
+from fastline import bem, reports, theory
 from fastline.cli.common import (
     GEOMETRIES,
     CLIError,
@@ -339,7 +339,6 @@ def _check_gamma(value: float) -> None:
 
 
 def _header(psd, E, source, grid, args, what: str) -> list[str]:
-    from fastline import bem  # on use: the subpackage loads Numba at import
 
     h_rms, slope = bem.lattice_moments(psd, grid)
     return [
@@ -380,7 +379,6 @@ def _load(args, psd, E: float, R: float) -> float:
 
 
 def _profile_scene(args, psd, E: float, R: float, load: float):
-    from fastline import bem  # on use: the subpackage loads Numba at import
 
     ppw = args.points_per_wavelength
     if args.geometry == "sphere":
@@ -437,8 +435,6 @@ def _profile(args) -> int:
 
 def _flat(args) -> int:
     import numpy as np
-
-    from fastline import bem  # on use: the subpackage loads Numba at import
 
     psd, E, source = _scene(args)
     check_outputs(args)

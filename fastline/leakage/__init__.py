@@ -5,12 +5,9 @@ junctions (:mod:`~fastline.leakage.flow`), on the interface statistics of
 
 from __future__ import annotations
 
+import lazy_loader as _lazy
+
 from fastline.errors import LeakageWarning
-from fastline.leakage.flow import (
-    LeakResult,
-    leak_rate,
-    leak_rate_profile,
-)
 from fastline.theory.interface import (
     THRESHOLD_BRUGGEMAN,
     THRESHOLD_NUMERICAL,
@@ -22,17 +19,21 @@ from fastline.theory.interface import (
     mean_separation,
 )
 
-__all__ = [
-    "LeakResult",
+#: what the other subpackages may use, by the module that defines it (loaded on first use)
+__getattr__, __dir__, __all__ = _lazy.attach(
+    __name__,
+    submod_attrs={
+        "flow": ["LeakResult", "leak_rate", "leak_rate_profile"],
+    },
+)
+__all__ += [
     "LeakageWarning",
+    "THRESHOLD_BRUGGEMAN",
+    "THRESHOLD_NUMERICAL",
+    "THRESHOLD_PERSSON",
     "CriticalGap",
     "apparent_area",
-    "mean_separation",
-    "edge_separation",
     "critical_gap",
-    "THRESHOLD_PERSSON",
-    "THRESHOLD_NUMERICAL",
-    "THRESHOLD_BRUGGEMAN",
-    "leak_rate",
-    "leak_rate_profile",
+    "edge_separation",
+    "mean_separation",
 ]

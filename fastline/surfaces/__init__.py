@@ -7,15 +7,14 @@ of a line scan (the Abel transform of :mod:`~fastline.surfaces.abel`) and a self
 
 from __future__ import annotations
 
-from fastline.surfaces import topography
-from fastline.surfaces.read import read_spectrum, read_table
-from fastline.surfaces.scan import LIMIT_RULES, ScanSpectrum, analyse_scan
+import lazy_loader as _lazy
 
-__all__ = [
-    "topography",
-    "read_spectrum",
-    "read_table",
-    "analyse_scan",
-    "ScanSpectrum",
-    "LIMIT_RULES",
-]
+#: what the other subpackages may use, by the module that defines it (loaded on first use)
+__getattr__, __dir__, __all__ = _lazy.attach(
+    __name__,
+    submodules=["topography"],
+    submod_attrs={
+        "read": ["read_spectrum", "read_table"],
+        "scan": ["LIMIT_RULES", "ScanSpectrum", "analyse_scan"],
+    },
+)
