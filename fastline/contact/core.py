@@ -401,8 +401,7 @@ def newton(
 
     Each step solves ``(D + K) dp + du1 = r`` (``dp = p dv``, ``D = |du_law/dp|``) by projected
     PCG to a relative accuracy set by Eisenstat-Walker forcing, with the geometry's
-    preconditioner, then backtracks on ``||r||``. The residual is
-    ``max |u_law(p) - u1 - g - K p| / law.u0``.
+    preconditioner, then backtracks on ``||r||``; residual ``max |u_law(p) - u1 - g - K p| / u0``.
 
     Safeguard: CG stops on the preconditioned residual, whose scale spans many decades (D runs
     from ~0 in full contact to huge outside), so a loose inner solve need not be a descent
