@@ -21,10 +21,10 @@ from fastline.elastic.pcg import (
     _live_span,
     _precondition,
     _projected_precondition,
-    _segment_sum,
     _subtract_edge_combination,
     _wdot,
     prefix_sums,
+    segment_sum,
 )
 
 RTOL_ROUNDOFF = 1e-12  # reordered sums of O(n) terms
@@ -227,7 +227,7 @@ def test_edge_window_products_equal_numpy(n, nc):
         want = np.where(inside, x - c @ windows, x)
         np.testing.assert_allclose(r, want, rtol=0.0, atol=RTOL_ROUNDOFF * scale)
     lo, hi = int(e[0]), int(e[-1])
-    got = _segment_sum(x, Tc, lo, hi)
+    got = segment_sum(x, Tc, lo, hi)
     assert got == pytest.approx(x[lo:hi] @ Tc[lo:hi], abs=RTOL_ROUNDOFF * scale)
 
 

@@ -10,7 +10,7 @@ those of :mod:`fastline.contact.core` (module docstring there); tests hold the t
 Laws enter as a kind code and arrays (one compiled signature for all):
 
 * ``0`` Persson, table T1 in its solver form: ``prm``, ``A = Cf``
-  (:func:`fastline.theory.persson._solver_form`, :func:`fastline.theory.persson._solver_law`);
+  (:func:`fastline.theory.persson._solver_form`, :func:`fastline.theory.persson.solver_law`);
 * ``1`` exponential: ``prm = (u0, ln(beta E*))``;
 * ``2`` tabulated: ``A, B, C = V, U, S`` (:func:`fastline.theory.laws._tabulated_u`).
 
@@ -51,10 +51,10 @@ from fastline.elastic.line import (
     compiled_tables,
     compiled_workspace,
 )
-from fastline.elastic.pcg import _convolve, _segment_sum, solve_newton_system
+from fastline.elastic.pcg import convolve, segment_sum, solve_newton_system
 from fastline.elastic.pcg import workspace_size as _system_workspace
-from fastline.theory.laws import _hermite
-from fastline.theory.persson import _solver_law
+from fastline.theory.laws import hermite
+from fastline.theory.persson import solver_law
 
 _EPS = float(np.finfo(np.float64).eps)
 #: n-sized work arrays of :func:`newton_line` itself (iterate and trial: v, p, U, dU, gk, r each;
@@ -76,7 +76,7 @@ def _law(kind, v, prm, A, B, C, E, u, dU):
     """u and du/d(ln p) at v = ln p for the law of ``kind`` (module docstring)."""
     n = v.shape[0]
     if kind == 0:
-        _solver_law(v, prm, A, u, dU)
+        solver_law(v, prm, A, u, dU)
     elif kind == 1:
         for i in range(n):
             u[i] = prm[0] * (prm[1] - v[i])
@@ -100,7 +100,7 @@ def _law(kind, v, prm, A, B, C, E, u, dU):
                         k = mid
                     else:
                         hi = mid
-                u[i], dU[i] = _hermite(x, A, B, C, k)
+                u[i], dU[i] = hermite(x, A, B, C, k)
 
 
 @numba.njit(**JIT)
@@ -125,7 +125,7 @@ def _residual(state, u1_in, fft, kspec, scale, gap, w, law, a, c):
     fr2c, fc2r, pf, pb = fft
     n = v.shape[0]
     _law(kind, v, prm, A, B, C, E, U, dU)
-    _convolve(p, n, kspec, fr2c, fc2r, pf, pb, a, c, gk)
+    convolve(p, n, kspec, fr2c, fc2r, pf, pb, a, c, gk)
     u1 = u1_in
     if u1 != u1:
         num = 0.0
@@ -140,7 +140,7 @@ def _residual(state, u1_in, fft, kspec, scale, gap, w, law, a, c):
             gk[i] = gap[i] + scale * gk[i]
     for i in range(n):
         r[i] = U[i] - u1 - gk[i]
-    phi2 = _segment_sum(r, r, 0, n)  # ||r||^2 in four chains
+    phi2 = segment_sum(r, r, 0, n)  # ||r||^2 in four chains
     return u1, math.sqrt(phi2), largest_abs(gk, abs(u1))
 
 

@@ -129,10 +129,10 @@ def log_reference_shift(load: float, dx: float, E_star: float, length: float) ->
     dx = positive("dx", dx, "m")
     E_star = positive("E_star", E_star, "Pa")
     length = positive("length", length, "m")
-    return _log_reference_shift(load, dx, E_star, length)
+    return log_reference_shift_unchecked(load, dx, E_star, length)
 
 
-def _log_reference_shift(load: float, dx: float, E_star: float, length: float) -> float:
+def log_reference_shift_unchecked(load: float, dx: float, E_star: float, length: float) -> float:
     """:func:`log_reference_shift` of values already checked (a solver's own), no checks."""
     return -_TWO_OVER_PI / E_star * math.log(dx / length) * load
 

@@ -142,7 +142,7 @@ around the compiled solve (30-50 us). Loops are written so that LLVM vectorises 
 strips of partial sums (:func:`_wdot`), slices instead of offset indices (``x[i + o]`` with
 ``o`` unknown keeps a wrap-around test in the loop); reductions it cannot vectorise (Numba
 runs LLVM without its SLP vectoriser, and the JIT options allow no reassociation) run in four
-independent chains (:func:`_segment_sum`), except the coarse correlations, the largest of them,
+independent chains (:func:`segment_sum`), except the coarse correlations, the largest of them,
 compiled with reassociation (:data:`fastline._lib.jit.JIT_SUMS`; the coarse products 0.27 -> 0.16
 ns per cell and edge).
 """
@@ -180,7 +180,7 @@ _F0, _F1, _I0, _I1, _NC = 0, 1, 2, 3, 4
 # FFT convolutions
 # ----------------------------------------------------------------------------------------------
 @numba.njit(**JIT)
-def _convolve(x, m, spec, fr2c, fc2r, pf, pb, a, c, out):
+def convolve(x, m, spec, fr2c, fc2r, pf, pb, a, c, out):
     """``out[:m] = (IFFT(spec * FFT([x[:m], 0...])))[:m]``: a linear convolution with the
     kernel whose real spectrum (normalisation included) is ``spec``; one FFT convolution."""
     for i in range(m):
@@ -202,7 +202,7 @@ def apply_kernel(x, kspec, scale, fr2c, fc2r, pf, pb, out):
     circulant embedding of khat, divided by 2n)."""
     n = x.shape[0]
     a, c = aligned_buffers(2 * n)
-    _convolve(x, n, kspec, fr2c, fc2r, pf, pb, a, c, out)
+    convolve(x, n, kspec, fr2c, fc2r, pf, pb, a, c, out)
     for i in range(n):
         out[i] *= scale
 
@@ -253,7 +253,7 @@ def _jacobi_norm(res, jac, s_jac, ones, tmp, acc):
 # once it may reassociate them (``JIT_SUMS``); before, four scalar chains per edge in registers
 # (0.17-0.21 ns per cell and edge) beat the strip sums of :func:`_wdot` (0.27-0.69).
 @numba.njit(**JIT)
-def _segment_sum(a, b, lo, hi):
+def segment_sum(a, b, lo, hi):
     """``sum_{lo <= i < hi} a_i b_i`` in four chains (aggregate sums, a few to n cells)."""
     sa, sb = a[lo:hi], b[lo:hi]
     m = hi - lo
@@ -567,7 +567,7 @@ def _precondition(y, shift, out, D, scale, pre, L, e, span, fft, bufs, g, circul
     for i in range(n):  # R y, and the coarse right-hand side P^T R y
         r1[i] = y[i] - shift if minv[i] > 0.0 else 0.0
     for k in range(nc):
-        g1[k] = _segment_sum(r1, ones, e[k], e[k + 1])
+        g1[k] = segment_sum(r1, ones, e[k], e[k + 1])
     if nc > 0:  # r1 = R y - H P c1: the edge windows of Tc, then the diagonal
         _chol_solve(L, nc, g1)
         prev = 0.0
@@ -586,7 +586,7 @@ def _precondition(y, shift, out, D, scale, pre, L, e, span, fft, bufs, g, circul
     if m > 0:
         for i in range(m):
             tmp[i] = S[i] * r1[i0 + i] if minv[i0 + i] > 0.0 else 0.0
-        _convolve(tmp, m, cinv, fr2c, fc2r, pf, pb, a, c, tmp)
+        convolve(tmp, m, cinv, fr2c, fc2r, pf, pb, a, c, tmp)
         for i in range(m):
             if minv[i0 + i] > 0.0:
                 out[i0 + i] = S[i] * tmp[i]
@@ -594,7 +594,7 @@ def _precondition(y, shift, out, D, scale, pre, L, e, span, fft, bufs, g, circul
     if nc > 0:  # c2 = (P^T H P)^-1 (H P)^T z1, out = z1 + P (c1 - c2)
         _edge_correlations(out, Tc, e, nc, g2, f0, f1)  # g2 = (H P)^T z1, then the diagonal
         for k in range(nc):
-            g2[k] = scale * (g2[k] - g2[k + 1]) + _segment_sum(D, out, e[k], e[k + 1])
+            g2[k] = scale * (g2[k] - g2[k + 1]) + segment_sum(D, out, e[k], e[k + 1])
         _chol_solve(L, nc, g2)
         for k in range(nc):
             d = g1[k] - g2[k]
@@ -731,7 +731,7 @@ def _pcg(D, w, kspec, scale, rtol, maxit, s_m1, s_jac, r0, pre, L, e, span, fft,
     # a tiny leak off zero load makes <d, H d> negative), nothing worse than it comes back
     best, best_its, its, kapps, circ = r0, 0, 0, 0, 0
     while its < maxit and rz > 0.0:
-        _convolve(d, n, kspec, fr2c, fc2r, pf, pb, a, c, Hd)
+        convolve(d, n, kspec, fr2c, fc2r, pf, pb, a, c, Hd)
         kapps += 1
         for i in range(n):
             Hd[i] = D[i] * d[i] + scale * Hd[i]

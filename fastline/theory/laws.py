@@ -54,7 +54,7 @@ from fastline.theory.persson import (
     PerssonTheory,
     _log_pressure_from_table,
     _pressure_from_table,
-    _solver_law,
+    solver_law,
 )
 
 __all__ = ["PressureLaw", "PerssonLaw", "ExponentialLaw", "TabulatedLaw", "check_law"]
@@ -154,7 +154,7 @@ class PerssonLaw(PressureLaw):
         v = np.ascontiguousarray(real_array("v", v))
         u = np.empty_like(v)
         d = np.empty_like(v)
-        _solver_law(v.ravel(), *self.theory._t1_solver, u.ravel(), d.ravel())
+        solver_law(v.ravel(), *self.theory._t1_solver, u.ravel(), d.ravel())
         return u, d
 
     def log_pressure(self, u: ArrayLike) -> np.ndarray:
@@ -280,7 +280,7 @@ def _monotone_slopes(v: np.ndarray, u: np.ndarray) -> np.ndarray:
 
 
 @numba.njit(**JIT)
-def _hermite(v, V, U, S, k):
+def hermite(v, V, U, S, k):
     """u and du/dv on cell k of the cubic Hermite with values U and slopes S at nodes V."""
     h = V[k + 1] - V[k]
     t = (v - V[k]) / h
@@ -314,7 +314,7 @@ def _tabulated_u(v, V, U, S, u_out, d_out):
             u_out[i] = U[n - 1] + S[n - 1] * (x - V[n - 1])
         else:
             k = min(np.searchsorted(V, x, side="right") - 1, n - 2)
-            u_out[i], d_out[i] = _hermite(x, V, U, S, k)
+            u_out[i], d_out[i] = hermite(x, V, U, S, k)
 
 
 @numba.njit(**JIT)
@@ -342,7 +342,7 @@ def _tabulated_v(u, V, U, S, out):
             a, b = V[lo], V[lo + 1]
             vk = a + (b - a) * (U[lo] - x) / (U[lo] - U[lo + 1])
             for _ in range(60):
-                uk, dk = _hermite(vk, V, U, S, lo)
+                uk, dk = hermite(vk, V, U, S, lo)
                 if uk > x:
                     a = vk
                 else:

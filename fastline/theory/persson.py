@@ -289,7 +289,7 @@ def _lnu_table(v, v0, h, L, L1, L2, u0, kappa):
 @numba.njit(**JIT)
 def _separation_and_slope(v, v0, h, L, L1, L2, u0, kappa, u, dudv):
     """u and du/dv at v = ln p, vectorised, from the Hermite data of T1 and its extensions
-    (:meth:`PerssonTheory.separation_table`; the solvers use :func:`_solver_law`)."""
+    (:meth:`PerssonTheory.separation_table`; the solvers use :func:`solver_law`)."""
     for i in range(v.shape[0]):
         lu, d = _lnu_table(v[i], v0, h, L, L1, L2, u0, kappa)
         u[i] = math.exp(lu)
@@ -308,7 +308,7 @@ def _solver_form(t1: tuple) -> tuple[np.ndarray, np.ndarray]:
     (1e-14 apart, round-off), evaluated with 5 multiply-adds for ln u and 4 for its slope
     instead of the 12 basis polynomials. ``prm`` holds the grid (v0, 1/h), the exponential law
     below it (u0, u(v0)) and the near-full-contact form above it (v_hi, ln u(v_hi), k, m,
-    p_hi^2); :func:`_solver_law` evaluates it.
+    p_hi^2); :func:`solver_law` evaluates it.
     """
     v0, h, L, L1, L2, u0, kappa = t1
     f0, a0, b0 = L[:-1], h * L1[:-1], h * h * L2[:-1]  # value, slope, curvature per unit t
@@ -329,7 +329,7 @@ def _solver_form(t1: tuple) -> tuple[np.ndarray, np.ndarray]:
 
 
 @numba.njit(**JIT)
-def _solver_law(v, prm, Cf, u, dudv):
+def solver_law(v, prm, Cf, u, dudv):
     """u and du/dv at v = ln p, vectorised, from the solver form of T1 (:func:`_solver_form`).
 
     The branches of :func:`_lnu_table` on the same thresholds: below the table the exponential
@@ -782,7 +782,7 @@ class PerssonTheory(InterfaceStatistics):
 
     def separation_table(self, p: ArrayLike) -> tuple[np.ndarray, np.ndarray]:
         """u(p) in m and du/dv (v = ln p) from the table T1 (its Hermite data; the solvers
-        evaluate the same polynomials in Horner form, round-off apart: :func:`_solver_law`)."""
+        evaluate the same polynomials in Horner form, round-off apart: :func:`solver_law`)."""
         p = positive_array("p", p)
         v = np.ascontiguousarray(np.log(p.ravel()))
         u, d = np.empty_like(v), np.empty_like(v)
