@@ -31,7 +31,7 @@ from fastline._lib import fftw as _fftw
 from fastline.contact import line_newton
 from fastline.contact.line_newton import _law
 from fastline.elastic import line as elastic
-from fastline.elastic.pcg import solve_newton_system
+from fastline.elastic.pcg import CGSettings, KernelScale, solve_newton_system
 from fastline.elastic.pcg import workspace_size as system_workspace
 from fastline.reports.paper import E_STAR, RADIUS, load_for_alpha
 
@@ -93,15 +93,16 @@ def measure(n: int, alpha: float) -> dict:
     m["law"] = cpu_best(lambda: _law_loop(kind, v, prm, A, B, C, E, u, dudv, reps), 5) / reps
     p = np.exp(v)
     D = np.minimum(np.maximum(-dudv, 1e-300 * args[10]) / np.maximum(p, 1e-300), 1e300)
-    kspec, strang, prefix = elastic.compiled_tables(n)
+    tables = elastic.compiled_tables(n)
     rhs = np.random.default_rng(1).standard_normal(n) * 1e-9
     dp, ws = np.empty(n), np.empty(system_workspace(n))
     fft = _fftw.acquire(2 * n)
     try:
         for nc in (args[14], 0):
             for its in CG_STEPS:
-                sys_args = (*fft, kspec, strang, prefix, args[4], args[5], D, args[7], rhs)
-                sys_args += (1e-14, its, nc, dp, ws)
+                op = KernelScale(args[4], args[5])
+                settings = CGSettings(1e-14, its, nc)
+                sys_args = (fft, tables, op, D, args[7], rhs, settings, dp, ws)
                 done = solve_newton_system(*sys_args)
                 t = cpu_best(lambda a=sys_args: solve_newton_system(*a), 9)
                 m[("system", nc, its)] = (t, done[1], done[2] + done[3])

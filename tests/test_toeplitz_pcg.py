@@ -22,6 +22,7 @@ from fastline.elastic.pcg import (
     _precondition,
     _projected_precondition,
     _subtract_edge_combination,
+    TwoLevel,
     _wdot,
     prefix_sums,
     segment_sum,
@@ -108,9 +109,8 @@ def _two_level(frozen):
         span = np.array([f0, f1, i0, i1, NC])  # live span, core, NC aggregates
         out = np.empty(N)
         pre = (minv, none, none, Tc)
-        ffts = _precondition(
-            y, shift, out, D, SCALE, pre, L, e, span, (0, 0, 0, 0), (a, c, work), g, circulant
-        )
+        prec = TwoLevel(D, SCALE, pre, L, e, span, g)
+        ffts = _precondition(y, shift, out, prec, (0, 0, 0, 0), (a, c, work), circulant)
         assert ffts == 0
         return out
 
@@ -118,9 +118,8 @@ def _two_level(frozen):
         span = np.array([f0, f1, 0, 0, NC])
         z, s_v = np.empty(N), float(w @ v)
         pre = (minv, none, none, Tc)
-        ffts = _projected_precondition(
-            r, z, w, v, s_v, D, SCALE, pre, L, e, span, (0, 0, 0, 0), (a, c, work), g
-        )
+        prec = TwoLevel(D, SCALE, pre, L, e, span, g)
+        ffts = _projected_precondition(r, z, w, v, s_v, prec, (0, 0, 0, 0), (a, c, work))
         assert ffts == 0
         return z
 

@@ -51,7 +51,14 @@ from fastline.elastic.line import (
     compiled_tables,
     compiled_workspace,
 )
-from fastline.elastic.pcg import convolve, segment_sum, solve_newton_system
+from fastline.elastic.pcg import (
+    CGSettings,
+    KernelScale,
+    KernelTables,
+    convolve,
+    segment_sum,
+    solve_newton_system,
+)
 from fastline.elastic.pcg import workspace_size as _system_workspace
 from fastline.theory.laws import hermite
 from fastline.theory.persson import solver_law
@@ -209,11 +216,17 @@ def newton_line(
         _newton_diagonal(state[_P], state[_DU], u_ref, D)
         eta = min(_forcing(res, res_prev, eta, tol_eff), eta_cap)
         res_prev = res
-        fr2c, fc2r, pf, pb = fft
         du1, its, ka, ci = solve_newton_system(
-            fr2c, fc2r, pf, pb, kspec, strang, prefix, scale, K00, D, w, state[_R], eta, MAX_CG,
-            nc, dp, tail,
-        )  # fmt: skip
+            fft,
+            KernelTables(kspec, strang, prefix),
+            KernelScale(scale, K00),
+            D,
+            w,
+            state[_R],
+            CGSettings(eta, MAX_CG, nc),
+            dp,
+            tail,
+        )
         cg_total += its
         kapps += ka
         circ += ci

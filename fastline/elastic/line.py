@@ -53,7 +53,14 @@ from numpy.typing import ArrayLike
 
 from fastline._lib import fftw as _fftw
 from fastline._lib.validate import finite_scalar, integer, positive
-from fastline.elastic.pcg import apply_kernel, solve_newton_system, workspace_size
+from fastline.elastic.pcg import (
+    CGSettings,
+    KernelScale,
+    KernelTables,
+    apply_kernel,
+    solve_newton_system,
+    workspace_size,
+)
 
 __all__ = [
     "LogKernelOperator",
@@ -203,15 +210,15 @@ def _build_prefix(n: int) -> np.ndarray:
     return prefix_sums(influence_coefficients(n))
 
 
-def compiled_tables(n: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+def compiled_tables(n: int) -> KernelTables:
     """Real kernel spectrum / 2n (length n + 1), Strang spectrum and Toeplitz prefix sums
-    (kept together per n: one look-up per solve)."""
+    (:class:`fastline.elastic.pcg.KernelTables`; kept together per n: one look-up per solve)."""
     with _spectrum_lock:
         tables = _table_sets.get(n)
         if tables is not None:
             _table_sets.move_to_end(n)
             return tables
-    tables = (
+    tables = KernelTables(
         _cached(_real_spectra, n, _build_real_spectrum, readonly=False),
         _cached(_strang_writable, n, _build_strang_spectrum, readonly=False),
         _cached(_prefixes, n, _build_prefix, readonly=False),
@@ -434,24 +441,19 @@ class LogKernelOperator:
         compiled FFT path is not available (the caller then uses :meth:`preconditioner`)."""
         if not _fftw.AVAILABLE:
             return None
-        kspec, strang, prefix = compiled_tables(self.n)
+        tables = compiled_tables(self.n)
         dp = np.empty(self.n)
         N = 2 * self.n
         fft = _fftw.acquire(N)
         try:
             du1, its, kapps, circ = solve_newton_system(
-                *fft,
-                kspec,
-                strang,
-                prefix,
-                self._scale,
-                self.diagonal,
+                fft,
+                tables,
+                KernelScale(self._scale, self.diagonal),
                 D,
                 w,
                 rhs,
-                rtol,
-                maxit,
-                coarse_aggregates(self.n),
+                CGSettings(rtol, maxit, coarse_aggregates(self.n)),
                 dp,
                 compiled_workspace(workspace_size(self.n)),
             )
