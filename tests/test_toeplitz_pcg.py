@@ -14,6 +14,7 @@ import pytest
 
 from fastline.elastic.pcg import (
     _STRIP,
+    TwoLevel,
     _aggregate_edges,
     _coarse_matrices,
     _edge_correlations,
@@ -22,7 +23,6 @@ from fastline.elastic.pcg import (
     _precondition,
     _projected_precondition,
     _subtract_edge_combination,
-    TwoLevel,
     _wdot,
     prefix_sums,
     segment_sum,
