@@ -22,6 +22,7 @@ from scipy.special import erfinv
 
 import fastline as fl
 from fastline.leakage import flow as leakage
+from fastline.theory import interface
 
 RTOL_REF = 1e-6  # u_bar and u1 against the quad reference (issue 12)
 RTOL_SEPARATION = 1e-6  # u_bar(1, p) against separation(p) (the theory's rtol)
@@ -151,11 +152,11 @@ def test_interface_end_points():
 @pytest.mark.parametrize("name", list(ALL))
 def test_inverse_moment_table(name):
     psd = ALL[name]()
-    tab = leakage._MomentTable(psd)
+    tab = interface._MomentTable(psd)
     q = np.concatenate(
         [psd.q0 * (1.0 + np.geomspace(1e-9, 1.0, 50)), np.geomspace(2 * psd.q0, psd.q1, 400)]
     )
-    got = np.array([leakage._inverse_moment(b, 0, tab.arrays())[:2] for b in psd.cumulative(q)])
+    got = np.array([interface._inverse_moment(b, 0, tab.arrays())[:2] for b in psd.cumulative(q)])
     np.testing.assert_allclose(got[:, 0], q, rtol=RTOL_MOMENT_Q)
     slope = 1.0 / (math.pi * q**3 * psd(q))
     np.testing.assert_allclose(got[:, 1], slope, rtol=RTOL_MOMENT_SLOPE)
@@ -216,7 +217,7 @@ def test_gap_table_against_direct(name):
         [np.geomspace(1e-12 * E_STAR, 0.99 * p_seal, 300), p_seal * (1 - np.geomspace(1e-2, 1e-4))]
     )
     direct = th.critical_gap(p).u_c
-    log_gap, sealed = leakage._gap_table(th, 0.42).log_gap(leakage._x1(th, p))
+    log_gap, sealed = interface.gap_table(th, 0.42).log_gap(interface.sealing_argument(th, p))
     assert not sealed.any() and np.all(np.isfinite(log_gap))
     assert np.all(np.diff(log_gap) <= 0.0)
     # the table ends near u_c = 1e-260 m (a closed seal); beyond, a linear continuation
@@ -295,8 +296,8 @@ def test_theory_from_the_result_and_cached_tables():
     res.theory = th
     a = fl.leak_rate(res, DP, ETA, warn=False)
     assert a.Q == fl.leak_rate(res, DP, ETA, theory=th, warn=False).Q
-    assert leakage._gap_table(th, 0.42) is leakage._gap_table(th, 0.42)
-    assert leakage._gap_table(th, 0.5) is not leakage._gap_table(th, 0.42)
+    assert interface.gap_table(th, 0.42) is interface.gap_table(th, 0.42)
+    assert interface.gap_table(th, 0.5) is not interface.gap_table(th, 0.42)
 
 
 def test_zero_pressure_strips_add_no_resistance():
@@ -558,7 +559,7 @@ def test_bad_interface_input():
     with pytest.raises(ValueError, match="threshold"):
         th.critical_gap(1e6, threshold=0.0)
     with pytest.raises(TypeError, match="PerssonTheory"):
-        leakage.critical_gap(None, 1e6)
+        interface.critical_gap(None, 1e6)
 
 
 def test_spectrum_with_a_gap_is_refused():
