@@ -119,9 +119,9 @@ def newton_replayed(lc: fl.LineContact, load: float):
 
 
 @numba.njit(nogil=True)
-def _cold_loop(reps, x, a, ln_h, floor, ln_g, two_s2, ln_t, k_t, load, w, out):
+def _cold_loop(reps, x, profiles, load, w, out):
     for _ in range(reps):
-        kernels.cold_start_normalised(x, a, ln_h, floor, ln_g, two_s2, ln_t, k_t, load, w, out)
+        kernels.cold_start_normalised(x, profiles, load, w, out)
 
 
 @numba.njit(nogil=True)

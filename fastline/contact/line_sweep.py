@@ -242,7 +242,7 @@ def sweep_line(
         predicted = nh > 0 and t - scal[nh - 1, 0] <= max_step
         for attempt in range(2):
             if not predicted or attempt == 1:
-                a, ln_h, floor, ln_g, two_s2, ln_t, k_t = (
+                profiles = (
                     cold[k, 0],
                     cold[k, 1],
                     cold[k, 2],
@@ -251,7 +251,7 @@ def sweep_line(
                     cold[k, 5],
                     cold[k, 6],
                 )
-                cold_start_normalised(x, a, ln_h, floor, ln_g, two_s2, ln_t, k_t, load, w, v)
+                cold_start_normalised(x, profiles, load, w, v)
             else:
                 predict_into(t, order, core_lo, core_hi, scal, cells, nh, x, work, v)
                 normalise_into(v, load, w)

@@ -655,7 +655,7 @@ class ContactModel:
         if start is None:  # the cold start, normalised to the load, in one compiled call
             v = np.empty_like(grid.x)
             profiles = self._cold_profiles(grid.hertz)
-            cold_start_normalised(grid.x, *profiles, float(load), disc.weights, v)
+            cold_start_normalised(grid.x, profiles, float(load), disc.weights, v)
         else:
             v = normalise(start, load, disc.weights)
         if self.method == "newton":
