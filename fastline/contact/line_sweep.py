@@ -317,7 +317,7 @@ def run_sweep(
     scal, cells, count = history_arrays(SWEEP_PREDICTOR_ORDER, n) if history is None else history
     predictor = (SWEEP_PREDICTOR_ORDER, PREDICTOR_MAX_STEP, CORE_DEPTH[0], CORE_DEPTH[1])
     tables = elastic.compiled_tables(n)
-    cylinder = Cylinder(elastic._KHAT0, float(E_star), 2.0 * radius)
+    cylinder = Cylinder(elastic.KHAT0, float(E_star), 2.0 * radius)
     series = SweepLoads(loads, halves, cold)
     pressure_law = Law(law_form, float(u_ref))
     settings = NewtonSettings(float(tol), int(max_iter), elastic.coarse_aggregates(n))

@@ -70,7 +70,7 @@ __all__ = [
 
 _TWO_OVER_PI = 2.0 / math.pi
 #: ``khat_0 = -(2/pi) (-ln 2 - 1)``, the first of :func:`influence_coefficients`
-_KHAT0 = -_TWO_OVER_PI * (-math.log(2.0) - 1.0)
+KHAT0 = -_TWO_OVER_PI * (-math.log(2.0) - 1.0)
 
 
 def influence_coefficients(n: int) -> np.ndarray:
@@ -356,7 +356,7 @@ class LogKernelOperator:
     def _set(self, n: int, dx: float, E_star: float) -> None:
         self.n, self.dx, self.E_star = n, dx, E_star
         self._scale = dx / E_star
-        self.diagonal = self._scale * _KHAT0
+        self.diagonal = self._scale * KHAT0
         self.convolutions = 0
         self.circulant_solves = 0
 
