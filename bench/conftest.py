@@ -1,6 +1,7 @@
 """Shared scene and fixtures for the fastline benchmarks (paper section 3 scene).
 
-The scene itself (surfaces, E*, R, ``load_for_alpha``) is defined once, in :mod:`fastline.reports.paper`.
+The scene itself (surfaces, E*, R, ``load_for_alpha``) is defined once, in
+:mod:`fastline.reports.paper`.
 """
 
 from __future__ import annotations

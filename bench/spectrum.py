@@ -12,8 +12,8 @@ modes live, and how many CG iterations variants of the preconditioner would need
     python -m bench.spectrum --n 16384 --alpha 1e-2 --step 4 --nc 64 128 256
     python -m bench.spectrum --n 16384 --alpha 1e-2 --solver-nc 64   # the solver before issue 13
 
-``--solver-nc`` replaces :func:`fastline.elastic.line.coarse_aggregates` for the whole run (the solve
-and the analysed preconditioner); ``--nc`` simulates other aggregate counts on the recorded
+``--solver-nc`` replaces :func:`fastline.elastic.line.coarse_aggregates` for the whole run (the
+solve and the analysed preconditioner); ``--nc`` simulates other aggregate counts on the recorded
 systems.
 
 ``--dense`` (n <= 4096: ~25-40 s at 4096): all eigenvalues; otherwise preconditioned Lanczos

@@ -1,5 +1,5 @@
-"""Seal leakage (fastline.leakage.flow, THEORY.md section 8): the interface at magnification zeta, the
-critical junction and the leak rate of a pressure profile.
+"""Seal leakage (fastline.leakage.flow, THEORY.md section 8): the interface at magnification zeta,
+the critical junction and the leak rate of a pressure profile.
 
 References: ``naive.mean_separation`` / ``naive.edge_separation`` (SciPy quad in the q variable,
 the derivative under the integral in q: an independent route from the package's moment

@@ -1,4 +1,5 @@
-"""Acceptance tests of fastline.theory.persson: P(q, p), u(p), its inverse p(u), the exponential law.
+"""Acceptance tests of fastline.theory.persson: P(q, p), u(p), its inverse p(u), the exponential
+law.
 
 Reference: ``naive.separation`` (SciPy quad double integral of docs/theory.md section 3).
 """

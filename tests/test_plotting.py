@@ -1,4 +1,5 @@
-"""Tests of fastline.reports.plotting: figures from the Python API (no pyplot, no files unless asked)."""
+"""Tests of fastline.reports.plotting: figures from the Python API (no pyplot, no files unless
+asked)."""
 
 import numpy as np
 import pytest

@@ -1,4 +1,5 @@
-"""fastline.reports.plotting with point-contact results: p along a diameter, the sphere's references."""
+"""fastline.reports.plotting with point-contact results: p along a diameter, the sphere's
+references."""
 
 import numpy as np
 import pytest

@@ -1,4 +1,5 @@
-"""The theory against the BEM (fastline.reports.validation) and ``fastline validate`` / ``--variant``.
+"""The theory against the BEM (fastline.reports.validation) and ``fastline validate`` /
+``--variant``.
 
 Tiny scenes (grids of 16 x 540 to 64 x 2592 cells, 2 to 6 realisations): the numbers the command
 prints and writes against the API's, the agreement of the theory with the BEM where both are

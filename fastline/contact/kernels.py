@@ -6,10 +6,10 @@ Python and NumPy around it: the cold start, the load normalisation, the flushed 
 profile measures, each a handful of NumPy passes over the grid that hold the GIL. Threads sharing
 one model then serialise on that part (Amdahl: ~22 % held caps two threads at ~1.6x). Here each
 of those stages is one loop in a ``nogil`` kernel; the Python wrappers that call them
-(:func:`fastline.contact.core.normalise`, :func:`fastline.contact.core.pressure_of`, the cold start of
-:class:`fastline.contact.model.ContactModel`, :func:`fastline.contact.line._measures`) keep their
-signatures. Results equal the NumPy expressions they replace to round-off (sums in a different
-order, FMA contraction).
+(:func:`fastline.contact.core.normalise`, :func:`fastline.contact.core.pressure_of`, the cold start
+of :class:`fastline.contact.model.ContactModel`, :func:`fastline.contact.line._measures`) keep
+their signatures. Results equal the NumPy expressions they replace to round-off (sums in a
+different order, FMA contraction).
 """
 
 from __future__ import annotations

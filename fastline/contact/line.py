@@ -6,9 +6,9 @@ rigid approach ``u1`` with
     u(x) = u1 + x^2/(2R) + (K p)(x),     u(x) = u_law(p(x)),     int p dx = f_N,
 
 ``K`` the plane-strain log kernel (:mod:`fastline.elastic.line`), ``u_law`` the pressure law
-(:mod:`fastline.theory.laws`). What is cylinder-specific lives here: the grid and its sizing, the gap
-``x^2/2R``, the Hertz reference, alpha, the initial guess and the profile measures (p0, s, FWHM).
-The Newton-Krylov core that solves the discrete equations is shared with other geometries
+(:mod:`fastline.theory.laws`). What is cylinder-specific lives here: the grid and its sizing, the
+gap ``x^2/2R``, the Hertz reference, alpha, the initial guess and the profile measures (p0, s,
+FWHM). The Newton-Krylov core that solves the discrete equations is shared with other geometries
 (:mod:`fastline.contact.core`), and so are the settings, the law, the solve and sweep loop, the cold
 start and the peak and FWHM measures (:mod:`fastline.contact.model`).
 

@@ -1,7 +1,7 @@
 """The line contact's Newton iteration as one compiled call (the laws fastline ships).
 
-:func:`fastline.contact.core.newton` is the readable reference: a Python loop that any geometry and any
-pressure law can use. For the line contact with a law whose p(u) tables are compiled (Persson,
+:func:`fastline.contact.core.newton` is the readable reference: a Python loop that any geometry and
+any pressure law can use. For the line contact with a law whose p(u) tables are compiled (Persson,
 exponential, tabulated) the same iteration runs here, without returning to Python between the
 steps: no interpreter work between FFTs, and the GIL is released for the whole solve, so
 threads solving different scenes run in parallel. The steps, constants and safeguards are

@@ -10,15 +10,16 @@ released: for each load, in increasing order,
 1. the cells of its grid (:func:`fastline.contact.kernels.line_cells`),
 2. the start: the prediction (:func:`predict_into`) normalised to the load; the cold start for
    the first load and after a step in ln load longer than ``PREDICTOR_MAX_STEP``,
-3. the compiled Newton solve (:func:`fastline.contact.line_newton.newton_line`); when it fails from a
-   predicted start, once more from the cold start (its work counted too),
+3. the compiled Newton solve (:func:`fastline.contact.line_newton.newton_line`); when it fails
+   from a predicted start, once more from the cold start (its work counted too),
 4. the pressure and its measures (p0, s, FWHM), and what the next predictions need
    (:func:`_remember`): ln load, ln s, the cells in units of s, ln p and its slopes.
 
 The prediction is that of the Python loop, stage for stage, on the same constants
-(``SWEEP_PREDICTOR_ORDER``, ``PREDICTOR_MAX_STEP``, ``CORE_DEPTH`` of :mod:`fastline.contact.model`);
-one difference: ln p of the solution comes from the Newton iterate itself, not from the law's
-inverse at the separation (equal to round-off; no flushed cells to repair).
+(``SWEEP_PREDICTOR_ORDER``, ``PREDICTOR_MAX_STEP``, ``CORE_DEPTH`` of
+:mod:`fastline.contact.model`); one difference: ln p of the solution comes from the Newton iterate
+itself, not from the law's inverse at the separation (equal to round-off; no flushed cells to
+repair).
 
 Rows of the history arrays are the remembered solutions, oldest first; ``nh`` of them are set.
 """

@@ -464,7 +464,8 @@ class LogKernelOperator:
         return dp, du1, its
 
     def preconditioner(self, D: np.ndarray) -> BlockPreconditioner:
-        """An approximate inverse of ``D + K`` for the Newton-Krylov core (:mod:`fastline.contact.core`).
+        """An approximate inverse of ``D + K`` for the Newton-Krylov core
+        (:mod:`fastline.contact.core`).
 
         Parameters
         ----------

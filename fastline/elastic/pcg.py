@@ -448,8 +448,8 @@ def _aggregate_edges(D, K00, j0, j1, nc, e, steps):
     the density ``(1 - EDGE_SHARE) / (j1 - j0) + EDGE_SHARE |d ln(D + K00)| / total`` per cell,
     i.e. by width in the core (where D << K00 and ln(D + K00) is flat) and by decades of D
     across the contact edge. Over the 160 count scenes (5 hard surfaces, alpha 1e-4..1e3,
-    n 256..16384, with ``fastline.contact.core.ETA_RES_SCALE``): 4446 convolutions with equal widths,
-    3898 with a share of 0.5, 3713 with 0.7 (mirror-symmetric); the worst scene (alpha 1e-2,
+    n 256..16384, with ``fastline.contact.core.ETA_RES_SCALE``): 4446 convolutions with equal
+    widths, 3898 with a share of 0.5, 3713 with 0.7 (mirror-symmetric); the worst scene (alpha 1e-2,
     n 16384) 109 -> 99.
 
     Mirror-symmetric: the left half of the edges counts the share from ``j0``, the right half
@@ -788,7 +788,8 @@ def _pcg(w, kspec, rtol, maxit, start, prec, fft, bufs, cg, dp):
     fell by ``rtol`` (or stagnated, or ``maxit``); keeps the best iterate (by that norm) in
     ``cg``. ``start = (s_m1, s_jac, r0)`` as :func:`_pcg_start` returns them: ``sum w m1``
     and ``sum w minv`` (Pa), the first Jacobi residual norm (m Pa^1/2); ``prec``
-    (:class:`TwoLevel`), ``fft``, ``bufs`` as in :func:`_precondition`. Returns ``(iterations, K products, circulant solves)``."""
+    (:class:`TwoLevel`), ``fft``, ``bufs`` as in :func:`_precondition`. Returns
+    ``(iterations, K products, circulant solves)``."""
     s_m1, s_jac, r0 = start
     D, scale = prec.D, prec.scale
     m1, z, d, Hd, jac, res, best_dp, best_res = cg

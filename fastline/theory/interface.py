@@ -4,8 +4,8 @@ The interface at magnification zeta (roughness with ``q < zeta q0`` resolved), f
 nominal pressure p (docs/leakage.md; B.N.J. Persson, C. Yang, J. Phys.: Condens. Matter 20,
 315011 (2008), doi:10.1088/0953-8984/20/31/315011; B. Lorenz, B.N.J. Persson, EPL 86, 44006
 (2009), doi:10.1209/0295-5075/86/44006), with the moment ``A(q) = pi int_{q0}^q q'^3 C dq'`` of
-:mod:`fastline.theory.spectra` written ``B(q)`` here (A is the contact area below), ``a = zeta q0`` and
-``m = B(a)``:
+:mod:`fastline.theory.spectra` written ``B(q)`` here (A is the contact area below), ``a = zeta q0``
+and ``m = B(a)``:
 
 * apparent relative contact area ``P(zeta) = erf(y)``, ``y = p / (E* sqrt(m))`` (the P(q, p) of
   the full theory at ``q = a``);
@@ -31,8 +31,8 @@ with ``Q = B^(-1)`` the inverse moment. The ``(q - a)^(-1/2)`` of w and the canc
 to double precision below ``tau = s / 27.3`` (F underflows). The tau quadrature is Gauss-Legendre
 on panels uniform in ln tau from there to T, split where Q has a kink (the breakpoints of C) and
 graded geometrically towards T, where at high pressure ``exp(-s^2/tau^2)`` piles the integrand
-up (the same two devices as the q quadrature of :mod:`fastline.theory.persson`, in the variable where
-they are needed). Q comes from a compiled table: ``ln q`` as a cubic Hermite polynomial of
+up (the same two devices as the q quadrature of :mod:`fastline.theory.persson`, in the variable
+where they are needed). Q comes from a compiled table: ``ln q`` as a cubic Hermite polynomial of
 ``ln B`` with the exact slope ``B / (pi q^4 C)`` at every node (nodes at every breakpoint of C,
 graded towards q0, below which ``Q = q0 + B / B'(q0)``); exact for power-law pieces of C.
 

@@ -29,8 +29,8 @@ Laws shipped
   :class:`~fastline.theory.persson.PerssonTheory` (default).
 * :class:`ExponentialLaw` - ``p = beta E* exp(-u/u0)`` (paper eq. 5; Persson, PRL 99, 125502
   (2007)): u is linear in ln p, it makes the large-alpha Gaussian limit exact.
-* :class:`~fastline.theory.asperity.GreenwoodWilliamsonLaw` (in :mod:`fastline.theory.asperity`) - the
-  Greenwood-Williamson asperity model with summit statistics from the same spectrum.
+* :class:`~fastline.theory.asperity.GreenwoodWilliamsonLaw` (in :mod:`fastline.theory.asperity`) -
+  the Greenwood-Williamson asperity model with summit statistics from the same spectrum.
 * :class:`TabulatedLaw` - a p(u) curve measured or computed elsewhere, interpolated
   monotonically (piecewise cubic Hermite of u in ln p, Fritsch-Butland slopes) with exponential
   extensions at both ends.
@@ -133,7 +133,8 @@ def check_law(law: Any) -> PressureLaw:
 # laws shipped with fastline
 # ----------------------------------------------------------------------------------------------
 class PerssonLaw(PressureLaw):
-    """The full Persson u(p) through the tables of a :class:`~fastline.theory.persson.PerssonTheory`.
+    """The full Persson u(p) through the tables of a
+    :class:`~fastline.theory.persson.PerssonTheory`.
 
     ``separation_and_slope`` reads table T1 (quintic Hermite in ln p), ``pressure`` table T2
     (its inverse); both to the theory's ``rtol`` (docs/theory.md, "Persson's law").
