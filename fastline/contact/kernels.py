@@ -181,7 +181,7 @@ def line_cells(dx, two_r, x, gap, w):
 def line_measures(x, p, dx):
     """``(p0, s, fwhm, sum p)`` of piecewise-constant p on the cells x (see
     :func:`fastline.contact.model.peak`, :func:`fastline.contact.model.fwhm` and
-    :func:`fastline.contact.line._std`, which this equals to round-off)."""
+    :func:`fastline.contact.model.std`, which this equals to round-off)."""
     n = p.shape[0]
     m0 = 0.0
     m1 = 0.0
