@@ -617,7 +617,7 @@ def point_contact_exponential(khat, E_star, radius, load, u0, beta, domain):
     return r, np.exp(sol.x[:-1])
 
 
-# ---- variants of the theory with the area correction (fastline.theory.variants, "wang-mueser") ---
+# ---- variants of the theory with the area correction (fastline.theory.variants, "wang-mueser") --
 def _s_poly(P, gamma, s2, s4):
     return gamma + s2 * P**2 + s4 * P**4
 
@@ -704,7 +704,7 @@ def separation_from_energy(psd, E_star, p, gamma, s2, s4, epsrel=1e-9):
     return val / p
 
 
-# ---- Greenwood-Williamson (fastline.theory.asperity) ---------------------------------------------
+# ---- Greenwood-Williamson (fastline.theory.asperity) --------------------------------------------
 def gw_integral(u, n, mean, std):
     """int_u^inf (z - u)^n phi_s(z) dz for Gaussian summit heights (mean, std), by quad in z
     (split at the peak of the integrand; the Gaussian factor scaled out beyond 8 std)."""

@@ -1,5 +1,5 @@
-"""Seal leakage (fastline.leakage.flow, THEORY.md section 8): the interface at magnification zeta,
-the critical junction and the leak rate of a pressure profile.
+"""Seal leakage (docs/leakage.md): the interface at magnification zeta and the critical junction
+(fastline.theory.interface), and the leak rate of a pressure profile (fastline.leakage.flow).
 
 References: ``naive.mean_separation`` / ``naive.edge_separation`` (SciPy quad in the q variable,
 the derivative under the integral in q: an independent route from the package's moment
@@ -24,7 +24,7 @@ import fastline as fl
 from fastline.leakage import flow as leakage
 from fastline.theory import interface
 
-RTOL_REF = 1e-6  # u_bar and u1 against the quad reference (issue 12)
+RTOL_REF = 1e-6  # u_bar and u1 against the quad reference
 RTOL_SEPARATION = 1e-6  # u_bar(1, p) against separation(p) (the theory's rtol)
 RTOL_EXACT = 1e-13  # identities computed two ways in floating point
 RTOL_RECTANGLE = 1e-10  # leak rate of a constant pressure against the rectangle formula
@@ -202,7 +202,7 @@ def test_sealed_exactly_when_real_area_reaches_threshold(threshold):
 
 @pytest.mark.parametrize("name", PAPER)
 def test_small_pressure_limit(name):
-    """u_c -> u(p/a_c) + u0 as p -> 0 (module docstring of fastline.leakage.flow)."""
+    """u_c -> u(p/a_c) + u0 as p -> 0 (docs/leakage.md; fastline.theory.interface)."""
     th = _theory(name)
     p = 1e-9 * E_STAR
     limit = th.separation(p / 0.42) + th.exponential_fit().u0

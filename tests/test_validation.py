@@ -287,7 +287,7 @@ def test_leak_rejects_the_area_variant(capsys):
 #: 0.1 the Hertz radius is 160 um = 4 longest wavelengths and the patch 270 x 270 cells
 R_SPHERE = 5.12e-3
 SPHERE_GRID = 2.0
-#: smooth-sphere limit: the BEM and the theory each give Hertz to this (issue 15: 1 %)
+#: smooth-sphere limit: the BEM and the theory each give Hertz to this (required: 1 %)
 RTOL_HERTZ = 0.01
 #: p0 of the default variant at alpha = 0.1 in BEM standard errors: 4 realisations each of
 #: seeds 0-5 gave z = +2.05, +0.52, +0.28, -0.38, -0.34, -2.19 (p0 -8 ... +8 %)
