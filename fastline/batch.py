@@ -721,8 +721,8 @@ def _empty_table(cols: Mapping) -> np.ndarray:
 
 @dataclass
 class _Flagged:
-    """A solved scene as :func:`fastline.contact.diagnostics.summarise_warnings` reads it (the
-    load's symbol and unit those of its geometry's results)."""
+    """A solved scene as :func:`fastline.contact.diagnostics.summarise_warnings` reads it (the load's
+    symbol and unit those of its geometry's results)."""
 
     load: float
     diagnostics: dict

@@ -3,10 +3,10 @@
 Spectrum files hold two columns, wavenumber q [1/m] and isotropic power spectrum C(q) [m^4] in
 Persson's convention (``h_rms^2 = 2 pi int q C dq``, docs/theory.md section 2), separated by
 blanks, tabs, commas or semicolons, after any header lines; ``#`` starts a comment (the
-tolerant table reader of :mod:`fastline.surfaces.read`, shared with the scan files).
-:func:`read_spectrum` checks that the table is a plausible spectrum before it is used (a height
-profile, x [m] against h [m], starts at x = 0 and is refused). :func:`write_spectrum` writes such a
-table (``fastline psd --out``) with the measurement it came from in ``#`` header lines.
+tolerant table reader of :mod:`fastline.surfaces.read`, shared with the scan files). :func:`read_spectrum` checks that the table is
+a plausible spectrum before it is used (a height profile, x [m] against h [m], starts at x = 0
+and is refused). :func:`write_spectrum` writes such a table (``fastline psd --out``) with the
+measurement it came from in ``#`` header lines.
 
 Result files are CSV: ``# key: value`` lines describing the scene (spectrum and where it came
 from, its h_rms, rms slope and q range, E*, R, model, gamma, n, fastline version), then a

@@ -1,7 +1,7 @@
 """Periodic random height maps with a given isotropic power spectrum, and their spectrum.
 
-Convention (Persson's, as :mod:`fastline.theory.spectra`): ``h_rms^2 = 2 pi int q C(q) dq`` and, for
-a height map of ``nx x ny`` cells of size ``dx x dy`` (area ``A = nx dx ny dy``) with the
+Convention (Persson's, as :mod:`fastline.theory.spectra`): ``h_rms^2 = 2 pi int q C(q) dq`` and, for a
+height map of ``nx x ny`` cells of size ``dx x dy`` (area ``A = nx dx ny dy``) with the
 unnormalised DFT ``H = FFT2(h)``,
 
     C(q_k) = (dx dy)^2 / ((2 pi)^2 A) * E|H_k|^2,        q_k = 2 pi (kx / Lx, ky / Ly).

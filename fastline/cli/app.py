@@ -3,9 +3,9 @@
 
 Argument parsing and printing only: the scenes of the paper live in :mod:`fastline.reports.paper`,
 files in :mod:`fastline.io`, figures in :mod:`fastline.reports.plotting`, validity checks in
-:mod:`fastline.contact.diagnostics`, measured surfaces in :mod:`fastline.surfaces.scan`. This module
-holds the parser, the cylinder's ``profile``, ``sweep``, ``batch`` and ``paper`` and :func:`main`;
-the other commands have their own modules (:mod:`fastline.cli.leak`, :mod:`fastline.cli.psd`,
+:mod:`fastline.contact.diagnostics`, measured surfaces in :mod:`fastline.surfaces.scan`. This module holds the
+parser, the cylinder's ``profile``, ``sweep``, ``batch`` and ``paper`` and :func:`main`; the
+other commands have their own modules (:mod:`fastline.cli.leak`, :mod:`fastline.cli.psd`,
 :mod:`fastline.cli.sphere` for ``--geometry sphere``, :mod:`fastline.cli.validate`) and what
 they share is in :mod:`fastline.cli.common`.
 

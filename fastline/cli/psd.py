@@ -6,8 +6,8 @@ self-affine model), writes the table ``--psd`` reads and a figure. ``--scan FILE
 ``profile``, ``sweep`` and ``leak`` takes the spectrum of a scene straight from a measurement.
 Argument parsing and printing only: the analysis is :func:`fastline.surfaces.scan.analyse_scan`
 (docs/topography.md), the table :func:`fastline.io.write_spectrum`, the figure
-:func:`fastline.reports.plotting.plot_measured_psd`. :mod:`fastline.cli.app` wires
-:func:`psd_parser` and :func:`cmd_psd` in.
+:func:`fastline.reports.plotting.plot_measured_psd`. :mod:`fastline.cli.app` wires :func:`psd_parser` and
+:func:`cmd_psd` in.
 
 SI units throughout: lengths in m whatever the file's units, wavenumbers in 1/m, C(q) in m^4.
 """
@@ -68,8 +68,8 @@ def _scan_options(parser: argparse.ArgumentParser, standalone: bool = False) -> 
         "measured surface" + ("" if standalone else " (--scan)"),
         "A line scan, parallel line scans or a height map, read from a file and turned into the "
         "isotropic spectrum C(q) over the range the measurement can be trusted "
-        "(fastline.surfaces.scan.analyse_scan; docs/topography.md). Lengths in m whatever the "
-        "file's units; wavenumbers in 1/m."
+        "(fastline.surfaces.scan.analyse_scan; docs/topography.md). Lengths in m whatever the file's "
+        "units; wavenumbers in 1/m."
         + (
             ""
             if standalone
@@ -234,8 +234,7 @@ def _scan_checks(args) -> bool:
 
 
 def _scan_kwargs(args) -> dict:
-    """The options of fastline.surfaces.scan.analyse_scan that were given (the rest keep its
-    defaults)."""
+    """The options of fastline.surfaces.scan.analyse_scan that were given (the rest keep its defaults)."""
     q_range = None if args.q_range is None else tuple(args.q_range)
     kw = {
         "dx": args.dx,

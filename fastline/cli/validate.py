@@ -2,9 +2,9 @@
 
 A line-contact scene (with ``--geometry sphere`` a sphere on a flat; with ``--leak`` a nominally
 flat contact under uniform pressures) is solved by the theory with each law asked for and by an
-ensemble of BEM realisations on random surfaces of the same spectrum
-(:mod:`fastline.reports.validation`, :mod:`fastline.bem`); the differences are printed in units of
-the BEM's standard error. Argument parsing and printing only.
+ensemble of BEM realisations on random surfaces of the same spectrum (:mod:`fastline.reports.validation`,
+:mod:`fastline.bem`); the differences are printed in units of the BEM's standard error. Argument
+parsing and printing only.
 """
 
 from __future__ import annotations
@@ -52,8 +52,8 @@ GEOMETRY_DEFAULTS: dict[str, dict[str, Any]] = {
 }
 #: largest BEM grid accepted (cells): about 1.5 GB of working arrays
 MAX_CELLS = 2**24
-#: fewest BEM realisations: fastline.reports.validation.MIN_REALIZATIONS (that module loads the BEM,
-#: not wanted to build the parser; tests/test_validation.py holds the two equal)
+#: fewest BEM realisations: fastline.reports.validation.MIN_REALIZATIONS (that module loads the BEM, not
+#: wanted to build the parser; tests/test_validation.py holds the two equal)
 MIN_REALIZATIONS = 2
 
 DESCRIPTION = """\

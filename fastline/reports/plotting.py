@@ -593,9 +593,9 @@ def _pressure_axis(ax) -> None:
 def plot_validation(validation: ProfileValidation, *, ax: Axes | None = None) -> Figure:
     """Theory against BEM for a cylinder or a sphere
     (:func:`fastline.reports.validation.validate_line_contact`,
-    :func:`~fastline.reports.validation.validate_point_contact`): the BEM ensemble ``p_bar(x)``
-    (sphere: ``p_bar(r)`` over rings) with a band of two standard errors, each model's profile and
-    the Hertz profile.
+    :func:`~fastline.reports.validation.validate_point_contact`): the BEM ensemble ``p_bar(x)`` (sphere:
+    ``p_bar(r)`` over rings) with a band of two standard errors, each model's profile and the
+    Hertz profile.
 
     Parameters
     ----------
@@ -648,10 +648,10 @@ def plot_validation(validation: ProfileValidation, *, ax: Axes | None = None) ->
 def plot_flat_validation(
     validation: FlatValidation, *, axes: Sequence[Axes] | None = None
 ) -> Figure:
-    """Theory against BEM for a flat contact
-    (:func:`fastline.reports.validation.validate_flat_contact`): mean separation u(p) of each model
-    against the BEM mean gap (left), the critical-junction gap u_c against the BEM's Reynolds
-    effective gap (right); BEM points with two standard errors.
+    """Theory against BEM for a flat contact (:func:`fastline.reports.validation.validate_flat_contact`):
+    mean separation u(p) of each model against the BEM mean gap (left), the critical-junction
+    gap u_c against the BEM's Reynolds effective gap (right); BEM points with two standard
+    errors.
 
     Parameters
     ----------

@@ -3,8 +3,8 @@
 :func:`validate_line_contact` runs the BEM ensemble of a cylinder on a random surface of the given
 spectrum (:func:`fastline.bem.run_ensemble`) and solves the same scene with each pressure law
 asked for (the variants of :mod:`fastline.theory.variants`, the Greenwood-Williamson law of
-:mod:`fastline.theory.asperity`); :func:`fastline.bem.compare_line_contact` gives each law's p0, s,
-w and w/s and its profile against the BEM in units of the BEM's error bar.
+:mod:`fastline.theory.asperity`); :func:`fastline.bem.compare_line_contact` gives each law's p0, s, w
+and w/s and its profile against the BEM in units of the BEM's error bar.
 
 :func:`validate_point_contact` does the same for a sphere: the BEM's ring-averaged nominal
 pressure p_bar(r) against the theory's p(r) (:class:`fastline.PointContact`,

@@ -5,14 +5,14 @@ parallel line scans or a height map (:func:`fastline.surfaces.topography.read_to
 spectrum over the usable range (:func:`~fastline.surfaces.topography.psd_from_profile` and the exact
 inverse Abel transform :func:`~fastline.surfaces.topography.isotropic_from_1d`, or
 :func:`~fastline.surfaces.topography.psd_from_map`), fit the self-affine model
-(:func:`~fastline.surfaces.topography.fit_self_affine`: to C1D for line scans, to C(q) for maps)
-and, on request, cut the table at q1 or continue it to q1 by the fitted power law
-(:func:`~fastline.surfaces.topography.extend_psd`; the fitted model ``fit.psd`` spans the same
-range). Every number is the one those functions return; this module only chains them and records
-what was done.
+(:func:`~fastline.surfaces.topography.fit_self_affine`: to C1D for line scans, to C(q) for maps) and, on
+request, cut the table at q1 or continue it to q1 by the fitted power law
+(:func:`~fastline.surfaces.topography.extend_psd`; the fitted model ``fit.psd`` spans the same range).
+Every number is the one those functions return; this module only chains them and records what
+was done.
 
-Conventions and SI units as :mod:`fastline.surfaces.topography`: heights and spacings in m,
-wavenumbers in 1/m, C1D in m^3, C(q) in m^4 with ``h_rms^2 = 2 pi int q C dq``.
+Conventions and SI units as :mod:`fastline.surfaces.topography`: heights and spacings in m, wavenumbers
+in 1/m, C1D in m^3, C(q) in m^4 with ``h_rms^2 = 2 pi int q C dq``.
 """
 
 from __future__ import annotations
@@ -309,8 +309,7 @@ def analyse_scan(
     path : str or path-like
         A line scan (text or ``.npy``: one column h with ``dx``, or two columns x, h), parallel
         line scans (one per row of a 2D text or ``.npy`` file, with ``dx``), a height map
-        (``as_map=True``) or an instrument file
-        (:func:`fastline.surfaces.topography.read_topography`).
+        (``as_map=True``) or an instrument file (:func:`fastline.surfaces.topography.read_topography`).
     dx, dy : float, optional
         Spacing along the scans and, for a map, between its rows, in m. Taken from the file's
         x column or an instrument file when it has them.
@@ -349,8 +348,8 @@ def analyse_scan(
     Warns
     -----
     TopographyWarning
-        From :mod:`fastline.surfaces.topography`: h_rms or slopes that suggest a unit slip,
-        C(q) <= 0 points left out by the inverse transform.
+        From :mod:`fastline.surfaces.topography`: h_rms or slopes that suggest a unit slip, C(q) <= 0
+        points left out by the inverse transform.
     """
     path = os.fspath(path)
     if extend and q1 is None:
