@@ -210,18 +210,20 @@ def sweep_line(
     (module docstring).
 
     ``fft``, ``tables``, ``pressure_law`` (:class:`fastline.contact.line_newton.Law`: ``(law,
-    u_ref)``), ``settings`` (:class:`fastline.contact.line_newton.NewtonSettings`: ``(tol,
-    max_iter, nc)``) as in :func:`fastline.contact.line_newton.newton_line`; ``cylinder``:
-    :class:`Cylinder` ``(khat0, E_star, two_r)`` (dimensionless, Pa, m); ``series``:
-    :class:`SweepLoads` ``(loads, halves, cold)``: the loads (N/m), the domain half-width of
-    each (m), ``cold[k]`` the cold-start profiles ``(a, ln_h, floor, ln_g, 2 s^2, ln_t, k_t)``
-    of load k; ``predictor = (order, max_step, core_lo, core_hi)``; ``history = (scal, cells,
-    count)`` (:func:`history_arrays`), updated in place; ``rows = (k0, k1)``. ``out``:
-    :class:`SweepOutputs` ``(U, P, stats, hist, ws)``, row k: ``U`` the law's separation (m),
-    ``P`` the pressure (Pa, :func:`fastline.contact.core.pressure_of` of ln p), ``stats`` the
-    columns of ``STATS`` (the profile's measures of
-    :func:`fastline.contact.kernels.line_measures` among them), ``hist`` (max_iter x 3) the
-    Newton history; ``ws``: work space of :func:`workspace_size` ``(n)`` elements."""
+    u_ref)``), ``settings`` (:class:`fastline.contact.line_newton.NewtonSettings`: ``(tol, max_iter,
+    nc)``) as in :func:`fastline.contact.line_newton.newton_line`; ``cylinder``: :class:`Cylinder`
+    ``(khat0, E_star, two_r)`` (dimensionless, Pa, m); ``series``: :class:`SweepLoads` ``(loads,
+    halves, cold)``: the loads (N/m), the domain half-width of each (m), ``cold[k]`` the cold-start
+    profiles ``(a, ln_h, floor, ln_g, 2 s^2, ln_t, k_t)`` of load k; ``predictor = (order, max_step,
+    core_lo, core_hi)``: the degree of the prediction in ln load, the longest step in ln load it is
+    used over, the depths below the peak in ln p between which it blends from core to tail
+    (:func:`predict_into`); ``history = (scal, cells, count)`` (:func:`history_arrays`), updated in
+    place; ``rows = (k0, k1)``. ``out``: :class:`SweepOutputs` ``(U, P, stats, hist, ws)``, row k:
+    ``U`` the law's separation (m), ``P`` the pressure (Pa,
+    :func:`fastline.contact.core.pressure_of` of ln p), ``stats`` the columns of ``STATS`` (the
+    profile's measures of :func:`fastline.contact.kernels.line_measures` among them), ``hist``
+    (max_iter x 3) the Newton history; ``ws``: work space of :func:`workspace_size` ``(n)``
+    elements."""
     khat0, E_star, two_r = cylinder
     loads, halves, cold = series
     scal, cells, count = history
