@@ -11,7 +11,7 @@ from scipy.special import erfinv
 
 import fastline as fl
 from bench.conftest import E_STAR, RADIUS, load_for_alpha
-from fastline.leakage import flow as leakage
+from fastline.theory import interface
 
 N_PRESSURES = 10_000
 DP, ETA = 1e5, 1e-3  # Pa, Pa s (water)
@@ -36,8 +36,8 @@ def test_critical_gap_direct_1e4(benchmark, theory1, pressures):
 def test_critical_gap_table_1e4(benchmark, theory1, pressures):
     """What leak_rate uses: the cached table of ln u_c (built outside the timing)."""
     benchmark.group = "leakage-critical-gap"
-    table = leakage._gap_table(theory1, 0.42)
-    x1 = leakage._x1(theory1, pressures)
+    table = interface.gap_table(theory1, 0.42)
+    x1 = interface.sealing_argument(theory1, pressures)
     log_gap, _ = benchmark(table.log_gap, x1)
     direct = theory1.critical_gap(pressures).u_c
     ok = direct > 1e-250
@@ -49,10 +49,10 @@ def test_critical_gap_table_1e4(benchmark, theory1, pressures):
 def test_gap_table_build(benchmark, psd1):
     """First leak rate of a theory: the table of u_c (once per theory and threshold)."""
     benchmark.group = "leakage-table-build"
-    leakage._gap_table(fl.PerssonTheory(psd1, E_STAR), 0.42)  # compile outside the timing
+    interface.gap_table(fl.PerssonTheory(psd1, E_STAR), 0.42)  # compile outside the timing
 
     def build():
-        return leakage._gap_table(fl.PerssonTheory(psd1, E_STAR), 0.42)
+        return interface.gap_table(fl.PerssonTheory(psd1, E_STAR), 0.42)
 
     table = benchmark(build)
     benchmark.extra_info["cells"] = int(table.cf.shape[0])
