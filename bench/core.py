@@ -23,7 +23,7 @@ from fastline._lib import fftw as _fftw
 from fastline.contact.line import NESTED_FACTOR, NESTED_MIN_N
 from fastline.contact.line_newton import _law
 from fastline.elastic.line import compiled_tables
-from fastline.elastic.pcg import _convolve
+from fastline.elastic.pcg import convolve
 from fastline.reports.paper import SURFACES, surfaces
 
 ALPHAS = (1e-4, 1e-3, 1e-2, 0.1, 1.0, 10.0, 100.0, 1e3)
@@ -51,7 +51,7 @@ def cpu_best(fn, repeat=7):
 @numba.njit
 def _conv_loop(x, spec, f1, f2, pf, pb, a, c, out, reps):
     for _ in range(reps):
-        _convolve(x, x.shape[0], spec, f1, f2, pf, pb, a, c, out)
+        convolve(x, x.shape[0], spec, f1, f2, pf, pb, a, c, out)
 
 
 def convolution_time(n: int) -> float:

@@ -60,9 +60,8 @@ def _replay(v_end, u_end, hist_end, scalars):
     u1, res, status, steps, cg, kapps, circ, tol_eff = scalars
 
     @numba.njit(nogil=True)
-    def stub(
-        fft, kspec, strang, prefix, scale, K00, gap, w, load, law, u_ref, v, tol, mi, nc, h, u, ws
-    ):
+    def stub(fft, tables, op, scene, law, v, settings, out):
+        h, u = out.hist, out.u
         for i in range(v.shape[0]):
             v[i] = v_end[i]
             u[i] = u_end[i]
@@ -99,7 +98,9 @@ def newton_replayed(lc: fl.LineContact, load: float):
 
     def record(*args):
         out = real(*args)
-        calls.setdefault("newton_line", (args[11].copy(), args[16].copy(), args[15].copy(), out))
+        calls.setdefault(
+            "newton_line", (args[5].copy(), args[7].u.copy(), args[7].hist.copy(), out)
+        )
         return out
 
     line_newton.newton_line = record
@@ -118,9 +119,9 @@ def newton_replayed(lc: fl.LineContact, load: float):
 
 
 @numba.njit(nogil=True)
-def _cold_loop(reps, x, a, ln_h, floor, ln_g, two_s2, ln_t, k_t, load, w, out):
+def _cold_loop(reps, x, profiles, load, w, out):
     for _ in range(reps):
-        kernels.cold_start_normalised(x, a, ln_h, floor, ln_g, two_s2, ln_t, k_t, load, w, out)
+        kernels.cold_start_normalised(x, profiles, load, w, out)
 
 
 @numba.njit(nogil=True)

@@ -82,9 +82,8 @@ class TwoLevel:
         self.L = np.zeros((max(nc_max, 1), max(nc_max, 1)))
         self.span = np.zeros(5, np.int64)
         tp._smoother(D, K00, self.scale, strang, self.minv, self.S, self.cinv, self.span)
-        tp._coarse_level(
-            D, K00, self.scale, prefix, nc_max, self.e, self.Tc, U, self.L, np.zeros(n), self.span
-        )
+        coarse = (self.e, self.Tc, U, self.L)
+        tp._coarse_level(D, K00, self.scale, prefix, nc_max, coarse, np.zeros(n), self.span)
         self.f0, self.f1, self.i0, self.i1, self.nc = (int(v) for v in self.span)
         self.j0, self.j1 = tp._first_last(D, tp.WIDE_THETA * K00)
         self.live = self.minv > 0.0
@@ -99,11 +98,10 @@ class TwoLevel:
 
     def B(self, y: np.ndarray, circulant: bool = True) -> np.ndarray:
         out = np.empty(self.n)
-        tp._precondition(
-            np.ascontiguousarray(y, dtype=np.float64), 0.0, out, self.D, self.scale,
-            (self.minv, self.S, self.cinv, self.Tc), self.L, self.e, self.span,
-            tuple(self.fft), self.bufs, self.g, circulant,
-        )  # fmt: skip
+        pre = (self.minv, self.S, self.cinv, self.Tc)
+        prec = tp.TwoLevel(self.D, self.scale, pre, self.L, self.e, self.span, self.g)
+        y = np.ascontiguousarray(y, dtype=np.float64)
+        tp._precondition(y, 0.0, out, prec, tuple(self.fft), self.bufs, circulant)
         return out
 
     def Bp(self, y: np.ndarray) -> np.ndarray:

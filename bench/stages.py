@@ -30,8 +30,7 @@ from bench.core import HARD, convolution_time, cpu_best
 from fastline._lib import fftw as _fftw
 from fastline.contact import line_newton
 from fastline.contact.line_newton import _law
-from fastline.elastic import line as elastic
-from fastline.elastic.pcg import solve_newton_system
+from fastline.elastic.pcg import CGSettings, solve_newton_system
 from fastline.elastic.pcg import workspace_size as system_workspace
 from fastline.reports.paper import E_STAR, RADIUS, load_for_alpha
 
@@ -44,7 +43,7 @@ def recorded_solve(n: int, alpha: float):
     kernel = line_newton.newton_line
 
     def recording(*args):
-        captured["args"], captured["v0"] = list(args), args[11].copy()
+        captured["args"], captured["v0"] = list(args), args[5].copy()
         return kernel(*args)
 
     line_newton.newton_line = recording
@@ -73,7 +72,7 @@ def measure(n: int, alpha: float) -> dict:
     kernel = line_newton.newton_line
 
     def run_kernel():
-        args[11][:] = v0
+        args[5][:] = v0
         return kernel(*args)
 
     out = run_kernel()
@@ -85,29 +84,29 @@ def measure(n: int, alpha: float) -> dict:
         cg=out[4],
         convolutions=out[5] + out[6],
     )
-    kind, prm, A, B, C, E = args[9]
-    v = args[11].copy()
+    kind, prm, A, B, C, E = args[4].form
+    v = args[5].copy()
     u, dudv = np.empty(n), np.empty(n)
     reps = max(10, int(1e5 / n))
     _law_loop(kind, v, prm, A, B, C, E, u, dudv, 1)
     m["law"] = cpu_best(lambda: _law_loop(kind, v, prm, A, B, C, E, u, dudv, reps), 5) / reps
     p = np.exp(v)
-    D = np.minimum(np.maximum(-dudv, 1e-300 * args[10]) / np.maximum(p, 1e-300), 1e300)
-    kspec, strang, prefix = elastic.compiled_tables(n)
+    D = np.minimum(np.maximum(-dudv, 1e-300 * args[4].u_ref) / np.maximum(p, 1e-300), 1e300)
+    tables = args[1]
     rhs = np.random.default_rng(1).standard_normal(n) * 1e-9
     dp, ws = np.empty(n), np.empty(system_workspace(n))
     fft = _fftw.acquire(2 * n)
     try:
-        for nc in (args[14], 0):
+        for nc in (args[6].nc, 0):
             for its in CG_STEPS:
-                sys_args = (*fft, kspec, strang, prefix, args[4], args[5], D, args[7], rhs)
-                sys_args += (1e-14, its, nc, dp, ws)
+                settings = CGSettings(1e-14, its, nc)
+                sys_args = (fft, tables, args[2], D, args[3].w, rhs, settings, dp, ws)
                 done = solve_newton_system(*sys_args)
                 t = cpu_best(lambda a=sys_args: solve_newton_system(*a), 9)
                 m[("system", nc, its)] = (t, done[1], done[2] + done[3])
     finally:
         _fftw.release(2 * n)
-    m["nc"] = args[14]
+    m["nc"] = args[6].nc
     return m
 
 

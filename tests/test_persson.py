@@ -14,7 +14,7 @@ import numpy as np
 import pytest
 from scipy.special import erf, erfinv
 
-from fastline.theory.persson import PerssonTheory, _quintic, _separation_and_slope, _solver_law
+from fastline.theory.persson import PerssonTheory, _quintic, _separation_and_slope, solver_law
 from fastline.theory.spectra import SelfAffinePSD, TabulatedPSD
 
 RTOL_REF = 1e-6  # default-rtol PerssonTheory vs the quad reference
@@ -351,7 +351,7 @@ def test_solver_form_equals_table(case, rtol):
     th = _theory(case, rtol)
     v = _t1_probes(th)
     u, dudv, ut, dt = (np.empty_like(v) for _ in range(4))
-    _solver_law(v, *th._t1_solver, u, dudv)
+    solver_law(v, *th._t1_solver, u, dudv)
     _separation_and_slope(v, *th._t1, ut, dt)
     assert np.all(ut > 0.0) and np.all(dt < 0.0)
     np.testing.assert_allclose(u, ut, rtol=RTOL_SOLVER_FORM, atol=0.0)
@@ -360,7 +360,7 @@ def test_solver_form_equals_table(case, rtol):
     below = v <= v0  # the exponential law: slope -u0 exactly, joined to the table at v0
     assert np.all(dudv[below] == -u0)
     inside = np.linspace(v0, v0 + (L.size - 1) * h, 41)[1:-1] + 0.37 * h
-    _solver_law(inside, *th._t1_solver, u[:39], dudv[:39])
+    solver_law(inside, *th._t1_solver, u[:39], dudv[:39])
     np.testing.assert_allclose(u[:39], th.separation(np.exp(inside)), rtol=rtol, atol=0.0)
 
 

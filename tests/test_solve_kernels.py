@@ -104,7 +104,8 @@ def test_cold_start_normalised_is_the_two_stages_bit_for_bit():
     cold_start_into(X, a, ln_h, 0.0, ln_g, 2.0 * s * s, math.log(1e6), 40.0, two)
     normalise_into(two, load, w)
     one = np.empty_like(X)
-    cold_start_normalised(X, a, ln_h, 0.0, ln_g, 2.0 * s * s, math.log(1e6), 40.0, load, w, one)
+    profiles = (a, ln_h, 0.0, ln_g, 2.0 * s * s, math.log(1e6), 40.0)
+    cold_start_normalised(X, profiles, load, w, one)
     np.testing.assert_array_equal(one, two)
     assert np.sum(w * np.exp(one)) == pytest.approx(load, rel=RTOL_ROUNDOFF)
 

@@ -14,6 +14,7 @@ import pytest
 
 from fastline.elastic.pcg import (
     _STRIP,
+    TwoLevel,
     _aggregate_edges,
     _coarse_matrices,
     _edge_correlations,
@@ -21,10 +22,10 @@ from fastline.elastic.pcg import (
     _live_span,
     _precondition,
     _projected_precondition,
-    _segment_sum,
     _subtract_edge_combination,
     _wdot,
     prefix_sums,
+    segment_sum,
 )
 
 RTOL_ROUNDOFF = 1e-12  # reordered sums of O(n) terms
@@ -108,9 +109,8 @@ def _two_level(frozen):
         span = np.array([f0, f1, i0, i1, NC])  # live span, core, NC aggregates
         out = np.empty(N)
         pre = (minv, none, none, Tc)
-        ffts = _precondition(
-            y, shift, out, D, SCALE, pre, L, e, span, (0, 0, 0, 0), (a, c, work), g, circulant
-        )
+        prec = TwoLevel(D, SCALE, pre, L, e, span, g)
+        ffts = _precondition(y, shift, out, prec, (0, 0, 0, 0), (a, c, work), circulant)
         assert ffts == 0
         return out
 
@@ -118,9 +118,8 @@ def _two_level(frozen):
         span = np.array([f0, f1, 0, 0, NC])
         z, s_v = np.empty(N), float(w @ v)
         pre = (minv, none, none, Tc)
-        ffts = _projected_precondition(
-            r, z, w, v, s_v, D, SCALE, pre, L, e, span, (0, 0, 0, 0), (a, c, work), g
-        )
+        prec = TwoLevel(D, SCALE, pre, L, e, span, g)
+        ffts = _projected_precondition(r, z, w, v, s_v, prec, (0, 0, 0, 0), (a, c, work))
         assert ffts == 0
         return z
 
@@ -227,7 +226,7 @@ def test_edge_window_products_equal_numpy(n, nc):
         want = np.where(inside, x - c @ windows, x)
         np.testing.assert_allclose(r, want, rtol=0.0, atol=RTOL_ROUNDOFF * scale)
     lo, hi = int(e[0]), int(e[-1])
-    got = _segment_sum(x, Tc, lo, hi)
+    got = segment_sum(x, Tc, lo, hi)
     assert got == pytest.approx(x[lo:hi] @ Tc[lo:hi], abs=RTOL_ROUNDOFF * scale)
 
 

@@ -379,8 +379,8 @@ def _newton_compiled(disc: Discretisation, law, v, tol, max_iter, form=None) -> 
 
 
 def compiled_outcome(v, u1, res, status, steps, cg, tol, tol_eff, hist, p, u) -> Outcome:
-    """The :class:`Outcome` of a compiled Newton solve (:mod:`fastline.contact.line_newton`: status 0
-    converged, 1 max_iter, 2 line search failed; ``hist`` its (residual, CG iterations, step)
+    """The :class:`Outcome` of a compiled Newton solve (:mod:`fastline.contact.line_newton`: status
+    0 converged, 1 max_iter, 2 line search failed; ``hist`` its (residual, CG iterations, step)
     rows of the steps taken; ``p`` the pressure, ``u`` the law's separation)."""
     status, steps = int(status), int(steps)
     message = _message(status == 0, res, tol, tol_eff, f"{steps} Newton steps", status == 2)

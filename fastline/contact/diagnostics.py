@@ -134,9 +134,9 @@ def _hertz_half_width(result) -> float:
     """The result's Hertz half-width (its ``hertz_radius`` if it has one: a point contact)."""
     a = getattr(result, "hertz_radius", None)
     if a is None:
-        from fastline.theory.limits import _hertz_line  # a solver's own checked values
+        from fastline.theory.limits import hertz_line_unchecked  # a solver's own checked values
 
-        a = _hertz_line(result.E_star, result.radius, result.load).a
+        a = hertz_line_unchecked(result.E_star, result.radius, result.load).a
     return a
 
 

@@ -6,10 +6,10 @@ Python and NumPy around it: the cold start, the load normalisation, the flushed 
 profile measures, each a handful of NumPy passes over the grid that hold the GIL. Threads sharing
 one model then serialise on that part (Amdahl: ~22 % held caps two threads at ~1.6x). Here each
 of those stages is one loop in a ``nogil`` kernel; the Python wrappers that call them
-(:func:`fastline.contact.core.normalise`, :func:`fastline.contact.core.pressure_of`, the cold start of
-:class:`fastline.contact.model.ContactModel`, :func:`fastline.contact.line._measures`) keep their
-signatures. Results equal the NumPy expressions they replace to round-off (sums in a different
-order, FMA contraction).
+(:func:`fastline.contact.core.normalise`, :func:`fastline.contact.core.pressure_of`, the cold start
+of :class:`fastline.contact.model.ContactModel`, :func:`fastline.contact.line._measures`) keep
+their signatures. Results equal the NumPy expressions they replace to round-off (sums in a
+different order, FMA contraction).
 """
 
 from __future__ import annotations
@@ -266,8 +266,12 @@ def hermite_accumulate(xq, x, y, m, weight, out):
 
 
 @numba.njit(**JIT)
-def cold_start_normalised(x, a, ln_h, floor, ln_g, two_s2, ln_t, k_t, load, w, out):
-    """:func:`cold_start_into` then :func:`normalise_into` to ``load`` with the weights w: the
-    start of a cold solve in one call (one hand-over of the GIL instead of two, and no copy)."""
+def cold_start_normalised(x, profiles, load, w, out):
+    """:func:`cold_start_into` then :func:`normalise_into` to ``load`` (N/m) with the weights w
+    (m): the start of a cold solve in one call (one hand-over of the GIL instead of two, and no
+    copy). ``profiles = (a, ln_h, floor, ln_g, two_s2, ln_t, k_t)``, the arguments of
+    :func:`cold_start_into` (a in m, ln_h and ln_g logarithms of pressures in Pa, floor
+    dimensionless, two_s2 in m^2, ln_t as ln_h, k_t dimensionless)."""
+    a, ln_h, floor, ln_g, two_s2, ln_t, k_t = profiles
     cold_start_into(x, a, ln_h, floor, ln_g, two_s2, ln_t, k_t, out)
     normalise_into(out, load, w)

@@ -6,9 +6,9 @@ rigid approach ``u1`` with
     u(x) = u1 + x^2/(2R) + (K p)(x),     u(x) = u_law(p(x)),     int p dx = f_N,
 
 ``K`` the plane-strain log kernel (:mod:`fastline.elastic.line`), ``u_law`` the pressure law
-(:mod:`fastline.theory.laws`). What is cylinder-specific lives here: the grid and its sizing, the gap
-``x^2/2R``, the Hertz reference, alpha, the initial guess and the profile measures (p0, s, FWHM).
-The Newton-Krylov core that solves the discrete equations is shared with other geometries
+(:mod:`fastline.theory.laws`). What is cylinder-specific lives here: the grid and its sizing, the
+gap ``x^2/2R``, the Hertz reference, alpha, the initial guess and the profile measures (p0, s,
+FWHM). The Newton-Krylov core that solves the discrete equations is shared with other geometries
 (:mod:`fastline.contact.core`), and so are the settings, the law, the solve and sweep loop, the cold
 start and the peak and FWHM measures (:mod:`fastline.contact.model`).
 
@@ -50,13 +50,13 @@ from fastline.contact.model import (  # noqa: F401 (METHODS ... shared_theory: i
     std,
 )
 from fastline.contact.result import ContactResult
-from fastline.elastic.line import LogKernelOperator, _log_reference_shift
+from fastline.elastic.line import LogKernelOperator, log_reference_shift_unchecked
 from fastline.theory.laws import PressureLaw
 from fastline.theory.limits import (
     HertzLineContact,
-    _gaussian_line,
-    _hertz_line,
     gaussian_line_contact,
+    gaussian_line_unchecked,
+    hertz_line_unchecked,
 )
 from fastline.theory.persson import PerssonTheory
 from fastline.theory.spectra import PSD
@@ -386,7 +386,7 @@ class LineContact(ContactModel):
             return super()._sweep(loads, progress)
         loads = self._check_loads(loads)
         order = np.argsort(loads, kind="stable")
-        hzs = [_hertz_line(self.E_star, self.radius, f) for f in loads[order].tolist()]
+        hzs = [hertz_line_unchecked(self.E_star, self.radius, f) for f in loads[order].tolist()]
         halves = [self._extent("half_width", self.half_width, hz, hz.load) for hz in hzs]
         cold = np.array([self._cold_profiles(hz) for hz in hzs])
         arrays = line_sweep.run_sweep(
@@ -478,14 +478,14 @@ class LineContact(ContactModel):
 
     # -- solve stages -------------------------------------------------------------------------
     def _grid(self, load: float) -> _LineGrid:
-        hz = _hertz_line(self.E_star, self.radius, load)  # checked by the caller
+        hz = hertz_line_unchecked(self.E_star, self.radius, load)  # checked by the caller
         half = self._extent("half_width", self.half_width, hz, load)
         return _build_grid(self.n, half, self.radius, self.E_star, hz)
 
     def _gaussian(self, load: float):
         u0 = self._u0()
         if type(u0) is float and 0.0 < u0 < math.inf:  # what the checks would pass unchanged
-            return _gaussian_line(u0, self.radius, load)
+            return gaussian_line_unchecked(u0, self.radius, load)
         return gaussian_line_contact(u0, self.radius, load)
 
     def _cold_tail(self, hz, ln_h: float, ln_g: float) -> tuple[float, float]:
@@ -545,7 +545,7 @@ class LineContact(ContactModel):
             p0_ratio=p0 / hz.p0,
             alpha=alpha,
             delta=hz.delta,
-            u1=out.u1 + _log_reference_shift(hz.load, dx, self.E_star, self.radius),
+            u1=out.u1 + log_reference_shift_unchecked(hz.load, dx, self.E_star, self.radius),
             converged=bool(out.converged),
             iterations=int(out.iterations),
             convolutions=int(op.convolutions),

@@ -1,7 +1,7 @@
 """The line contact's Newton iteration as one compiled call (the laws fastline ships).
 
-:func:`fastline.contact.core.newton` is the readable reference: a Python loop that any geometry and any
-pressure law can use. For the line contact with a law whose p(u) tables are compiled (Persson,
+:func:`fastline.contact.core.newton` is the readable reference: a Python loop that any geometry and
+any pressure law can use. For the line contact with a law whose p(u) tables are compiled (Persson,
 exponential, tabulated) the same iteration runs here, without returning to Python between the
 steps: no interpreter work between FFTs, and the GIL is released for the whole solve, so
 threads solving different scenes run in parallel. The steps, constants and safeguards are
@@ -10,7 +10,7 @@ those of :mod:`fastline.contact.core` (module docstring there); tests hold the t
 Laws enter as a kind code and arrays (one compiled signature for all):
 
 * ``0`` Persson, table T1 in its solver form: ``prm``, ``A = Cf``
-  (:func:`fastline.theory.persson._solver_form`, :func:`fastline.theory.persson._solver_law`);
+  (:func:`fastline.theory.persson._solver_form`, :func:`fastline.theory.persson.solver_law`);
 * ``1`` exponential: ``prm = (u0, ln(beta E*))``;
 * ``2`` tabulated: ``A, B, C = V, U, S`` (:func:`fastline.theory.laws._tabulated_u`).
 
@@ -20,6 +20,7 @@ Returns a status: 0 converged, 1 ``max_iter`` reached, 2 the line search failed.
 from __future__ import annotations
 
 import math
+from typing import NamedTuple
 
 import numba
 import numpy as np
@@ -51,10 +52,16 @@ from fastline.elastic.line import (
     compiled_tables,
     compiled_workspace,
 )
-from fastline.elastic.pcg import _convolve, _segment_sum, solve_newton_system
+from fastline.elastic.pcg import (
+    CGSettings,
+    KernelScale,
+    convolve,
+    segment_sum,
+    solve_newton_system,
+)
 from fastline.elastic.pcg import workspace_size as _system_workspace
-from fastline.theory.laws import _hermite
-from fastline.theory.persson import _solver_law
+from fastline.theory.laws import hermite
+from fastline.theory.persson import solver_law
 
 _EPS = float(np.finfo(np.float64).eps)
 #: n-sized work arrays of :func:`newton_line` itself (iterate and trial: v, p, U, dU, gk, r each;
@@ -63,6 +70,48 @@ _HEAD_ARRAYS = 14
 #: the arrays of an iterate (``state`` and ``trial`` of :func:`newton_line`): ln p, p, the law's
 #: u and du/dv, g + K p, the residual
 _V, _P, _U, _DU, _GK, _R = 0, 1, 2, 3, 4, 5
+
+
+class Scene(NamedTuple):
+    """The line contact's discrete scene (n cells)."""
+
+    #: the gap before contact, ``x^2 / 2R`` at the cell centres (m)
+    gap: np.ndarray
+    #: the cells' weights in the load, ``load = sum w p`` (their widths, m)
+    w: np.ndarray
+    #: the load per unit length (N/m)
+    load: float
+
+
+class Law(NamedTuple):
+    """The pressure law as :func:`newton_line` evaluates it."""
+
+    #: ``(kind, prm, A, B, C, E)``, the law's compiled form (module docstring)
+    form: tuple
+    #: the separation that sets the residual's scale (m)
+    u_ref: float
+
+
+class NewtonSettings(NamedTuple):
+    """When :func:`newton_line` stops, and the size of its preconditioner's coarse level."""
+
+    #: tolerance on the largest residual, in units of ``u_ref`` (dimensionless)
+    tol: float
+    #: most Newton steps
+    max_iter: int
+    #: most coarse aggregates (:func:`fastline.elastic.line.coarse_aggregates`)
+    nc: int
+
+
+class NewtonOutputs(NamedTuple):
+    """Where :func:`newton_line` writes, besides ln p."""
+
+    #: (max_iter x 3): per step the residual (in units of u_ref), CG iterations, step length
+    hist: np.ndarray
+    #: the law's separation at the final iterate (n values, m)
+    u: np.ndarray
+    #: float64 work space of :func:`workspace_size` ``(n)`` elements, its contents irrelevant
+    ws: np.ndarray
 
 
 def workspace_size(n: int) -> int:
@@ -76,7 +125,7 @@ def _law(kind, v, prm, A, B, C, E, u, dU):
     """u and du/d(ln p) at v = ln p for the law of ``kind`` (module docstring)."""
     n = v.shape[0]
     if kind == 0:
-        _solver_law(v, prm, A, u, dU)
+        solver_law(v, prm, A, u, dU)
     elif kind == 1:
         for i in range(n):
             u[i] = prm[0] * (prm[1] - v[i])
@@ -100,7 +149,7 @@ def _law(kind, v, prm, A, B, C, E, u, dU):
                         k = mid
                     else:
                         hi = mid
-                u[i], dU[i] = _hermite(x, A, B, C, k)
+                u[i], dU[i] = hermite(x, A, B, C, k)
 
 
 @numba.njit(**JIT)
@@ -125,7 +174,7 @@ def _residual(state, u1_in, fft, kspec, scale, gap, w, law, a, c):
     fr2c, fc2r, pf, pb = fft
     n = v.shape[0]
     _law(kind, v, prm, A, B, C, E, U, dU)
-    _convolve(p, n, kspec, fr2c, fc2r, pf, pb, a, c, gk)
+    convolve(p, n, kspec, fr2c, fc2r, pf, pb, a, c, gk)
     u1 = u1_in
     if u1 != u1:
         num = 0.0
@@ -140,34 +189,21 @@ def _residual(state, u1_in, fft, kspec, scale, gap, w, law, a, c):
             gk[i] = gap[i] + scale * gk[i]
     for i in range(n):
         r[i] = U[i] - u1 - gk[i]
-    phi2 = _segment_sum(r, r, 0, n)  # ||r||^2 in four chains
+    phi2 = segment_sum(r, r, 0, n)  # ||r||^2 in four chains
     return u1, math.sqrt(phi2), largest_abs(gk, abs(u1))
 
 
 @numba.njit(**JIT)
-def newton_line(
-    fft,
-    kspec,
-    strang,
-    prefix,
-    scale,
-    K00,
-    gap,
-    w,
-    load,
-    law,
-    u_ref,
-    v_io,
-    tol,
-    max_iter,
-    nc,
-    hist,
-    u_out,
-    ws,
-):
-    """Newton-Krylov on v = ln p (in place) for the line contact; ``law`` is
-    ``(kind, prm, A, B, C, E)``, ``hist`` (max_iter x 3) receives (residual, CG iterations,
-    step), ``u_out`` the law's separation at the final iterate, ``ws`` is float64 work space of
+def newton_line(fft, tables, op, scene, pressure_law, v_io, settings, out):
+    """Newton-Krylov on v = ln p (in place) for the line contact. ``fft``: the FFT plans of
+    length 2n (:func:`fastline._lib.fftw.acquire`); ``tables``: the log kernel's
+    :class:`fastline.elastic.pcg.KernelTables` ``(kspec, strang, prefix)``; ``op``: its
+    :class:`fastline.elastic.pcg.KernelScale` ``(scale, K00)`` (m/Pa); ``scene``:
+    :class:`Scene` ``(gap, w, load)`` (m, m, N/m); ``pressure_law``: :class:`Law` ``(law,
+    u_ref)``, ``law = (kind, prm, A, B, C, E)`` (module docstring), u_ref in m; ``settings``:
+    :class:`NewtonSettings` ``(tol, max_iter, nc)``; ``out``: :class:`NewtonOutputs` ``(hist,
+    u_out, ws)``: ``hist`` (max_iter x 3) receives (residual, CG iterations, step), ``u_out``
+    the law's separation at the final iterate (m), ``ws`` is float64 work space of
     :func:`workspace_size` ``(n)`` elements (contents irrelevant: every work array of the solve
     is a view into it, :func:`fastline.elastic.pcg.solve_newton_system`). Returns ``(u1,
     residual, status, steps, cg_iterations, k_applications, circulant_solves,
@@ -178,8 +214,15 @@ def newton_line(
     Armijo backtracking on ||r|| (:func:`_line_search`); Numba inlines these stages
     (``inline="always"``: as separately compiled functions they cost cold compile time,
     :mod:`fastline.elastic.pcg`)."""
+    kspec, strang, prefix = tables
+    scale, K00 = op
+    gap, w, load = scene
+    law, u_ref = pressure_law
+    tol, max_iter, nc = settings
+    hist, u_out, ws = out
     n = v_io.shape[0]
     a, c = aligned_views(ws, 2 * n)
+    conv = (fft, kspec, scale, a, c)
     o = 4 * n + ALIGN_PAD  # aligned_size(2 n)
     state = _iterate_views(ws, o, n)  # the iterate, and the line search's trial
     trial = _iterate_views(ws, o + 6 * n, n)
@@ -209,17 +252,15 @@ def newton_line(
         _newton_diagonal(state[_P], state[_DU], u_ref, D)
         eta = min(_forcing(res, res_prev, eta, tol_eff), eta_cap)
         res_prev = res
-        fr2c, fc2r, pf, pb = fft
         du1, its, ka, ci = solve_newton_system(
-            fr2c, fc2r, pf, pb, kspec, strang, prefix, scale, K00, D, w, state[_R], eta, MAX_CG,
-            nc, dp, tail,
-        )  # fmt: skip
+            fft, tables, op, D, w, state[_R], CGSettings(eta, MAX_CG, nc), dp, tail
+        )
         cg_total += its
         kapps += ka
         circ += ci
         t = _step_guard(state[_P], state[_DU], u_ref, dp)
         accepted, t, trials, u1n, phin, sizen = _line_search(
-            state, trial, dp, t, u1, du1, phi, load, fft, kspec, scale, gap, w, law, a, c
+            state, trial, dp, t, u1, du1, phi, scene, law, conv
         )
         kapps += trials
         if steps <= hist.shape[0]:
@@ -270,10 +311,15 @@ def _step_guard(p, dU, u_ref, dp):
 
 
 @numba.njit(**JIT, inline="always")
-def _line_search(state, trial, dv, t, u1, du1, phi, load, fft, kspec, scale, gap, w, law, a, c):
+def _line_search(state, trial, dv, t, u1, du1, phi, scene, law, conv):
     """Armijo backtracking on ||r|| from step length ``t``: ``trial`` holds the iterate
-    ``v + t dv`` (its pressure renormalised to the load) of the last trial. Returns
-    ``(accepted, t, trials, u1, ||r||, size)`` of that trial (one FFT convolution each)."""
+    ``v + t dv`` (its pressure renormalised to the load) of the last trial. ``scene = (gap,
+    w, load)`` (m, m, N/m) and ``law`` as in :func:`newton_line`; ``conv = (fft, kspec, scale,
+    a, c)``: what a K product takes (the FFT plans, the kernel spectrum / 2n, dx / E* in m/Pa,
+    the two FFT buffers). Returns ``(accepted, t, trials, u1, ||r||, size)`` of that trial (one
+    FFT convolution each)."""
+    gap, w, load = scene
+    fft, kspec, scale, a, c = conv
     v, v2, p2 = state[_V], trial[_V], trial[_P]
     n = v.shape[0]
     u1n = phin = sizen = math.nan
@@ -320,7 +366,6 @@ def solve_compiled(
     if the compiled FFT path is not available."""
     if not fftw.AVAILABLE:
         return None
-    kspec, strang, prefix = compiled_tables(op.n)
     hist = np.zeros((max_iter, 3))
     u = np.empty(op.n)
     N = 2 * op.n
@@ -328,23 +373,13 @@ def solve_compiled(
     try:
         u1, res, status, steps, cg, kapps, circ, tol_eff = newton_line(
             fft,
-            kspec,
-            strang,
-            prefix,
-            op._scale,
-            op.diagonal,
-            gap,
-            w,
-            load,
-            law_form,
-            u_ref,
+            compiled_tables(op.n),
+            KernelScale(op._scale, op.diagonal),
+            Scene(gap, w, float(load)),
+            Law(law_form, float(u_ref)),
             v,
-            tol,
-            max_iter,
-            coarse_aggregates(op.n),
-            hist,
-            u,
-            compiled_workspace(workspace_size(op.n)),
+            NewtonSettings(float(tol), int(max_iter), coarse_aggregates(op.n)),
+            NewtonOutputs(hist, u, compiled_workspace(workspace_size(op.n))),
         )
     finally:
         fftw.release(N)

@@ -10,15 +10,16 @@ released: for each load, in increasing order,
 1. the cells of its grid (:func:`fastline.contact.kernels.line_cells`),
 2. the start: the prediction (:func:`predict_into`) normalised to the load; the cold start for
    the first load and after a step in ln load longer than ``PREDICTOR_MAX_STEP``,
-3. the compiled Newton solve (:func:`fastline.contact.line_newton.newton_line`); when it fails from a
-   predicted start, once more from the cold start (its work counted too),
+3. the compiled Newton solve (:func:`fastline.contact.line_newton.newton_line`); when it fails
+   from a predicted start, once more from the cold start (its work counted too),
 4. the pressure and its measures (p0, s, FWHM), and what the next predictions need
    (:func:`_remember`): ln load, ln s, the cells in units of s, ln p and its slopes.
 
 The prediction is that of the Python loop, stage for stage, on the same constants
-(``SWEEP_PREDICTOR_ORDER``, ``PREDICTOR_MAX_STEP``, ``CORE_DEPTH`` of :mod:`fastline.contact.model`);
-one difference: ln p of the solution comes from the Newton iterate itself, not from the law's
-inverse at the separation (equal to round-off; no flushed cells to repair).
+(``SWEEP_PREDICTOR_ORDER``, ``PREDICTOR_MAX_STEP``, ``CORE_DEPTH`` of
+:mod:`fastline.contact.model`); one difference: ln p of the solution comes from the Newton iterate
+itself, not from the law's inverse at the separation (equal to round-off; no flushed cells to
+repair).
 
 Rows of the history arrays are the remembered solutions, oldest first; ``nh`` of them are set.
 """
@@ -42,10 +43,17 @@ from fastline.contact.kernels import (
     normalise_into,
     pressure_into,
 )
-from fastline.contact.line_newton import newton_line
+from fastline.contact.line_newton import (
+    Law,
+    NewtonOutputs,
+    NewtonSettings,
+    Scene,
+    newton_line,
+)
 from fastline.contact.line_newton import workspace_size as _newton_workspace
 from fastline.contact.model import CORE_DEPTH, PREDICTOR_MAX_STEP, SWEEP_PREDICTOR_ORDER
 from fastline.elastic import line as elastic
+from fastline.elastic.pcg import KernelScale
 
 #: columns of the per-load statistics a sweep returns
 STATS = (
@@ -65,6 +73,44 @@ STATS = (
 )
 #: n-sized work arrays of :func:`sweep_line` itself: x, gap, w, v (ln p), in_domain, in_contact
 _OWN_ARRAYS = 6
+
+
+class Cylinder(NamedTuple):
+    """The elastic cylinder of a line contact, as :func:`sweep_line` builds each load's grid."""
+
+    #: ``khat_0``, the log kernel's first influence coefficient (dimensionless)
+    khat0: float
+    #: the effective plane-strain modulus E* (Pa)
+    E_star: float
+    #: twice the radius, 2R (m)
+    two_r: float
+
+
+class SweepLoads(NamedTuple):
+    """The loads of a sweep and what each one's solve starts from (m loads)."""
+
+    #: the loads, increasing (N/m)
+    loads: np.ndarray
+    #: each load's domain half-width (m)
+    halves: np.ndarray
+    #: (m x 7): each load's cold-start profiles ``(a, ln_h, floor, ln_g, 2 s^2, ln_t, k_t)``
+    #: (:func:`fastline.contact.kernels.cold_start_into`)
+    cold: np.ndarray
+
+
+class SweepOutputs(NamedTuple):
+    """Where :func:`sweep_line` writes, row k for load k."""
+
+    #: (m x n) the law's separation (m)
+    U: np.ndarray
+    #: (m x n) the pressure (Pa)
+    P: np.ndarray
+    #: (m x len(STATS)) the columns of ``STATS``
+    stats: np.ndarray
+    #: (m x max_iter x 3) each solve's Newton history (residual, CG iterations, step)
+    hist: np.ndarray
+    #: float64 work space of :func:`workspace_size` ``(n)`` elements, its contents irrelevant
+    ws: np.ndarray
 
 
 def workspace_size(n: int) -> int:
@@ -158,44 +204,31 @@ def _remember(t, x, v, dx, width, scal, cells, nh):
 
 @numba.njit(**JIT)
 def sweep_line(
-    fft,
-    kspec,
-    strang,
-    prefix,
-    khat0,
-    E_star,
-    two_r,
-    loads,
-    halves,
-    cold,
-    law,
-    u_ref,
-    tol,
-    max_iter,
-    nc,
-    predictor,
-    scal,
-    cells,
-    count,
-    k0,
-    k1,
-    U,
-    P,
-    stats,
-    hist,
-    ws,
+    fft, tables, cylinder, series, pressure_law, settings, predictor, history, rows, out
 ):
     """Solve loads ``k0 <= k < k1`` of a sweep (``loads`` increasing, N/m) by continuation
     (module docstring).
 
-    ``halves``: the domain half-width of each load (m); ``cold[k]``: the cold-start profiles ``(a,
-    ln_h, floor, ln_g, 2 s^2, ln_t, k_t)`` of load k; ``law``, ``u_ref``, ``tol``, ``max_iter``,
-    ``nc`` as in :func:`fastline.contact.line_newton.newton_line`; ``predictor = (order, max_step, core_lo,
-    core_hi)``. ``scal, cells, count``: the history (:func:`history_arrays`), updated in place. Out,
-    row k: ``U`` the law's separation (m), ``P`` the pressure (Pa,
-    :func:`fastline.contact.core.pressure_of` of ln p), ``stats`` the columns of ``STATS`` (the profile's
-    measures of :func:`fastline.contact.kernels.line_measures` among them), ``hist`` (max_iter x 3)
-    the Newton history. ``ws``: work space of :func:`workspace_size` ``(n)`` elements."""
+    ``fft``, ``tables``, ``pressure_law`` (:class:`fastline.contact.line_newton.Law`: ``(law,
+    u_ref)``), ``settings`` (:class:`fastline.contact.line_newton.NewtonSettings`: ``(tol, max_iter,
+    nc)``) as in :func:`fastline.contact.line_newton.newton_line`; ``cylinder``: :class:`Cylinder`
+    ``(khat0, E_star, two_r)`` (dimensionless, Pa, m); ``series``: :class:`SweepLoads` ``(loads,
+    halves, cold)``: the loads (N/m), the domain half-width of each (m), ``cold[k]`` the cold-start
+    profiles ``(a, ln_h, floor, ln_g, 2 s^2, ln_t, k_t)`` of load k; ``predictor = (order, max_step,
+    core_lo, core_hi)``: the degree of the prediction in ln load, the longest step in ln load it is
+    used over, the depths below the peak in ln p between which it blends from core to tail
+    (:func:`predict_into`); ``history = (scal, cells, count)`` (:func:`history_arrays`), updated in
+    place; ``rows = (k0, k1)``. ``out``: :class:`SweepOutputs` ``(U, P, stats, hist, ws)``, row k:
+    ``U`` the law's separation (m), ``P`` the pressure (Pa,
+    :func:`fastline.contact.core.pressure_of` of ln p), ``stats`` the columns of ``STATS`` (the
+    profile's measures of :func:`fastline.contact.kernels.line_measures` among them), ``hist``
+    (max_iter x 3) the Newton history; ``ws``: work space of :func:`workspace_size` ``(n)``
+    elements."""
+    khat0, E_star, two_r = cylinder
+    loads, halves, cold = series
+    scal, cells, count = history
+    k0, k1 = rows
+    U, P, stats, hist, ws = out
     n = U.shape[1]
     order, max_step, core_lo, core_hi = predictor
     x, gap, w, v = ws[:n], ws[n : 2 * n], ws[2 * n : 3 * n], ws[3 * n : 4 * n]
@@ -212,7 +245,7 @@ def sweep_line(
         predicted = nh > 0 and t - scal[nh - 1, 0] <= max_step
         for attempt in range(2):
             if not predicted or attempt == 1:
-                a, ln_h, floor, ln_g, two_s2, ln_t, k_t = (
+                profiles = (
                     cold[k, 0],
                     cold[k, 1],
                     cold[k, 2],
@@ -221,29 +254,19 @@ def sweep_line(
                     cold[k, 5],
                     cold[k, 6],
                 )
-                cold_start_normalised(x, a, ln_h, floor, ln_g, two_s2, ln_t, k_t, load, w, v)
+                cold_start_normalised(x, profiles, load, w, v)
             else:
                 predict_into(t, order, core_lo, core_hi, scal, cells, nh, x, work, v)
                 normalise_into(v, load, w)
             u1, res, status, steps, cg, ka, ci, tol_eff = newton_line(
                 fft,
-                kspec,
-                strang,
-                prefix,
-                scale,
-                scale * khat0,
-                gap,
-                w,
-                load,
-                law,
-                u_ref,
+                tables,
+                KernelScale(scale, scale * khat0),
+                Scene(gap, w, load),
+                pressure_law,
                 v,
-                tol,
-                max_iter,
-                nc,
-                hist[k],
-                u,
-                solver_ws,
+                settings,
+                NewtonOutputs(hist[k], u, solver_ws),
             )
             kapps += ka
             circ += ci
@@ -296,7 +319,11 @@ def run_sweep(
     stats, hist = np.empty((m, len(STATS))), np.empty((m, max_iter, 3))
     scal, cells, count = history_arrays(SWEEP_PREDICTOR_ORDER, n) if history is None else history
     predictor = (SWEEP_PREDICTOR_ORDER, PREDICTOR_MAX_STEP, CORE_DEPTH[0], CORE_DEPTH[1])
-    kspec, strang, prefix = elastic.compiled_tables(n)
+    tables = elastic.compiled_tables(n)
+    cylinder = Cylinder(elastic.KHAT0, float(E_star), 2.0 * radius)
+    series = SweepLoads(loads, halves, cold)
+    pressure_law = Law(law_form, float(u_ref))
+    settings = NewtonSettings(float(tol), int(max_iter), elastic.coarse_aggregates(n))
     step = m if progress is None else 1
     fft = _fftw.acquire(2 * n)
     try:
@@ -305,31 +332,15 @@ def run_sweep(
             k1 = min(m, k0 + step)
             sweep_line(
                 fft,
-                kspec,
-                strang,
-                prefix,
-                elastic._KHAT0,
-                E_star,
-                2.0 * radius,
-                loads,
-                halves,
-                cold,
-                law_form,
-                u_ref,
-                tol,
-                max_iter,
-                elastic.coarse_aggregates(n),
+                tables,
+                cylinder,
+                series,
+                pressure_law,
+                settings,
                 predictor,
-                scal,
-                cells,
-                count,
-                k0,
-                k1,
-                U,
-                P,
-                stats,
-                hist,
-                ws,
+                (scal, cells, count),
+                (k0, k1),
+                SweepOutputs(U, P, stats, hist, ws),
             )
             if progress is not None:
                 progress()

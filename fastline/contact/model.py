@@ -87,8 +87,8 @@ PREDICTOR_MAX_STEP = math.log(1.5)
 #: cost 43 / 43 / 36 % fewer convolutions than independent solves (domain alone: 36 / 36 / 17
 #: %, with cold starts below alpha 5e-3); with the core interpolated by cubic Hermite
 #: (:func:`hermite_slopes`) instead of linearly, 46 / 47 / 40 %, and with the first Newton
-#: step's forcing scaled to the start's residual (``fastline.contact.core.ETA_RES_SCALE``) 49 / 47 / 42 %.
-#: With degree 4 (``SWEEP_PREDICTOR_ORDER``) a deeper core, (5, 10), did better than (3, 10):
+#: step's forcing scaled to the start's residual (``fastline.contact.core.ETA_RES_SCALE``) 49 / 47 /
+#: 42 %. With degree 4 (``SWEEP_PREDICTOR_ORDER``) a deeper core, (5, 10), did better than (3, 10):
 #: 495 / 516 / 714 against 506 / 513 / 732 convolutions on the 50-load sweeps.
 CORE_DEPTH = (5.0, 10.0)
 #: below this alpha a law's solve that did not converge is told to use ``model="hertz"``. There
@@ -280,8 +280,9 @@ class _Solved(NamedTuple):
 
 
 def _assessed(counts: dict, result, theory, hardness) -> dict:
-    """A result's ``diagnostics``: its solver ``counts`` and :func:`fastline.contact.diagnostics.assess`
-    (no warnings: a model that warns assesses at once)."""
+    """A result's ``diagnostics``: its solver ``counts`` and
+    :func:`fastline.contact.diagnostics.assess` (no warnings: a model that warns assesses at
+    once)."""
     counts.update(assess(result, theory, hardness, warn=False))
     return counts
 
@@ -655,7 +656,7 @@ class ContactModel:
         if start is None:  # the cold start, normalised to the load, in one compiled call
             v = np.empty_like(grid.x)
             profiles = self._cold_profiles(grid.hertz)
-            cold_start_normalised(grid.x, *profiles, float(load), disc.weights, v)
+            cold_start_normalised(grid.x, profiles, float(load), disc.weights, v)
         else:
             v = normalise(start, load, disc.weights)
         if self.method == "newton":

@@ -53,7 +53,15 @@ from numpy.typing import ArrayLike
 
 from fastline._lib import fftw as _fftw
 from fastline._lib.validate import finite_scalar, integer, positive
-from fastline.elastic.pcg import apply_kernel, prefix_sums, solve_newton_system, workspace_size
+from fastline.elastic.pcg import (
+    CGSettings,
+    KernelScale,
+    KernelTables,
+    apply_kernel,
+    prefix_sums,
+    solve_newton_system,
+    workspace_size,
+)
 
 __all__ = [
     "LogKernelOperator",
@@ -63,7 +71,7 @@ __all__ = [
 
 _TWO_OVER_PI = 2.0 / math.pi
 #: ``khat_0 = -(2/pi) (-ln 2 - 1)``, the first of :func:`influence_coefficients`
-_KHAT0 = -_TWO_OVER_PI * (-math.log(2.0) - 1.0)
+KHAT0 = -_TWO_OVER_PI * (-math.log(2.0) - 1.0)
 
 
 def influence_coefficients(n: int) -> np.ndarray:
@@ -129,10 +137,10 @@ def log_reference_shift(load: float, dx: float, E_star: float, length: float) ->
     dx = positive("dx", dx, "m")
     E_star = positive("E_star", E_star, "Pa")
     length = positive("length", length, "m")
-    return _log_reference_shift(load, dx, E_star, length)
+    return log_reference_shift_unchecked(load, dx, E_star, length)
 
 
-def _log_reference_shift(load: float, dx: float, E_star: float, length: float) -> float:
+def log_reference_shift_unchecked(load: float, dx: float, E_star: float, length: float) -> float:
     """:func:`log_reference_shift` of values already checked (a solver's own), no checks."""
     return -_TWO_OVER_PI / E_star * math.log(dx / length) * load
 
@@ -201,15 +209,15 @@ def _build_prefix(n: int) -> np.ndarray:
     return prefix_sums(influence_coefficients(n))
 
 
-def compiled_tables(n: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+def compiled_tables(n: int) -> KernelTables:
     """Real kernel spectrum / 2n (length n + 1), Strang spectrum and Toeplitz prefix sums
-    (kept together per n: one look-up per solve)."""
+    (:class:`fastline.elastic.pcg.KernelTables`; kept together per n: one look-up per solve)."""
     with _spectrum_lock:
         tables = _table_sets.get(n)
         if tables is not None:
             _table_sets.move_to_end(n)
             return tables
-    tables = (
+    tables = KernelTables(
         _cached(_real_spectra, n, _build_real_spectrum, readonly=False),
         _cached(_strang_writable, n, _build_strang_spectrum, readonly=False),
         _cached(_prefixes, n, _build_prefix, readonly=False),
@@ -347,7 +355,7 @@ class LogKernelOperator:
     def _set(self, n: int, dx: float, E_star: float) -> None:
         self.n, self.dx, self.E_star = n, dx, E_star
         self._scale = dx / E_star
-        self.diagonal = self._scale * _KHAT0
+        self.diagonal = self._scale * KHAT0
         self.convolutions = 0
         self.circulant_solves = 0
 
@@ -432,24 +440,19 @@ class LogKernelOperator:
         compiled FFT path is not available (the caller then uses :meth:`preconditioner`)."""
         if not _fftw.AVAILABLE:
             return None
-        kspec, strang, prefix = compiled_tables(self.n)
+        tables = compiled_tables(self.n)
         dp = np.empty(self.n)
         N = 2 * self.n
         fft = _fftw.acquire(N)
         try:
             du1, its, kapps, circ = solve_newton_system(
-                *fft,
-                kspec,
-                strang,
-                prefix,
-                self._scale,
-                self.diagonal,
+                fft,
+                tables,
+                KernelScale(self._scale, self.diagonal),
                 D,
                 w,
                 rhs,
-                rtol,
-                maxit,
-                coarse_aggregates(self.n),
+                CGSettings(rtol, maxit, coarse_aggregates(self.n)),
                 dp,
                 compiled_workspace(workspace_size(self.n)),
             )

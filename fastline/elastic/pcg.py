@@ -142,7 +142,7 @@ around the compiled solve (30-50 us). Loops are written so that LLVM vectorises 
 strips of partial sums (:func:`_wdot`), slices instead of offset indices (``x[i + o]`` with
 ``o`` unknown keeps a wrap-around test in the loop); reductions it cannot vectorise (Numba
 runs LLVM without its SLP vectoriser, and the JIT options allow no reassociation) run in four
-independent chains (:func:`_segment_sum`), except the coarse correlations, the largest of them,
+independent chains (:func:`segment_sum`), except the coarse correlations, the largest of them,
 compiled with reassociation (:data:`fastline._lib.jit.JIT_SUMS`; the coarse products 0.27 -> 0.16
 ns per cell and edge).
 """
@@ -150,6 +150,7 @@ ns per cell and edge).
 from __future__ import annotations
 
 import math
+from typing import NamedTuple
 
 import numba
 import numpy as np
@@ -176,11 +177,65 @@ _STAGNATION = 20
 _F0, _F1, _I0, _I1, _NC = 0, 1, 2, 3, 4
 
 
+class KernelTables(NamedTuple):
+    """The log kernel's tables for n cells, dimensionless (K = scale * toeplitz(khat);
+    :func:`fastline.elastic.line.compiled_tables` keeps them per n)."""
+
+    #: spectrum of the zero-padded circulant embedding of khat, divided by 2n (n + 1 values)
+    kspec: np.ndarray
+    #: spectrum of khat's Strang circulant (n + 1 values)
+    strang: np.ndarray
+    #: prefix sums of the two-sided khat (2n values, :func:`prefix_sums`)
+    prefix: np.ndarray
+
+
+class KernelScale(NamedTuple):
+    """The scale of the log kernel's compliance ``K = scale * toeplitz(khat)`` on a grid."""
+
+    #: dx / E* (m/Pa)
+    scale: float
+    #: ``K00 = scale * khat_0``, the compliance's diagonal (m/Pa)
+    diagonal: float
+
+
+class CGSettings(NamedTuple):
+    """How far :func:`solve_newton_system` solves, and the size of its coarse level."""
+
+    #: relative decrease of the Jacobi-weighted residual norm at which CG stops (dimensionless)
+    rtol: float
+    #: most CG iterations
+    maxit: int
+    #: most coarse aggregates (:func:`fastline.elastic.line.coarse_aggregates`)
+    nc_max: int
+
+
+class TwoLevel(NamedTuple):
+    """The two-level preconditioner of one Newton system as set up by :func:`_smoother` and
+    :func:`_coarse_level` (module docstring), what :func:`_precondition` applies."""
+
+    #: the system's diagonal ``|du_law/dp|`` (n values, m/Pa)
+    D: np.ndarray
+    #: dx / E* (m/Pa)
+    scale: float
+    #: ``(minv, S, cinv, Tc)``: Jacobi ``1/(D + K00)`` (Pa/m, 0 on frozen cells), the core's
+    #: scales S (dimensionless), the inverse Strang spectrum (Pa/m, the FFT's 1/(2n)
+    #: included), the centred prefix sums Tc of khat (dimensionless, 2n values)
+    pre: tuple
+    #: Cholesky factor of the coarse matrix ``P^T H P`` (nc_max x nc_max, leading nc x nc, m/Pa)
+    L: np.ndarray
+    #: the aggregates' edges (cells, int64, nc_max + 1)
+    e: np.ndarray
+    #: ``(f0, f1, i0, i1, nc)``: the live span, the core, the number of aggregates (int64)
+    span: np.ndarray
+    #: work array of 2 nc_max + 2 elements
+    g: np.ndarray
+
+
 # ----------------------------------------------------------------------------------------------
 # FFT convolutions
 # ----------------------------------------------------------------------------------------------
 @numba.njit(**JIT)
-def _convolve(x, m, spec, fr2c, fc2r, pf, pb, a, c, out):
+def convolve(x, m, spec, fr2c, fc2r, pf, pb, a, c, out):
     """``out[:m] = (IFFT(spec * FFT([x[:m], 0...])))[:m]``: a linear convolution with the
     kernel whose real spectrum (normalisation included) is ``spec``; one FFT convolution."""
     for i in range(m):
@@ -202,7 +257,7 @@ def apply_kernel(x, kspec, scale, fr2c, fc2r, pf, pb, out):
     circulant embedding of khat, divided by 2n)."""
     n = x.shape[0]
     a, c = aligned_buffers(2 * n)
-    _convolve(x, n, kspec, fr2c, fc2r, pf, pb, a, c, out)
+    convolve(x, n, kspec, fr2c, fc2r, pf, pb, a, c, out)
     for i in range(n):
         out[i] *= scale
 
@@ -253,7 +308,7 @@ def _jacobi_norm(res, jac, s_jac, ones, tmp, acc):
 # once it may reassociate them (``JIT_SUMS``); before, four scalar chains per edge in registers
 # (0.17-0.21 ns per cell and edge) beat the strip sums of :func:`_wdot` (0.27-0.69).
 @numba.njit(**JIT)
-def _segment_sum(a, b, lo, hi):
+def segment_sum(a, b, lo, hi):
     """``sum_{lo <= i < hi} a_i b_i`` in four chains (aggregate sums, a few to n cells)."""
     sa, sb = a[lo:hi], b[lo:hi]
     m = hi - lo
@@ -393,8 +448,8 @@ def _aggregate_edges(D, K00, j0, j1, nc, e, steps):
     the density ``(1 - EDGE_SHARE) / (j1 - j0) + EDGE_SHARE |d ln(D + K00)| / total`` per cell,
     i.e. by width in the core (where D << K00 and ln(D + K00) is flat) and by decades of D
     across the contact edge. Over the 160 count scenes (5 hard surfaces, alpha 1e-4..1e3,
-    n 256..16384, with ``fastline.contact.core.ETA_RES_SCALE``): 4446 convolutions with equal widths,
-    3898 with a share of 0.5, 3713 with 0.7 (mirror-symmetric); the worst scene (alpha 1e-2,
+    n 256..16384, with ``fastline.contact.core.ETA_RES_SCALE``): 4446 convolutions with equal
+    widths, 3898 with a share of 0.5, 3713 with 0.7 (mirror-symmetric); the worst scene (alpha 1e-2,
     n 16384) 109 -> 99.
 
     Mirror-symmetric: the left half of the edges counts the share from ``j0``, the right half
@@ -531,11 +586,14 @@ def _smoother(D, K00, scale, strang, minv, S, cinv, span):
 
 
 @numba.njit(**JIT, inline="always")
-def _coarse_level(D, K00, scale, prefix, nc_max, e, Tc, U, L, steps, span):
+def _coarse_level(D, K00, scale, prefix, nc_max, coarse, steps, span):
     """Set up the coarse level on the wide block (cells with ``D < WIDE_THETA K00``): at most
     ``nc_max`` aggregates, a quarter of its cells, none below two (:func:`_aggregate_edges`,
-    :func:`_coarse_matrices`). Writes their number into ``span``; ``steps``: work array of n
-    elements."""
+    :func:`_coarse_matrices`). ``coarse = (e, Tc, U, L)``, written: the aggregates' edges
+    (cells, int64, nc_max + 1), the centred prefix sums of khat (dimensionless, 2n), work for
+    their sums (2n + 1) and the Cholesky factor of ``P^T H P`` (nc_max x nc_max, m/Pa). Writes
+    the number of aggregates into ``span``; ``steps``: work array of n elements."""
+    e, Tc, U, L = coarse
     j0, j1 = _first_last(D, WIDE_THETA * K00)
     nc = min(nc_max, (j1 - j0) // 4)
     if nc < 2:
@@ -547,16 +605,16 @@ def _coarse_level(D, K00, scale, prefix, nc_max, e, Tc, U, L, steps, span):
 
 
 @numba.njit(**JIT)
-def _precondition(y, shift, out, D, scale, pre, L, e, span, fft, bufs, g, circulant):
+def _precondition(y, shift, out, prec, fft, bufs, circulant):
     """``out = R B R (y - shift)`` (two-level, module docstring; R zeroes the frozen cells);
     returns the number of FFT convolutions. ``circulant`` False: Jacobi on the core too (no
-    FFT; the direction of the zero-load projection, :func:`_pcg_start`). ``pre = (minv, S,
-    cinv, Tc)``, ``L``, ``e`` and ``span`` as set up by :func:`_smoother` and
-    :func:`_coarse_level`; the coarse products run over the live span ``[f0, f1)`` only (a
-    third of the grid is frozen in the scenes of the count test). ``fft``: the plans
-    (:func:`fastline._lib.fftw.acquire`); ``bufs = (a, c, work)``: the FFT buffers and a work array
-    of 3n + _STRIP elements, ``work[2n:3n]`` holding ones; ``g``: work array of 2 nc + 2
-    elements."""
+    FFT; the direction of the zero-load projection, :func:`_pcg_start`). ``prec``: the
+    preconditioner (:class:`TwoLevel`: ``D, scale, pre = (minv, S, cinv, Tc), L, e, span, g``)
+    as set up by :func:`_smoother` and :func:`_coarse_level`; the coarse products run over the
+    live span ``[f0, f1)`` only (a third of the grid is frozen in the scenes of the count
+    test). ``fft``: the plans (:func:`fastline._lib.fftw.acquire`); ``bufs = (a, c, work)``:
+    the FFT buffers and a work array of 3n + _STRIP elements, ``work[2n:3n]`` holding ones."""
+    D, scale, pre, L, e, span, g = prec
     minv, S, cinv, Tc = pre
     fr2c, fc2r, pf, pb = fft
     a, c, work = bufs
@@ -567,7 +625,7 @@ def _precondition(y, shift, out, D, scale, pre, L, e, span, fft, bufs, g, circul
     for i in range(n):  # R y, and the coarse right-hand side P^T R y
         r1[i] = y[i] - shift if minv[i] > 0.0 else 0.0
     for k in range(nc):
-        g1[k] = _segment_sum(r1, ones, e[k], e[k + 1])
+        g1[k] = segment_sum(r1, ones, e[k], e[k + 1])
     if nc > 0:  # r1 = R y - H P c1: the edge windows of Tc, then the diagonal
         _chol_solve(L, nc, g1)
         prev = 0.0
@@ -586,7 +644,7 @@ def _precondition(y, shift, out, D, scale, pre, L, e, span, fft, bufs, g, circul
     if m > 0:
         for i in range(m):
             tmp[i] = S[i] * r1[i0 + i] if minv[i0 + i] > 0.0 else 0.0
-        _convolve(tmp, m, cinv, fr2c, fc2r, pf, pb, a, c, tmp)
+        convolve(tmp, m, cinv, fr2c, fc2r, pf, pb, a, c, tmp)
         for i in range(m):
             if minv[i0 + i] > 0.0:
                 out[i0 + i] = S[i] * tmp[i]
@@ -594,7 +652,7 @@ def _precondition(y, shift, out, D, scale, pre, L, e, span, fft, bufs, g, circul
     if nc > 0:  # c2 = (P^T H P)^-1 (H P)^T z1, out = z1 + P (c1 - c2)
         _edge_correlations(out, Tc, e, nc, g2, f0, f1)  # g2 = (H P)^T z1, then the diagonal
         for k in range(nc):
-            g2[k] = scale * (g2[k] - g2[k + 1]) + _segment_sum(D, out, e[k], e[k + 1])
+            g2[k] = scale * (g2[k] - g2[k + 1]) + segment_sum(D, out, e[k], e[k + 1])
         _chol_solve(L, nc, g2)
         for k in range(nc):
             d = g1[k] - g2[k]
@@ -613,10 +671,14 @@ def workspace_size(n: int) -> int:
 
 
 @numba.njit(**JIT)
-def solve_newton_system(
-    fr2c, fc2r, pf, pb, kspec, strang, prefix, scale, K00, D, w, rhs, rtol, maxit, nc_max, dp, ws
-):
+def solve_newton_system(fft, tables, op, D, w, rhs, settings, dp, ws):
     """Solve ``(D + K) dp + du1 = rhs``, ``sum(w dp) = 0`` (module docstring) into ``dp``.
+
+    ``fft``: the FFT plans of length 2n (:func:`fastline._lib.fftw.acquire`); ``tables``: the
+    kernel's :class:`KernelTables` ``(kspec, strang, prefix)``; ``op``: its
+    :class:`KernelScale` ``(scale, diagonal)`` (m/Pa); ``D`` (m/Pa), ``w`` (cell weights, m),
+    ``rhs`` (m): the system; ``settings``: :class:`CGSettings` ``(rtol, maxit, nc_max)``;
+    ``dp`` (Pa): the solution, written.
 
     Stages: set up the smoother (:func:`_smoother`) and the coarse level
     (:func:`_coarse_level`), start projected PCG (:func:`_pcg_start`), iterate (:func:`_pcg`),
@@ -627,8 +689,10 @@ def solve_newton_system(
     come from the operating system page by page, which took 35-45% of a solve at n >= 4096.
     (Plain loops and homogeneous tuples of arrays: every NumPy convenience costs compile time.)
     """
+    kspec, strang, prefix = tables
+    scale, K00 = op
+    rtol, maxit, nc_max = settings
     n = D.shape[0]
-    fft = (fr2c, fc2r, pf, pb)
     # -- the work space: FFT buffers, work, smoother, coarse level, PCG vectors ---------------
     a, c = aligned_views(ws, 2 * n)
     o = 4 * n + ALIGN_PAD  # aligned_size(2 n)
@@ -655,32 +719,35 @@ def solve_newton_system(
         work[i] = 1.0  # the ones segment
     # -- set-up, then PCG --------------------------------------------------------------------
     _smoother(D, K00, scale, strang, minv, S, cinv, span)
-    _coarse_level(D, K00, scale, prefix, nc_max, e, Tc, U, L, cg[0], span)  # (m1 free till PCG)
-    s_m1, s_jac, r0, circ = _pcg_start(D, w, rhs, scale, pre, L, e, span, fft, bufs, g, cg)
-    its, kapps, circ_loop = _pcg(
-        D, w, kspec, scale, rtol, maxit, s_m1, s_jac, r0, pre, L, e, span, fft, bufs, g, cg, dp
-    )
+    coarse = (e, Tc, U, L)
+    _coarse_level(D, K00, scale, prefix, nc_max, coarse, cg[0], span)  # (m1 free till PCG)
+    prec = TwoLevel(D, scale, pre, L, e, span, g)
+    s_m1, s_jac, r0, circ = _pcg_start(w, rhs, prec, fft, bufs, cg)
+    its, kapps, circ_loop = _pcg(w, kspec, rtol, maxit, (s_m1, s_jac, r0), prec, fft, bufs, cg, dp)
     du1 = _pcg_finish(D, w, minv, s_m1, s_jac, work, cg, dp)
     return du1, its, kapps, circ + circ_loop
 
 
 @numba.njit(**JIT, inline="always")
-def _pcg_start(D, w, rhs, scale, pre, L, e, span, fft, bufs, g, cg):
+def _pcg_start(w, rhs, prec, fft, bufs, cg):
     """PCG's start from ``dp = 0``: ``m1``, the direction of the projection onto zero load
     (:func:`_projected_precondition`), the Jacobi weights, the residual, the first direction.
-    Returns ``(sum w m1, sum w minv, the first Jacobi residual norm, circulant solves)``."""
+    ``prec`` (:class:`TwoLevel`), ``fft``, ``bufs`` as in :func:`_precondition`; ``cg``: the
+    PCG vectors (:func:`solve_newton_system`). Returns ``(sum w m1, sum w minv, the first
+    Jacobi residual norm, circulant solves)``."""
+    D = prec.D
     m1, z, d, Hd, jac, res, best_dp, best_res = cg
-    minv = pre[0]
+    minv = prec.pre[0]
     work = bufs[2]
     n = D.shape[0]
     tmp, ones, acc = work[:n], work[2 * n : 3 * n], work[3 * n :]
-    _precondition(ones, 0.0, m1, D, scale, pre, L, e, span, fft, bufs, g, False)  # no FFT
+    _precondition(ones, 0.0, m1, prec, fft, bufs, False)  # no FFT
     for i in range(n):
         jac[i] = w[i] * minv[i]  # 0 on frozen cells: their residual is theirs alone
         res[i] = rhs[i]
     s_m1 = _wdot(w, m1, ones, acc)
     s_jac = _wdot(w, minv, ones, acc)
-    circ = _projected_precondition(res, z, w, m1, s_m1, D, scale, pre, L, e, span, fft, bufs, g)
+    circ = _projected_precondition(res, z, w, m1, s_m1, prec, fft, bufs)
     for i in range(n):
         d[i] = z[i]
         best_dp[i] = 0.0
@@ -689,7 +756,7 @@ def _pcg_start(D, w, rhs, scale, pre, L, e, span, fft, bufs, g, cg):
 
 
 @numba.njit(**JIT, inline="always")
-def _projected_precondition(res, z, w, v, s_v, D, scale, pre, L, e, span, fft, bufs, g):
+def _projected_precondition(res, z, w, v, s_v, prec, fft, bufs):
     """``z = Pi B Pi* res`` (one FFT convolution; returns the count): B the two-level
     preconditioner (:func:`_precondition`), ``Pi = I - v w^T / s_v`` the projection onto zero
     load (``sum w z = 0``) along ``v``, ``Pi* = I - 1 (w v)^T / s_v`` its adjoint in the
@@ -702,11 +769,13 @@ def _projected_precondition(res, z, w, v, s_v, D, scale, pre, L, e, span, fft, b
     systems of the worst count scenes (n = 1024 alpha 1e-2 and 1e-1, n = 4096 and 16384 alpha
     1e-3 and 1e-2) every system took the same number of CG iterations as with ``B 1``
     (simulated, the Newton trajectory fixed), which cost one circulant solve per system. A
-    constant v (``P B P``, the w-orthogonal projection) took ~1.5x the iterations."""
+    constant v (``P B P``, the w-orthogonal projection) took ~1.5x the iterations.
+
+    ``prec`` (:class:`TwoLevel`), ``fft``, ``bufs``: as in :func:`_precondition`."""
     n = res.shape[0]
     ones, acc = bufs[2][2 * n : 3 * n], bufs[2][3 * n :]
     shift = _wdot(w, v, res, acc) / s_v  # Pi* res = res - shift
-    circ = _precondition(res, shift, z, D, scale, pre, L, e, span, fft, bufs, g, True)
+    circ = _precondition(res, shift, z, prec, fft, bufs, True)
     lam = _wdot(w, z, ones, acc) / s_v
     for i in range(n):
         z[i] -= lam * v[i]
@@ -714,10 +783,15 @@ def _projected_precondition(res, z, w, v, s_v, D, scale, pre, L, e, span, fft, b
 
 
 @numba.njit(**JIT, inline="always")
-def _pcg(D, w, kspec, scale, rtol, maxit, s_m1, s_jac, r0, pre, L, e, span, fft, bufs, g, cg, dp):
+def _pcg(w, kspec, rtol, maxit, start, prec, fft, bufs, cg, dp):
     """Projected PCG from :func:`_pcg_start` until the Jacobi-weighted norm of the residual
     fell by ``rtol`` (or stagnated, or ``maxit``); keeps the best iterate (by that norm) in
-    ``cg``. Returns ``(iterations, K products, circulant solves)``."""
+    ``cg``. ``start = (s_m1, s_jac, r0)`` as :func:`_pcg_start` returns them: ``sum w m1``
+    and ``sum w minv`` (Pa), the first Jacobi residual norm (m Pa^1/2); ``prec``
+    (:class:`TwoLevel`), ``fft``, ``bufs`` as in :func:`_precondition`. Returns
+    ``(iterations, K products, circulant solves)``."""
+    s_m1, s_jac, r0 = start
+    D, scale = prec.D, prec.scale
     m1, z, d, Hd, jac, res, best_dp, best_res = cg
     fr2c, fc2r, pf, pb = fft
     a, c, work = bufs
@@ -731,7 +805,7 @@ def _pcg(D, w, kspec, scale, rtol, maxit, s_m1, s_jac, r0, pre, L, e, span, fft,
     # a tiny leak off zero load makes <d, H d> negative), nothing worse than it comes back
     best, best_its, its, kapps, circ = r0, 0, 0, 0, 0
     while its < maxit and rz > 0.0:
-        _convolve(d, n, kspec, fr2c, fc2r, pf, pb, a, c, Hd)
+        convolve(d, n, kspec, fr2c, fc2r, pf, pb, a, c, Hd)
         kapps += 1
         for i in range(n):
             Hd[i] = D[i] * d[i] + scale * Hd[i]
@@ -751,9 +825,7 @@ def _pcg(D, w, kspec, scale, rtol, maxit, s_m1, s_jac, r0, pre, L, e, span, fft,
                 best_res[i] = res[i]
         if rn <= rtol * r0 or its - best_its >= _STAGNATION:
             break
-        circ += _projected_precondition(
-            res, z, w, m1, s_m1, D, scale, pre, L, e, span, fft, bufs, g
-        )
+        circ += _projected_precondition(res, z, w, m1, s_m1, prec, fft, bufs)
         rz_new = _wdot(w, res, z, acc)
         beta = rz_new / rz
         for i in range(n):

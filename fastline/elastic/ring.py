@@ -420,7 +420,8 @@ class RingKernelOperator:
     __call__ = apply
 
     def preconditioner(self, D: ArrayLike) -> BalancingPreconditioner:
-        """An approximate inverse of ``D + K`` for the Newton-Krylov core (:mod:`fastline.contact.core`).
+        """An approximate inverse of ``D + K`` for the Newton-Krylov core
+        (:mod:`fastline.contact.core`).
 
         Parameters
         ----------

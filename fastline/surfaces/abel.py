@@ -60,9 +60,13 @@ def hermite_slopes(u: np.ndarray, v: np.ndarray) -> np.ndarray:
 
 
 @numba.njit(**JIT)
-def _piece(lq, u0, h, v0, m0, c2, c3, ta, tb, t_ref, w_ref):
+def _piece(lq, piece, ta, tb, t_ref, w_ref):
     """``int_ta^tb C1D'(q cosh theta) d theta`` on one Hermite piece (``t`` in [0, 1]:
-    ``ln C1D = v0 + h t (m0 + t (c2 + t c3))``, ``ln k = u0 + h t``)."""
+    ``ln C1D = v0 + h t (m0 + t (c2 + t c3))``, ``ln k = u0 + h t``), ``lq = ln q``.
+    ``piece = (u0, h, v0, m0, c2, c3)``: ln k (k in 1/m) at the piece's start and the piece's
+    width in ln k, ln C1D (C1D in m^3) at its start and the cubic's coefficients (slopes d ln
+    C1D / d ln k, dimensionless); ``t_ref, w_ref``: the Gauss rule on [0, 1]."""
+    u0, h, v0, m0, c2, c3 = piece
     steep = max(abs(m0), abs(m0 + 2.0 * c2 + 3.0 * c3)) + 1.0
     n = max(1, int(math.ceil(steep * (tb - ta))))
     width = (tb - ta) / n
@@ -93,7 +97,7 @@ def _inverse_kernel(u, v, m, out):
             tb = math.acosh(math.exp(u[j + 1] - lq))
             c2 = 3.0 * d - 2.0 * m[j] - m[j + 1]
             c3 = m[j] + m[j + 1] - 2.0 * d
-            acc += _piece(lq, u[j], h, v[j], m[j], c2, c3, ta, tb, _T8, _W8)
+            acc += _piece(lq, (u[j], h, v[j], m[j], c2, c3), ta, tb, _T8, _W8)
             ta = tb
         out[i] = -acc / math.pi
 

@@ -4,8 +4,8 @@ The interface at magnification zeta (roughness with ``q < zeta q0`` resolved), f
 nominal pressure p (docs/leakage.md; B.N.J. Persson, C. Yang, J. Phys.: Condens. Matter 20,
 315011 (2008), doi:10.1088/0953-8984/20/31/315011; B. Lorenz, B.N.J. Persson, EPL 86, 44006
 (2009), doi:10.1209/0295-5075/86/44006), with the moment ``A(q) = pi int_{q0}^q q'^3 C dq'`` of
-:mod:`fastline.theory.spectra` written ``B(q)`` here (A is the contact area below), ``a = zeta q0`` and
-``m = B(a)``:
+:mod:`fastline.theory.spectra` written ``B(q)`` here (A is the contact area below), ``a = zeta q0``
+and ``m = B(a)``:
 
 * apparent relative contact area ``P(zeta) = erf(y)``, ``y = p / (E* sqrt(m))`` (the P(q, p) of
   the full theory at ``q = a``);
@@ -31,8 +31,8 @@ with ``Q = B^(-1)`` the inverse moment. The ``(q - a)^(-1/2)`` of w and the canc
 to double precision below ``tau = s / 27.3`` (F underflows). The tau quadrature is Gauss-Legendre
 on panels uniform in ln tau from there to T, split where Q has a kink (the breakpoints of C) and
 graded geometrically towards T, where at high pressure ``exp(-s^2/tau^2)`` piles the integrand
-up (the same two devices as the q quadrature of :mod:`fastline.theory.persson`, in the variable where
-they are needed). Q comes from a compiled table: ``ln q`` as a cubic Hermite polynomial of
+up (the same two devices as the q quadrature of :mod:`fastline.theory.persson`, in the variable
+where they are needed). Q comes from a compiled table: ``ln q`` as a cubic Hermite polynomial of
 ``ln B`` with the exact slope ``B / (pi q^4 C)`` at every node (nodes at every breakpoint of C,
 graded towards q0, below which ``Q = q0 + B / B'(q0)``); exact for power-law pieces of C.
 
@@ -314,11 +314,15 @@ def _interface_vec(m, p, E_star, band, rule, fc, qtab, P, u_bar, u1):
 
 
 @numba.njit(**JIT)
-def _critical_vec(x1, X_t, t, E_star, band, rule, fc, qtab, gap, qc, sealed):
+def _critical_vec(x1, X_t, t, spectrum, gap, qc, sealed):
     """u_c = u1(zeta_c) and q_c = zeta_c q0 for x1 = w(q1) p / E* (docs/leakage.md §3).
 
     ``P(zeta_c) = t`` has the closed-form root ``B(q_c) = m = B1 (x1 / X_t)^2``,
-    ``X_t = erfinv(t)``; sealed where ``erf(x1) >= t`` (gap 0, q_c = q1)."""
+    ``X_t = erfinv(t)``; sealed where ``erf(x1) >= t`` (gap 0, q_c = q1). ``spectrum = (E_star,
+    band, rule, fc, qtab)`` as :meth:`_Spectrum.kernel_args` gives it: E* (Pa), ``band = (B1,
+    q1, B_breaks)`` (B dimensionless, q1 in 1/m), the tau rule, F's coefficients ``(gamma, c1,
+    c2, c3, b2)`` and the Q table. Written: ``gap`` (u_c, m), ``qc`` (1/m), ``sealed``."""
+    E_star, band, rule, fc, qtab = spectrum
     B1, q1, _ = band
     acc = np.empty(3)
     for i in range(x1.shape[0]):
@@ -335,12 +339,17 @@ def _critical_vec(x1, X_t, t, E_star, band, rule, fc, qtab, gap, qc, sealed):
 
 
 @numba.njit(**JIT)
-def _log_gap_kernel(x1, t, X_t, kappa0, z0, h, cf, slope_hi, low, out, sealed):
+def _log_gap_kernel(x1, t, X_t, table, out, sealed):
     """ln u_c at ``x1 = w(q1) p / E*`` from the gap table (see :class:`_GapTable`).
 
-    ``low = (u_lo, v_lo, u0, ln(E* sqrt(B1)))``: below ``z0`` the law
-    ``u_c = u_lo + u0 (v_lo - ln p)``. Sealed where ``erf(x1) >= t`` (ln u_c = -inf); p = 0
-    gives ln u_c = +inf (no contact, no resistance)."""
+    ``table = (kappa0, z0, h, cf, slope_hi, low)``: the sealing exponent's factor kappa0, the
+    first node and the step of the uniform z grid (all dimensionless), the spline's Horner
+    coefficients of ``g(z) = ln u_c + kappa0 e^z`` per cell (n x 4, u_c in m), g's slope at
+    the grid's end, and ``low = (u_lo, v_lo, u0, ln(E* sqrt(B1)))`` (m, ln Pa, m, ln Pa): below
+    ``z0`` the law ``u_c = u_lo + u0 (v_lo - ln p)``. Sealed where ``erf(x1) >= t`` (ln u_c =
+    -inf); p = 0 gives ln u_c = +inf (no contact, no resistance). Written: ``out`` (ln u_c),
+    ``sealed``."""
+    kappa0, z0, h, cf, slope_hi, low = table
     n = cf.shape[0]
     z_hi = z0 + n * h
     for i in range(x1.shape[0]):
@@ -591,7 +600,7 @@ def critical_gap(
     gap, qc = np.empty_like(x1), np.empty_like(x1)
     sealed = np.empty(x1.shape, dtype=np.bool_)
     X_t = _erfinv(threshold)
-    _critical_vec(x1, X_t, threshold, *sp.kernel_args(), gap, qc, sealed)
+    _critical_vec(x1, X_t, threshold, sp.kernel_args(), gap, qc, sealed)
     qc = _polish_root(theory.psd, qc, sp.table.B1 * (x1 / X_t) ** 2, ~sealed)
     shape = p.shape
     return CriticalGap(
@@ -670,7 +679,7 @@ class _GapTable:
     def _direct(self, z):
         x1 = self._x1_of(z)
         gap, qc = np.empty_like(x1), np.empty_like(x1)
-        _critical_vec(x1, self.X_t, self.threshold, *self._args, gap, qc, np.empty(x1.size, bool))
+        _critical_vec(x1, self.X_t, self.threshold, self._args, gap, qc, np.empty(x1.size, bool))
         return gap
 
     def _low_end(self, u0: float, rtol: float) -> float:
@@ -687,19 +696,8 @@ class _GapTable:
         """(ln u_c, sealed) at ``x1 = w(q1) p / E*`` (contiguous float64)."""
         out = np.empty_like(x1)
         sealed = np.empty(x1.shape, dtype=np.bool_)
-        _log_gap_kernel(
-            x1,
-            self.threshold,
-            self.X_t,
-            self.kappa0,
-            self.z0,
-            self.h,
-            self.cf,
-            self.slope_hi,
-            self.low,
-            out,
-            sealed,
-        )
+        table = (self.kappa0, self.z0, self.h, self.cf, self.slope_hi, self.low)
+        _log_gap_kernel(x1, self.threshold, self.X_t, table, out, sealed)
         return out, sealed
 
 

@@ -29,8 +29,8 @@ Laws shipped
   :class:`~fastline.theory.persson.PerssonTheory` (default).
 * :class:`ExponentialLaw` - ``p = beta E* exp(-u/u0)`` (paper eq. 5; Persson, PRL 99, 125502
   (2007)): u is linear in ln p, it makes the large-alpha Gaussian limit exact.
-* :class:`~fastline.theory.asperity.GreenwoodWilliamsonLaw` (in :mod:`fastline.theory.asperity`) - the
-  Greenwood-Williamson asperity model with summit statistics from the same spectrum.
+* :class:`~fastline.theory.asperity.GreenwoodWilliamsonLaw` (in :mod:`fastline.theory.asperity`) -
+  the Greenwood-Williamson asperity model with summit statistics from the same spectrum.
 * :class:`TabulatedLaw` - a p(u) curve measured or computed elsewhere, interpolated
   monotonically (piecewise cubic Hermite of u in ln p, Fritsch-Butland slopes) with exponential
   extensions at both ends.
@@ -54,7 +54,7 @@ from fastline.theory.persson import (
     PerssonTheory,
     _log_pressure_from_table,
     _pressure_from_table,
-    _solver_law,
+    solver_law,
 )
 
 __all__ = ["PressureLaw", "PerssonLaw", "ExponentialLaw", "TabulatedLaw", "check_law"]
@@ -133,7 +133,8 @@ def check_law(law: Any) -> PressureLaw:
 # laws shipped with fastline
 # ----------------------------------------------------------------------------------------------
 class PerssonLaw(PressureLaw):
-    """The full Persson u(p) through the tables of a :class:`~fastline.theory.persson.PerssonTheory`.
+    """The full Persson u(p) through the tables of a
+    :class:`~fastline.theory.persson.PerssonTheory`.
 
     ``separation_and_slope`` reads table T1 (quintic Hermite in ln p), ``pressure`` table T2
     (its inverse); both to the theory's ``rtol`` (docs/theory.md, "Persson's law").
@@ -154,7 +155,7 @@ class PerssonLaw(PressureLaw):
         v = np.ascontiguousarray(real_array("v", v))
         u = np.empty_like(v)
         d = np.empty_like(v)
-        _solver_law(v.ravel(), *self.theory._t1_solver, u.ravel(), d.ravel())
+        solver_law(v.ravel(), *self.theory._t1_solver, u.ravel(), d.ravel())
         return u, d
 
     def log_pressure(self, u: ArrayLike) -> np.ndarray:
@@ -280,7 +281,7 @@ def _monotone_slopes(v: np.ndarray, u: np.ndarray) -> np.ndarray:
 
 
 @numba.njit(**JIT)
-def _hermite(v, V, U, S, k):
+def hermite(v, V, U, S, k):
     """u and du/dv on cell k of the cubic Hermite with values U and slopes S at nodes V."""
     h = V[k + 1] - V[k]
     t = (v - V[k]) / h
@@ -314,7 +315,7 @@ def _tabulated_u(v, V, U, S, u_out, d_out):
             u_out[i] = U[n - 1] + S[n - 1] * (x - V[n - 1])
         else:
             k = min(np.searchsorted(V, x, side="right") - 1, n - 2)
-            u_out[i], d_out[i] = _hermite(x, V, U, S, k)
+            u_out[i], d_out[i] = hermite(x, V, U, S, k)
 
 
 @numba.njit(**JIT)
@@ -342,7 +343,7 @@ def _tabulated_v(u, V, U, S, out):
             a, b = V[lo], V[lo + 1]
             vk = a + (b - a) * (U[lo] - x) / (U[lo] - U[lo + 1])
             for _ in range(60):
-                uk, dk = _hermite(vk, V, U, S, lo)
+                uk, dk = hermite(vk, V, U, S, lo)
                 if uk > x:
                     a = vk
                 else:

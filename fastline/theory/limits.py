@@ -255,13 +255,13 @@ def hertz_line_contact(E_star: float, radius: float, load: float) -> HertzLineCo
     E_star = positive("E_star", E_star, "Pa")
     radius = positive("radius", radius, "m")
     load = positive("load", load, "N/m")
-    hz = _hertz_line(E_star, radius, load)
+    hz = hertz_line_unchecked(E_star, radius, load)
     given = {"E_star": E_star, "radius": radius, "load": load}
     _representable("the Hertz line contact", given, {"p0": hz.p0, "a": hz.a, "delta": hz.delta})
     return hz
 
 
-def _hertz_line(E_star: float, radius: float, load: float) -> HertzLineContact:
+def hertz_line_unchecked(E_star: float, radius: float, load: float) -> HertzLineContact:
     """:func:`hertz_line_contact` of values already checked (a solver's own), no checks."""
     delta = 4.0 * load / (math.pi * E_star)  # penetration(E_star, load)
     return HertzLineContact(
@@ -297,12 +297,12 @@ def gaussian_line_contact(u0: float, radius: float, load: float) -> GaussianLine
     load = positive("load", load, "N/m")
     given = {"u0": u0, "radius": radius, "load": load}
     _representable("the Gaussian line contact", given, {"s": math.sqrt(radius * u0)})
-    gs = _gaussian_line(u0, radius, load)
+    gs = gaussian_line_unchecked(u0, radius, load)
     _representable("the Gaussian line contact", given, {"p0": gs.p0})
     return gs
 
 
-def _gaussian_line(u0: float, radius: float, load: float) -> GaussianLineContact:
+def gaussian_line_unchecked(u0: float, radius: float, load: float) -> GaussianLineContact:
     """:func:`gaussian_line_contact` of values already checked (a solver's own), no checks."""
     s = math.sqrt(radius * u0)
     return GaussianLineContact(

@@ -164,9 +164,11 @@ def _separation_kernel(p, s, W, gamma, c1, c2, c3, out):
 
 
 @numba.njit(**JIT)
-def _lnu_nodes(v, s, W, gamma, b2, c1, c2, c3, L, L1, L2):
+def _lnu_nodes(v, s, W, gamma, b2, coef, L, L1, L2):
     """ln u and its first two v-derivatives at v = ln p (exact, from the quadrature); the
-    bracket of F is ``gamma + b2 erf(x)^2``."""
+    bracket of F is ``gamma + b2 erf(x)^2``, ``coef = (c1, c2, c3)`` F's coefficient arrays
+    (:func:`fastline.theory.special.f_coefficients`, dimensionless)."""
+    c1, c2, c3 = coef
     b3 = b2
     for i in range(v.shape[0]):
         p = math.exp(v[i])
@@ -289,7 +291,7 @@ def _lnu_table(v, v0, h, L, L1, L2, u0, kappa):
 @numba.njit(**JIT)
 def _separation_and_slope(v, v0, h, L, L1, L2, u0, kappa, u, dudv):
     """u and du/dv at v = ln p, vectorised, from the Hermite data of T1 and its extensions
-    (:meth:`PerssonTheory.separation_table`; the solvers use :func:`_solver_law`)."""
+    (:meth:`PerssonTheory.separation_table`; the solvers use :func:`solver_law`)."""
     for i in range(v.shape[0]):
         lu, d = _lnu_table(v[i], v0, h, L, L1, L2, u0, kappa)
         u[i] = math.exp(lu)
@@ -308,7 +310,7 @@ def _solver_form(t1: tuple) -> tuple[np.ndarray, np.ndarray]:
     (1e-14 apart, round-off), evaluated with 5 multiply-adds for ln u and 4 for its slope
     instead of the 12 basis polynomials. ``prm`` holds the grid (v0, 1/h), the exponential law
     below it (u0, u(v0)) and the near-full-contact form above it (v_hi, ln u(v_hi), k, m,
-    p_hi^2); :func:`_solver_law` evaluates it.
+    p_hi^2); :func:`solver_law` evaluates it.
     """
     v0, h, L, L1, L2, u0, kappa = t1
     f0, a0, b0 = L[:-1], h * L1[:-1], h * h * L2[:-1]  # value, slope, curvature per unit t
@@ -329,7 +331,7 @@ def _solver_form(t1: tuple) -> tuple[np.ndarray, np.ndarray]:
 
 
 @numba.njit(**JIT)
-def _solver_law(v, prm, Cf, u, dudv):
+def solver_law(v, prm, Cf, u, dudv):
     """u and du/dv at v = ln p, vectorised, from the solver form of T1 (:func:`_solver_form`).
 
     The branches of :func:`_lnu_table` on the same thresholds: below the table the exponential
@@ -369,13 +371,18 @@ def _near_full_contact(v, prm):
 
 
 @numba.njit(**JIT)
-def _build_inverse(e0, logm, ncell, v0, h, L, L1, L2, u0, kappa, V, V1):
+def _build_inverse(e0, logm, ncell, t1, V, V1):
     """Table T2: v and dv/du at the cell ends ``u = 2^e (1 + j/2^m)``, by inverting T1.
 
     ln u decreases along the T1 nodes, so one pointer walks the T1 cells while the T2 nodes are
     visited in increasing u (from the last T1 node backwards); Newton finishes inside a cell.
-    Nodes beyond the low-pressure end of T1 take the exponential law.
+    Nodes beyond the low-pressure end of T1 take the exponential law. ``t1 = (v0, h, L, L1,
+    L2, u0, kappa)``: table T1 (:attr:`PerssonTheory._t1`: v = ln p of its first node and its
+    step, ln u (u in m) and its first two v-derivatives at the nodes, the exponential law's u0
+    in m, the continuation above). Written: ``V`` (ln p) and ``V1`` (dv/du, 1/m) at the
+    ``ncell + 1`` cell ends.
     """
+    v0, h, L, L1, L2, u0, kappa = t1
     n = L.shape[0]
     m = 1 << logm
     k = n - 1  # T1 cell [k-1, k] brackets ln u
@@ -688,7 +695,7 @@ class PerssonTheory(InterfaceStatistics):
     def _lnu(self, v: np.ndarray, L: np.ndarray, L1: np.ndarray, L2: np.ndarray) -> None:
         """ln u and its first two derivatives in v = ln p into L, L1, L2 (the quadrature)."""
         if self._area is None:
-            _lnu_nodes(v, self._s, self._W, self.gamma, self._bracket[1], *self._coef, L, L1, L2)
+            _lnu_nodes(v, self._s, self._W, self.gamma, self._bracket[1], self._coef, L, L1, L2)
         else:
             _lnu_nodes_area(v, self._s, self._W, self._area, self._correction, L, L1, L2)
 
@@ -744,7 +751,7 @@ class PerssonTheory(InterfaceStatistics):
         logm = self.settings.log2_cells_per_binade
         ncell = (e1 - e0 + 1) << logm
         V, V1 = np.empty(ncell + 1), np.empty(ncell + 1)
-        _build_inverse(e0, logm, ncell, v0, h, L, L1, L2, u0, kappa, V, V1)
+        _build_inverse(e0, logm, ncell, self._t1, V, V1)
         # cubic Hermite per cell in Horner form: v = c0 + t (c1 + t (c2 + t c3)), t in [0, 1)
         hu = np.ldexp(1.0, e0 - logm + np.arange(ncell) // (1 << logm))  # cell widths in u
         dV = np.diff(V)
@@ -782,7 +789,7 @@ class PerssonTheory(InterfaceStatistics):
 
     def separation_table(self, p: ArrayLike) -> tuple[np.ndarray, np.ndarray]:
         """u(p) in m and du/dv (v = ln p) from the table T1 (its Hermite data; the solvers
-        evaluate the same polynomials in Horner form, round-off apart: :func:`_solver_law`)."""
+        evaluate the same polynomials in Horner form, round-off apart: :func:`solver_law`)."""
         p = positive_array("p", p)
         v = np.ascontiguousarray(np.log(p.ravel()))
         u, d = np.empty_like(v), np.empty_like(v)

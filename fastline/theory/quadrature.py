@@ -129,9 +129,14 @@ def _power_piece(qa, Ca, rq, rc, dt, s):
 
 
 @numba.njit(**JIT)
-def _interval_kernel(q, C, dt, slope, live, cum1, cum3, eta, nu, spread, cum_nu):
+def _interval_kernel(table, cum1, cum3, eta, nu, spread, cum_nu):
     """Per interval i: the running ``int_q0^q_i q^k C dq`` (k = 1, 3; node i) and the
-    ``eta_bar, nu_bar, spread`` of step 1 with the running sum of ``nu_bar``."""
+    ``eta_bar, nu_bar, spread`` of step 1 with the running sum of ``nu_bar``.
+
+    ``table = (q, C, dt, slope, live)``: the log-log table, q (1/m) and C (m^4) at the nodes,
+    per interval ``ln(q_{i+1}/q_i)``, the slope ``d ln C / d ln q`` and whether it carries
+    mass (bool)."""
+    q, C, dt, slope, live = table
     cum1[0] = cum3[0] = 0.0
     total = 0.0
     for i in range(q.shape[0] - 1):
@@ -166,7 +171,7 @@ def interval_moments(
     """
     n = q.size
     out = [np.empty(n), np.empty(n)] + [np.empty(n - 1) for _ in range(4)]
-    _interval_kernel(q, C, dt, slope, live, *out)
+    _interval_kernel((q, C, dt, slope, live), *out)
     return out[0], out[1], tuple(out[2:])
 
 
@@ -190,9 +195,15 @@ def _add(mu, edges, inv_hb, nbins, pan, e, v, r):
 
 
 @numba.njit(**JIT)
-def _accumulate(q, C, A, dt, slope, live, eta, nu, spread, S, edges, inv_hb, mu):
+def _accumulate(table, A, measure, S, edges, inv_hb, mu):
     """Bin moments of nu (step 2): whole intervals from their stored moments, intervals that
-    hold a split point ``S`` (sorted, A at the bin edges) piece by piece."""
+    hold a split point ``S`` (sorted, A at the bin edges) piece by piece.
+
+    ``table = (q, C, dt, slope, live)`` as in :func:`_interval_kernel`; ``A``: ``pi int q^3 C
+    dq`` at the nodes (dimensionless); ``measure = (eta, nu, spread)``: the per-interval
+    ``eta_bar, nu_bar, spread`` of step 1 (:func:`interval_moments`)."""
+    q, C, dt, slope, live = table
+    eta, nu, spread = measure
     npan = edges.shape[0] - 1
     nbins = mu.shape[1]
     top = edges[npan]
@@ -404,10 +415,10 @@ def tabulated_quadrature(
     frac = np.arange(rule.bins) / rule.bins
     cuts = np.append((edges[:-1, None] + np.diff(edges)[:, None] * frac).ravel(), eta1)
     mu = np.zeros((edges.size - 1, rule.bins, 4))
+    table = (psd.q, psd.C, psd._dt, psd._slope, psd._live)
     _accumulate(
-        psd.q, psd.C, A_nodes, psd._dt, psd._slope, psd._live, eta, nu, spread,
-        np.exp(2.0 * cuts), edges, rule.bins / np.diff(edges), mu,
-    )  # fmt: skip
+        table, A_nodes, (eta, nu, spread), np.exp(2.0 * cuts), edges, rule.bins / np.diff(edges), mu
+    )
     eta_j, nu_j = np.empty(int(orders.sum())), np.empty(int(orders.sum()))
     n = _panel_rules(mu, edges, orders, eta_j, nu_j)
     eta_j, nu_j = eta_j[:n], nu_j[:n]

@@ -4,8 +4,8 @@
           = gamma * E1(x0^2) / 2 + 3 (1 - gamma) * G(x0),
     G(x0) = int_{x0}^inf erf(x)^2 exp(-x^2) / x dx.
 
-(The printed-bracket variant of :mod:`fastline.theory.variants` has ``1 - gamma`` for ``3 (1 - gamma)``;
-the coefficient is the ``b2`` argument of :func:`f_coefficients`.)
+(The printed-bracket variant of :mod:`fastline.theory.variants` has ``1 - gamma`` for ``3 (1 -
+gamma)``; the coefficient is the ``b2`` argument of :func:`f_coefficients`.)
 
 With it the Yang-Persson separation is one quadrature over q per pressure:
 ``u(p) = sqrt(pi) int dq q^2 C(q) w(q) F(w(q) p / E*)``.
@@ -242,10 +242,10 @@ def universal_F(
 #
 #     Phi(y) = int_y^inf 2 t^(-3) / S(erf t) dt = 1 / x^2,      x = w(q) p / E*,
 #
-# so ``y = Y(x)`` is a universal function of the same variable x as in :mod:`fastline.theory.special`
-# (``Y(x) = x`` when ``S = 1``) and the contact area is ``P(q, p) = erf(Y(x))``. The elastic
-# energy ``U = (pi/2) E* int dq q^2 C P S`` and ``u(p) = int_p^inf dp'/p' dU/dp'`` give, exactly as
-# for the plain theory,
+# so ``y = Y(x)`` is a universal function of the same variable x as in
+# :mod:`fastline.theory.special` (``Y(x) = x`` when ``S = 1``) and the contact area is ``P(q, p) =
+# erf(Y(x))``. The elastic energy ``U = (pi/2) E* int dq q^2 C P S`` and ``u(p) = int_p^inf dp'/p'
+# dU/dp'`` give, exactly as for the plain theory,
 #
 #     u(p) = sqrt(pi) int dq q^2 C(q) w(q) F(w(q) p / E*),
 #     F(x0) = int_{Y(x0)}^inf b(erf y) exp(-y^2) Phi(y)^(1/2) dy,    b(P) = d/dP [P S(P)],
@@ -261,8 +261,8 @@ def universal_F(
 #
 # * ``x < 1``: 27 panels ``[2^-(k+1), 2^-k)``, Chebyshev series of ``F + sqrt(gamma) ln x`` and
 #   ``Y / x`` on each; below ``2^-27`` their limits (the ``x^2 ln x`` terms are < 1e-15 there);
-# * ``1 <= x <= 6``: the 10 panels of :mod:`fastline.theory.special`, series of ``F x^2 exp(x^2)`` and
-#   ``Y / x``;
+# * ``1 <= x <= 6``: the 10 panels of :mod:`fastline.theory.special`, series of ``F x^2 exp(x^2)``
+# and   ``Y / x``;
 # * ``x > 6``: ``b(1)`` times the E1 series of :mod:`fastline.theory.special`, ``Y = x``.
 #
 # Construction (once per (gamma, s2, s4), about 30 ms with NumPy): Phi and the y-form of F on
