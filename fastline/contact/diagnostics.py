@@ -47,6 +47,7 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 from fastline.errors import ValidityWarning
+from fastline.theory.limits import hertz_line_unchecked
 from fastline.theory.persson import PerssonTheory
 
 if TYPE_CHECKING:  # annotations only
@@ -133,9 +134,7 @@ def _exponential_validity(theory, fit, p_lo_met: float, p_hi_met: float) -> dict
 def _hertz_half_width(result) -> float:
     """The result's Hertz half-width (its ``hertz_radius`` if it has one: a point contact)."""
     a = getattr(result, "hertz_radius", None)
-    if a is None:
-        from fastline.theory.limits import hertz_line_unchecked  # a solver's own checked values
-
+    if a is None:  # a line contact: a solver's own checked values
         a = hertz_line_unchecked(result.E_star, result.radius, result.load).a
     return a
 
