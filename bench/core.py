@@ -22,8 +22,8 @@ from bench.gil import gil_held, parallel_speedups
 from fastline._lib import fftw as _fftw
 from fastline.contact.line import NESTED_FACTOR, NESTED_MIN_N
 from fastline.contact.line_newton import _law
+from fastline.elastic.convolution import convolve
 from fastline.elastic.line import compiled_tables
-from fastline.elastic.pcg import convolve
 from fastline.reports.paper import SURFACES, surfaces
 
 ALPHAS = (1e-4, 1e-3, 1e-2, 0.1, 1.0, 10.0, 100.0, 1e3)

@@ -34,9 +34,11 @@ import numpy as np
 
 import fastline as fl
 from fastline._lib import fftw as _fftw
+from fastline._lib.fftw import aligned_buffers
 from fastline.contact import line as _line_contact
 from fastline.elastic import line as elastic
-from fastline.elastic import pcg as tp
+from fastline.elastic import preconditioner as tp
+from fastline.elastic.convolution import apply_kernel
 from fastline.elastic.line import influence_coefficients
 from fastline.reports.paper import E_STAR, RADIUS, load_for_alpha, surfaces
 
@@ -88,7 +90,7 @@ class TwoLevel:
         self.j0, self.j1 = tp._first_last(D, tp.WIDE_THETA * K00)
         self.live = self.minv > 0.0
         self.fft = _fftw.acquire(2 * n)  # kept for the life of the process (a script)
-        a, c = tp.aligned_buffers(2 * n)
+        a, c = aligned_buffers(2 * n)
         work = np.zeros(3 * n + min(n, 64))
         work[2 * n : 3 * n] = 1.0
         self.bufs = (a, c, work)
@@ -112,7 +114,7 @@ class TwoLevel:
 
     def H(self, x: np.ndarray) -> np.ndarray:
         out = np.empty(self.n)
-        tp.apply_kernel(
+        apply_kernel(
             np.ascontiguousarray(x, dtype=np.float64), self.kspec, self.scale, *self.fft, out
         )
         return (out + self.D * x) * self.live

@@ -12,20 +12,16 @@ import naive
 import numpy as np
 import pytest
 
-from fastline.elastic.pcg import (
-    _STRIP,
+from fastline.elastic.convolution import prefix_sums, segment_sum
+from fastline.elastic.pcg import _STRIP, _jacobi_norm, _projected_precondition, _wdot
+from fastline.elastic.preconditioner import (
     TwoLevel,
     _aggregate_edges,
     _coarse_matrices,
     _edge_correlations,
-    _jacobi_norm,
     _live_span,
     _precondition,
-    _projected_precondition,
     _subtract_edge_combination,
-    _wdot,
-    prefix_sums,
-    segment_sum,
 )
 
 RTOL_ROUNDOFF = 1e-12  # reordered sums of O(n) terms

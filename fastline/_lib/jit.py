@@ -13,7 +13,7 @@ Every kernel is decorated with ``@numba.njit(**JIT)``:
 * ``fastmath`` - one conservative set: FMA contraction, reciprocal and signed-zero freedom;
   never ``nnan``/``ninf``, so NaN and inf checks inside kernels keep working. ``JIT_SUMS``
   adds ``reassoc`` for kernels that are nothing but sums of products (the coarse level's
-  correlations, :func:`fastline.elastic.pcg._edge_correlations`): LLVM may then reorder
+  correlations, :func:`fastline.elastic.preconditioner._edge_correlations`): LLVM may then reorder
   their additions into vector lanes (2.6-2.9x faster there). Their results stay the same on
   every run of the same machine (the order is fixed when the kernel is compiled for its CPU,
   and Numba's cache is keyed by the CPU), but change in the last bits on a CPU with other

@@ -56,22 +56,22 @@ __all__ = [
 ]
 
 ETA_MAX, ETA_FLOOR = 0.1, 1e-3  # inexact-Newton forcing term bounds
-#: every step's forcing is at least ``min(ETA_MAX, ETA_RES_SCALE * res)`` (eta ~ ||F||, which
-#: keeps Newton's quadratic rate: Dembo, Eisenstat & Steihaug, SIAM J. Numer. Anal. 19, 400
-#: (1982)). Eisenstat-Walker alone asks ``eta = 1e-3`` at the second step of a cold start at
-#: alpha <= 1e-2, since the first step cuts the residual ~100x, from 1e2-1e3 to ~1.5, while the
-#: next steps are still far from the quadratic regime (1.5 -> 0.2 at any eta): 5-13 CG
-#: iterations for nothing. Over the 160 count scenes (5 hard surfaces, alpha 1e-4..1e3,
-#: n 256..16384) the total fell 4643 -> 4446 convolutions with 0.5 (2: 4459; 0.25 with the
-#: aggregates of :func:`fastline.elastic.pcg._aggregate_edges`: 1% more than 0.5).
-#: The first step has no Eisenstat-Walker history and takes these floors alone: a start already
-#: close to the solution (a sweep's prediction, res0 ~ 1e-3) is solved to ETA_FLOOR instead of
-#: ETA_MAX, which saves a Newton step. (It had a rule of its own, ``min(ETA_MAX, 5 res0)``: the
-#: paper's 50-load sweeps 1089 -> 1054 convolutions on surface 3 against ETA_MAX. Since each
-#: Newton system lost its circulant solve of ``B 1`` (docs/performance.md) the floors alone do better: the
-#: 50-load sweeps 470 / 473 / 629 -> 470 / 468 / 609 convolutions, the 64-load sweeps at n = 256
-#: 553 / 553 / 561 -> 554 / 548 / 562, the sphere's 20-load sweeps and the 160 count scenes,
-#: nested starts included, unchanged; 2 res0 and 1 res0 fell between, 617 and 611 on surface 3.)
+#: every step's forcing is at least ``min(ETA_MAX, ETA_RES_SCALE * res)`` (eta ~ ||F||, which keeps
+#: Newton's quadratic rate: Dembo, Eisenstat & Steihaug, SIAM J. Numer. Anal. 19, 400 (1982)).
+#: Eisenstat-Walker alone asks ``eta = 1e-3`` at the second step of a cold start at alpha <= 1e-2,
+#: since the first step cuts the residual ~100x, from 1e2-1e3 to ~1.5, while the next steps are
+#: still far from the quadratic regime (1.5 -> 0.2 at any eta): 5-13 CG iterations for nothing. Over
+#: the 160 count scenes (5 hard surfaces, alpha 1e-4..1e3, n 256..16384) the total fell 4643 -> 4446
+#: convolutions with 0.5 (2: 4459; 0.25 with the aggregates of
+#: :func:`fastline.elastic.preconditioner._aggregate_edges`: 1% more than 0.5). The first step has
+#: no Eisenstat-Walker history and takes these floors alone: a start already close to the solution
+#: (a sweep's prediction, res0 ~ 1e-3) is solved to ETA_FLOOR instead of ETA_MAX, which saves a
+#: Newton step. (It had a rule of its own, ``min(ETA_MAX, 5 res0)``: the paper's 50-load sweeps 1089
+#: -> 1054 convolutions on surface 3 against ETA_MAX. Since each Newton system lost its circulant
+#: solve of ``B 1`` (docs/performance.md) the floors alone do better: the 50-load sweeps 470 / 473 /
+#: 629 -> 470 / 468 / 609 convolutions, the 64-load sweeps at n = 256 553 / 553 / 561 -> 554 / 548 /
+#: 562, the sphere's 20-load sweeps and the 160 count scenes, nested starts included, unchanged; 2
+#: res0 and 1 res0 fell between, 617 and 611 on surface 3.)
 ETA_RES_SCALE = 0.5
 MAX_CG = 400
 #: largest change of ln p per Newton step where p > 1e-6 max(p) (2 cost 5% more convolutions

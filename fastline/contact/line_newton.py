@@ -10,7 +10,7 @@ those of :mod:`fastline.contact.core` (module docstring there); tests hold the t
 Laws enter as a kind code and arrays (one compiled signature for all):
 
 * ``0`` Persson, table T1 in its solver form: ``prm``, ``A = Cf``
-  (:func:`fastline.theory.persson._solver_form`, :func:`fastline.theory.persson.solver_law`);
+  (:func:`fastline.theory.tables._solver_form`, :func:`fastline.theory.tables.solver_law`);
 * ``1`` exponential: ``prm = (u0, ln(beta E*))``;
 * ``2`` tabulated: ``A, B, C = V, U, S`` (:func:`fastline.theory.laws._tabulated_u`).
 
@@ -46,22 +46,17 @@ from fastline.contact.kernels import (
     largest_abs,
     normalise_pressure_into,
 )
+from fastline.elastic.convolution import KernelScale, convolve, segment_sum
 from fastline.elastic.line import (
     LogKernelOperator,
     coarse_aggregates,
     compiled_tables,
     compiled_workspace,
 )
-from fastline.elastic.pcg import (
-    CGSettings,
-    KernelScale,
-    convolve,
-    segment_sum,
-    solve_newton_system,
-)
+from fastline.elastic.pcg import CGSettings, solve_newton_system
 from fastline.elastic.pcg import workspace_size as _system_workspace
 from fastline.theory.laws import hermite
-from fastline.theory.persson import solver_law
+from fastline.theory.tables import solver_law
 
 _EPS = float(np.finfo(np.float64).eps)
 #: n-sized work arrays of :func:`newton_line` itself (iterate and trial: v, p, U, dU, gk, r each;
@@ -197,8 +192,8 @@ def _residual(state, u1_in, fft, kspec, scale, gap, w, law, a, c):
 def newton_line(fft, tables, op, scene, pressure_law, v_io, settings, out):
     """Newton-Krylov on v = ln p (in place) for the line contact. ``fft``: the FFT plans of
     length 2n (:func:`fastline._lib.fftw.acquire`); ``tables``: the log kernel's
-    :class:`fastline.elastic.pcg.KernelTables` ``(kspec, strang, prefix)``; ``op``: its
-    :class:`fastline.elastic.pcg.KernelScale` ``(scale, K00)`` (m/Pa); ``scene``:
+    :class:`fastline.elastic.convolution.KernelTables` ``(kspec, strang, prefix)``; ``op``: its
+    :class:`fastline.elastic.convolution.KernelScale` ``(scale, K00)`` (m/Pa); ``scene``:
     :class:`Scene` ``(gap, w, load)`` (m, m, N/m); ``pressure_law``: :class:`Law` ``(law,
     u_ref)``, ``law = (kind, prm, A, B, C, E)`` (module docstring), u_ref in m; ``settings``:
     :class:`NewtonSettings` ``(tol, max_iter, nc)``; ``out``: :class:`NewtonOutputs` ``(hist,

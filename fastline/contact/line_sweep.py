@@ -53,7 +53,7 @@ from fastline.contact.line_newton import (
 from fastline.contact.line_newton import workspace_size as _newton_workspace
 from fastline.contact.model import CORE_DEPTH, PREDICTOR_MAX_STEP, SWEEP_PREDICTOR_ORDER
 from fastline.elastic import line as elastic
-from fastline.elastic.pcg import KernelScale
+from fastline.elastic.convolution import KernelScale
 
 #: columns of the per-load statistics a sweep returns
 STATS = (

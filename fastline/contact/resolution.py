@@ -332,14 +332,14 @@ def truncation_errors(res: LineContactResult) -> dict[str, float]:
     """Relative errors from the load the domain leaves out, per quantity, signed like
     :attr:`ErrorEstimate.signed` (``Q_result - Q_exact ~ value * Q_result``).
 
-    The tail beyond each edge decays over ``L = dx / ln(p_1 / p_0)`` (the two outermost
-    cells), so the load left out is ``m = (p_left L_left + p_right L_right) / f_N``. That load
-    is carried inside instead: p0 and the FWHM rise by about m, s falls by ``ms = m (H^2/s^2 -
-    1) / 2`` (the load missing at the edge H carried H^2 of variance), w/s rises by ``m + ms``.
-    Measured against wider domains (edge at 2-5 sqrt(R u0)) on the paper's surface 1 at alpha
-    0.1, 1 and 100, an O-ring and the needle scene of docs/accuracy.md: signs as stated, p0 0.44-0.96 m,
-    s 0.89-1.11 ms, w/s 0.8-1.3 (m + ms); the FWHM 0.01-1.0 m. A profile that does not decay
-    at an edge gives inf (the domain cuts the contact).
+    The tail beyond each edge decays over ``L = dx / ln(p_1 / p_0)`` (the two outermost cells), so
+    the load left out is ``m = (p_left L_left + p_right L_right) / f_N``. That load is carried
+    inside instead: p0 and the FWHM rise by about m, s falls by ``ms = m (H^2/s^2 - 1) / 2`` (the
+    load missing at the edge H carried H^2 of variance), w/s rises by ``m + ms``. Measured against
+    wider domains (edge at 2-5 sqrt(R u0)) on the paper's surface 1 at alpha 0.1, 1 and 100, an
+    O-ring and the needle scene of docs/accuracy.md: signs as stated, p0 0.44-0.96 m, s 0.89-1.11
+    ms, w/s 0.8-1.3 (m + ms); the FWHM 0.01-1.0 m. A profile that does not decay at an edge gives
+    inf (the domain cuts the contact).
     """
     p, dx = res.pressure, res.dx
 

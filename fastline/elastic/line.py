@@ -53,12 +53,9 @@ from numpy.typing import ArrayLike
 
 from fastline._lib import fftw as _fftw
 from fastline._lib.validate import finite_scalar, integer, positive
+from fastline.elastic.convolution import KernelScale, KernelTables, apply_kernel, prefix_sums
 from fastline.elastic.pcg import (
     CGSettings,
-    KernelScale,
-    KernelTables,
-    apply_kernel,
-    prefix_sums,
     solve_newton_system,
     workspace_size,
 )
@@ -67,6 +64,11 @@ __all__ = [
     "LogKernelOperator",
     "influence_coefficients",
     "log_reference_shift",
+    "log_reference_shift_unchecked",
+    "coarse_aggregates",
+    "compiled_tables",
+    "compiled_workspace",
+    "KHAT0",
 ]
 
 _TWO_OVER_PI = 2.0 / math.pi
@@ -211,7 +213,8 @@ def _build_prefix(n: int) -> np.ndarray:
 
 def compiled_tables(n: int) -> KernelTables:
     """Real kernel spectrum / 2n (length n + 1), Strang spectrum and Toeplitz prefix sums
-    (:class:`fastline.elastic.pcg.KernelTables`; kept together per n: one look-up per solve)."""
+    (:class:`fastline.elastic.convolution.KernelTables`; kept together per n: one look-up per
+    solve)."""
     with _spectrum_lock:
         tables = _table_sets.get(n)
         if tables is not None:

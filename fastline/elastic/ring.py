@@ -82,6 +82,7 @@ __all__ = [
     "ring_areas",
     "ring_edges",
     "ring_influence_coefficients",
+    "MAX_N",
 ]
 
 #: largest n: the dense coefficient matrix takes 8 n^2 bytes (134 MB at 4096)

@@ -7,7 +7,8 @@ The bottom layer of the physics: it imports nothing of fastline but :mod:`fastli
 :mod:`~fastline.theory.persson`, :mod:`~fastline.theory.variants`,
 :mod:`~fastline.theory.laws`, :mod:`~fastline.theory.asperity`,
 :mod:`~fastline.theory.limits`, :mod:`~fastline.theory.interface`,
-:mod:`~fastline.theory.special` (the universal functions F), :mod:`~fastline.theory.quadrature`
+:mod:`~fastline.theory.special` (the universal functions F), :mod:`~fastline.theory.tables`
+(the compiled u(p) and p(u) tables), :mod:`~fastline.theory.quadrature`
 (quadrature over tabulated spectra).
 """
 
@@ -19,18 +20,8 @@ import lazy_loader as _lazy
 __getattr__, __dir__, __all__ = _lazy.attach(
     __name__,
     submod_attrs={
-        "spectra": [
-            "PSD",
-            "SelfAffinePSD",
-            "TabulatedPSD",
-            "SumPSD",
-            "effective_modulus",
-        ],
-        "quadrature": [
-            "EtaRule",
-            "interval_moments",
-            "tabulated_quadrature",
-        ],
+        "spectra": ["PSD", "SelfAffinePSD", "TabulatedPSD", "SumPSD", "effective_modulus"],
+        "quadrature": ["EtaRule", "interval_moments", "tabulated_quadrature"],
         "special": [
             "universal_F",
             "f_coefficients",
@@ -39,13 +30,7 @@ __getattr__, __dir__, __all__ = _lazy.attach(
             "area_functions",
             "AreaTables",
         ],
-        "variants": [
-            "Variant",
-            "VariantName",
-            "VARIANTS",
-            "DEFAULT_VARIANT",
-            "get_variant",
-        ],
+        "variants": ["Variant", "VariantName", "VARIANTS", "DEFAULT_VARIANT", "get_variant"],
         "interface": [
             "CriticalGap",
             "apparent_area",
@@ -55,28 +40,22 @@ __getattr__, __dir__, __all__ = _lazy.attach(
             "THRESHOLD_PERSSON",
             "THRESHOLD_NUMERICAL",
             "THRESHOLD_BRUGGEMAN",
+            "check_threshold",
+            "gap_table",
+            "interface_cache",
+            "sealing_argument",
         ],
-        "persson": [
-            "PerssonTheory",
-            "ExponentialFit",
-            "GAMMA_RANGE",
-            "TableSettings",
-            "PerssonTables",
-            "pressure_at",
-            "separation_at",
-        ],
+        "tables": ["PerssonTables", "pressure_at", "separation_at", "solver_law"],
+        "persson": ["PerssonTheory", "ExponentialFit", "TableSettings", "GAMMA_RANGE"],
         "laws": [
             "PressureLaw",
             "PerssonLaw",
             "ExponentialLaw",
             "TabulatedLaw",
             "check_law",
+            "hermite",
         ],
-        "asperity": [
-            "SummitStatistics",
-            "GreenwoodWilliamsonLaw",
-            "summit_integral",
-        ],
+        "asperity": ["SummitStatistics", "GreenwoodWilliamsonLaw", "summit_integral"],
         "limits": [
             "WS_GAUSSIAN",
             "WS_HERTZ",
@@ -93,6 +72,8 @@ __getattr__, __dir__, __all__ = _lazy.attach(
             "p0_ratio_gaussian",
             "p0_ratio_gaussian_sphere",
             "penetration",
+            "hertz_line_unchecked",
+            "gaussian_line_unchecked",
         ],
     },
 )

@@ -76,6 +76,10 @@ __all__ = [
     "THRESHOLD_PERSSON",
     "THRESHOLD_NUMERICAL",
     "THRESHOLD_BRUGGEMAN",
+    "check_threshold",
+    "gap_table",
+    "interface_cache",
+    "sealing_argument",
 ]
 
 #: percolation threshold of the apparent contact area: Persson & Yang 2008 ("about 0.4"),
@@ -409,7 +413,7 @@ class _Spectrum:
         return self.E_star, band, self.rule, (self.gamma, *self.coef, self.b2), tb.arrays()
 
 
-def interface_cache(theory) -> dict:
+def interface_cache(theory: PerssonTheory) -> dict:
     """The leakage cache of a theory (a dict stored on the theory object itself)."""
     if not isinstance(theory, InterfaceStatistics):
         raise TypeError(f"theory must be a fastline PerssonTheory, got {type(theory).__name__}")
@@ -556,11 +560,11 @@ class CriticalGap:
     threshold: float
 
 
-def check_threshold(threshold) -> float:
+def check_threshold(threshold: float) -> float:
     return in_range("threshold", threshold, 0.0, 1.0, lo_open=True, hi_open=True)
 
 
-def sealing_argument(theory, p: np.ndarray) -> np.ndarray:
+def sealing_argument(theory: PerssonTheory, p: np.ndarray) -> np.ndarray:
     """``w(q1) p / E*``, computed exactly as :meth:`PerssonTheory.contact_area` does, so that
     the sealed flag agrees with ``contact_area(p) >= threshold`` to the last bit."""
     w1 = 1.0 / math.sqrt(float(theory.psd.cumulative(theory.psd.q1)))
@@ -701,7 +705,7 @@ class _GapTable:
         return out, sealed
 
 
-def gap_table(theory, threshold: float) -> _GapTable:
+def gap_table(theory: PerssonTheory, threshold: float) -> _GapTable:
     """The gap table of (theory, threshold), built on first use and cached on the theory."""
     cache = interface_cache(theory)
     key = ("gap_table", threshold)

@@ -50,14 +50,10 @@ from numpy.typing import ArrayLike
 
 from fastline._lib.jit import JIT
 from fastline._lib.validate import E_STAR_RANGE, finite_array, in_span, positive, real_array
-from fastline.theory.persson import (
-    PerssonTheory,
-    _log_pressure_from_table,
-    _pressure_from_table,
-    solver_law,
-)
+from fastline.theory.persson import PerssonTheory
+from fastline.theory.tables import _log_pressure_from_table, _pressure_from_table, solver_law
 
-__all__ = ["PressureLaw", "PerssonLaw", "ExponentialLaw", "TabulatedLaw", "check_law"]
+__all__ = ["PressureLaw", "PerssonLaw", "ExponentialLaw", "TabulatedLaw", "check_law", "hermite"]
 
 #: ranges of user-given exponential-law parameters
 U0_RANGE = (1e-15, 1.0)  # m
@@ -175,7 +171,7 @@ class PerssonLaw(PressureLaw):
     def _compiled_form(self):
         """``(kind, prm, A, B, C, E)`` for the compiled line-contact Newton
         (:mod:`fastline.contact.line_newton`): table T1 in its solver form (``A`` the Horner
-        coefficients; :func:`fastline.theory.persson._solver_form`)."""
+        coefficients; :func:`fastline.theory.tables._solver_form`)."""
         prm, Cf = self.theory._t1_solver
         dummy = np.zeros(1)
         return 0, prm, Cf, dummy, dummy, dummy
@@ -281,7 +277,7 @@ def _monotone_slopes(v: np.ndarray, u: np.ndarray) -> np.ndarray:
 
 
 @numba.njit(**JIT)
-def hermite(v, V, U, S, k):
+def hermite(v: float, V: np.ndarray, U: np.ndarray, S: np.ndarray, k: int) -> tuple[float, float]:
     """u and du/dv on cell k of the cubic Hermite with values U and slopes S at nodes V."""
     h = V[k + 1] - V[k]
     t = (v - V[k]) / h

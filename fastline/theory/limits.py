@@ -50,6 +50,8 @@ __all__ = [
     "p0_ratio_gaussian",
     "p0_ratio_gaussian_sphere",
     "penetration",
+    "hertz_line_unchecked",
+    "gaussian_line_unchecked",
 ]
 
 #: FWHM / standard deviation of the Hertz (elliptical) profile, ``2 sqrt(3)`` (~3.464).
