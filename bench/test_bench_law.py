@@ -19,7 +19,7 @@ from bench.conftest import E_STAR, RADIUS, load_for_alpha
 from fastline._lib import fftw as _fftw
 from fastline.contact.line_newton import _evaluate, _law
 from fastline.elastic.line import compiled_tables
-from fastline.theory.persson import _separation_and_slope
+from fastline.theory.tables import _separation_and_slope
 
 N = 4096
 

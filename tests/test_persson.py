@@ -14,8 +14,9 @@ import numpy as np
 import pytest
 from scipy.special import erf, erfinv
 
-from fastline.theory.persson import PerssonTheory, _quintic, _separation_and_slope, solver_law
+from fastline.theory.persson import PerssonTheory
 from fastline.theory.spectra import SelfAffinePSD, TabulatedPSD
+from fastline.theory.tables import _quintic, _separation_and_slope, solver_law
 
 RTOL_REF = 1e-6  # default-rtol PerssonTheory vs the quad reference
 RTOL_ROUNDTRIP = 1e-6  # pressure(separation(p)) vs p, inside the tables and below them
