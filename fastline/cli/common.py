@@ -22,9 +22,26 @@ import argparse
 import importlib.util
 import math
 import sys
+from typing import TYPE_CHECKING
 
 import fastline as fl
 from fastline import contact, theory
+
+if TYPE_CHECKING:  # annotations only: matplotlib, numpy, tqdm and dask load on first use
+    import os
+    from collections.abc import Callable, Iterable, Sequence
+    from types import SimpleNamespace
+    from typing import TypeAlias
+
+    import numpy as np
+    from distributed import Client
+    from matplotlib.figure import Figure
+    from tqdm import tqdm
+
+    from fastline import PSD, LineContactResult, PerssonTheory, PointContactResult, SweepTable
+
+    #: the result of one solve, a cylinder's or a sphere's
+    ContactResult: TypeAlias = LineContactResult | PointContactResult
 
 __all__ = [
     # option types and groups
@@ -293,7 +310,7 @@ def numerics_options(
     )
 
 
-def variant_option(group) -> None:
+def variant_option(group: argparse._ArgumentGroup) -> None:
     """--variant, the theory's u(p) (None when not given: main fills in the default)."""
     group.add_argument(
         "--variant",
@@ -318,7 +335,7 @@ _ROUGH_ONLY = {
 }
 
 
-def model_checks(args) -> None:
+def model_checks(args: argparse.Namespace) -> None:
     """Refuse roughness and theory options that a smooth Hertz solve would ignore (before the
     defaults of --gamma and --variant are filled in: None means not given)."""
     if getattr(args, "model", None) != "hertz":
@@ -359,7 +376,7 @@ class ScanSource(str):
     scan = None
 
 
-def check_outputs(args) -> None:
+def check_outputs(args: argparse.Namespace) -> None:
     """Check every output path before any solve."""
     for name in ("csv", "plot"):
         path = getattr(args, name, None)
@@ -380,7 +397,7 @@ def require_matplotlib() -> None:
         )
 
 
-def spectrum_line(psd, source, model: str | None = None) -> str:
+def spectrum_line(psd: PSD, source: str | None, model: str | None = None) -> str:
     """The spectrum the scene uses; for ``--model hertz`` that there is none."""
     if model == "hertz":
         return "spectrum         none: --model hertz solves the smooth contact (no roughness)"
@@ -399,13 +416,13 @@ def warn(msg: str) -> None:
     print(f"fastline: warning: {msg}", file=sys.stderr)
 
 
-def report_warnings(results) -> None:
+def report_warnings(results: Iterable[ContactResult]) -> None:
     """Print what the diagnostics found, once per cause, naming the loads."""
     for _cause, msg in contact.summarise_warnings(results):
         warn(msg)
 
 
-def convergence_status(results) -> int:
+def convergence_status(results: Sequence[ContactResult]) -> int:
     """0, or 1 after an error line naming the loads whose solve did not converge."""
     bad = [r for r in results if not r.converged]
     if not bad:
@@ -420,14 +437,14 @@ def convergence_status(results) -> int:
     return 1
 
 
-def progress(total: int, desc: str):
+def progress(total: int, desc: str) -> tqdm:
     """A tqdm bar on stderr; silent when stderr is not a terminal (log files, pipes)."""
     from tqdm import tqdm
 
     return tqdm(total=total, desc=desc, unit="solve", file=sys.stderr, disable=None, leave=False)
 
 
-def solve_kwargs(args, th) -> dict:
+def solve_kwargs(args: argparse.Namespace, th: PerssonTheory | None) -> dict:
     """The solver settings of the options, with the scene's theory ``th``."""
     return dict(
         n=args.n,
@@ -439,14 +456,14 @@ def solve_kwargs(args, th) -> dict:
     )
 
 
-def persson_theory(psd, E_star, args):
+def persson_theory(psd: PSD, E_star: float, args: argparse.Namespace) -> PerssonTheory | None:
     """The theory of the scene (None for the smooth ``--model hertz``)."""
     if getattr(args, "model", "persson") == "hertz":
         return None
     return fl.PerssonTheory(psd, E_star, gamma=args.gamma, variant=args.variant)
 
 
-def save(fig, path, args) -> None:
+def save(fig: Figure, path: str | os.PathLike, args: argparse.Namespace) -> None:
     """Write a figure in the format and resolution of the figure options."""
     fl.plotting.save_figure(fig, path, format=args.format, dpi=args.dpi)
 
@@ -454,7 +471,7 @@ def save(fig, path, args) -> None:
 # ----------------------------------------------------------------------------------------------
 # results
 # ----------------------------------------------------------------------------------------------
-def result_lines(r, diag) -> list[str]:
+def result_lines(r: LineContactResult, diag: dict) -> list[str]:
     """The printed result of a cylinder's solve (``profile``, ``leak``)."""
     lines = [
         f"model            {r.model} (method {r.method}, n = {r.diagnostics.get('n', '?')})",
@@ -485,7 +502,7 @@ def result_lines(r, diag) -> list[str]:
     return lines
 
 
-def roughness_lines(r, diag, delta: str = "delta") -> list[str]:
+def roughness_lines(r: ContactResult, diag: dict, delta: str = "delta") -> list[str]:
     """alpha and the regime it puts the scene in (none for the smooth ``hertz`` model)."""
     if r.model == "hertz":
         return []
@@ -495,12 +512,12 @@ def roughness_lines(r, diag, delta: str = "delta") -> list[str]:
     ]
 
 
-def alpha_cell(r, width: int) -> str:
+def alpha_cell(r: ContactResult | np.record | SimpleNamespace, width: int) -> str:
     """alpha in a sweep table's column (``-`` for the smooth ``hertz`` model)."""
     return f"{'-':>{width}}" if r.model == "hertz" else f"{r.alpha:>{width}.4g}"
 
 
-def asperity_lines(diag) -> list[str]:
+def asperity_lines(diag: dict) -> list[str]:
     """The elastic asperity pressure, the real area at the peak and the plasticity verdict."""
     lines = []
     if diag.get("rms_slope") is not None:
@@ -513,7 +530,7 @@ def asperity_lines(diag) -> list[str]:
     return lines
 
 
-def law_lines(diag) -> list[str]:
+def law_lines(diag: dict) -> list[str]:
     """Where the peak sits against the exponential law, and whether that law holds."""
     lines = []
     if "p0_over_beta_E_star" in diag:
@@ -531,7 +548,7 @@ def law_lines(diag) -> list[str]:
     return lines
 
 
-def metadata(psd, E_star, args, source):
+def metadata(psd: PSD, E_star: float, args: argparse.Namespace, source: str | None) -> dict:
     """The scene's ``# key: value`` lines of a result file (a scan's analysis included)."""
     meta = fl.io.scene_metadata(
         psd,
@@ -558,7 +575,7 @@ def _variant_meta(args) -> dict:
 # ----------------------------------------------------------------------------------------------
 # sweeps on executors
 # ----------------------------------------------------------------------------------------------
-def open_executor(args):
+def open_executor(args: argparse.Namespace) -> tuple[Client | None, Callable[[], object]]:
     """(executor for fastline.sweep, a function that releases it) from --scheduler."""
     if args.workers is not None and args.scheduler is not None:
         raise CLIError("give either --workers or --scheduler, not both")
@@ -578,7 +595,7 @@ def open_executor(args):
     return client, client.close
 
 
-def run_table(scenes, args):
+def run_table(scenes: dict[str, list], args: argparse.Namespace) -> SweepTable:
     """fastline.sweep on the executor the options name; bad tables are usage errors."""
     executor, release = open_executor(args)
     try:
@@ -596,7 +613,7 @@ def run_table(scenes, args):
         release()
 
 
-def table_status(table) -> int:
+def table_status(table: SweepTable) -> int:
     """Print the failed and non-converged scenes of a sweep table (as errors); 0 or 1."""
     status = 0
     for cause, msg in table.warnings:
@@ -608,7 +625,9 @@ def table_status(table) -> int:
     return status
 
 
-def sweep_in_parallel(psd, E, args, loads):
+def sweep_in_parallel(
+    psd: PSD, E: float, args: argparse.Namespace, loads: np.ndarray
+) -> tuple[np.recarray, SweepTable]:
     """The loads of the sweep command (either geometry) as a scene table on
     --workers/--scheduler: rows with the attributes of a result (load, alpha, p0, ...) and the
     table."""

@@ -15,6 +15,7 @@ from __future__ import annotations
 
 import argparse
 import warnings
+from typing import TYPE_CHECKING
 
 import fastline as fl
 from fastline import surfaces
@@ -34,6 +35,16 @@ from fastline.cli.common import (
     spectrum_line,
     warn,
 )
+
+if TYPE_CHECKING:  # annotations only
+    from collections.abc import Callable
+    from typing import TypeVar
+
+    from fastline import PSD, LineContactResult, PointContactResult
+    from fastline.surfaces import ScanSpectrum
+
+    #: the result of one solve: a cylinder's or a sphere's, the same throughout run_profile
+    _Result = TypeVar("_Result", LineContactResult, PointContactResult)
 
 __all__ = [
     "scene",
@@ -202,7 +213,7 @@ def _scan_range_options(g, standalone: bool) -> None:
     )
 
 
-def scan_checks(args) -> bool:
+def scan_checks(args: argparse.Namespace) -> bool:
     """Whether the spectrum comes from --scan; refuses combinations that cannot be meant."""
     given = [f for key, f in _SCAN_FLAGS.items() if getattr(args, key, None) not in (None, False)]
     if getattr(args, "scan", None) is None:
@@ -253,7 +264,7 @@ def _cli_message(text: str) -> str:
     return text
 
 
-def scan_analysis(args):
+def scan_analysis(args: argparse.Namespace) -> ScanSpectrum:
     """analyse_scan on --scan / SCAN; its warnings once each, its errors as usage errors."""
 
     with warnings.catch_warnings(record=True) as caught:
@@ -282,7 +293,7 @@ def _print_warnings(caught, unit_warning) -> None:
             warn(text)
 
 
-def scan_lines(scan, table: bool) -> list[str]:
+def scan_lines(scan: ScanSpectrum, table: bool) -> list[str]:
     """The spectrum summary: what was read, the data, the range and why, the fit, the table."""
 
     rules = surfaces.LIMIT_RULES
@@ -337,7 +348,7 @@ def _scan_scene(args):
     return scan.psd, source
 
 
-def scene(args):
+def scene(args: argparse.Namespace) -> tuple[PSD, float, str | None]:
     """(psd, E_star, source file or None) from the scene options."""
     elastic = [args.E1, args.nu1, args.E2, args.nu2]
     if any(v is not None for v in elastic):
@@ -364,7 +375,13 @@ def scene(args):
     return fl.SelfAffinePSD(**spec), E_star, None
 
 
-def run_profile(args, solve, result_lines, write_csv, meta) -> int:
+def run_profile(
+    args: argparse.Namespace,
+    solve: Callable[..., _Result],
+    result_lines: Callable[[_Result, dict], list[str]],
+    write_csv: Callable[[str, _Result, dict], None],
+    meta: Callable[[PSD, float, argparse.Namespace, str | None], dict],
+) -> int:
     """One scene of ``fastline profile`` for either geometry: solve with ``solve(psd, E*, R,
     load, ...)``, print the spectrum and ``result_lines``, report the warnings, write the CSV
     (``write_csv(path, result, meta(psd, E*, args, source))``) and the figure; the exit status."""

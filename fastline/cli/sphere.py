@@ -17,6 +17,7 @@ from __future__ import annotations
 import argparse
 import time
 from types import SimpleNamespace
+from typing import TYPE_CHECKING
 
 import fastline as fl
 from fastline.cli.common import (
@@ -39,6 +40,9 @@ from fastline.cli.common import (
 )
 from fastline.cli.scene import run_profile, scene
 
+if TYPE_CHECKING:  # annotations only
+    from fastline import PSD, PointContactResult
+
 __all__ = [
     "sphere_result_lines",
     "sphere_meta",
@@ -48,7 +52,7 @@ __all__ = [
 ]
 
 
-def sphere_result_lines(r, diag) -> list[str]:
+def sphere_result_lines(r: PointContactResult, diag: dict) -> list[str]:
     """The printed result of a sphere's solve (``profile``, ``leak``)."""
     a = r.hertz_radius
     r99, r1 = r.load_radius(0.99), r.pressure_radius(0.01)
@@ -88,7 +92,7 @@ def sphere_result_lines(r, diag) -> list[str]:
     return lines
 
 
-def sphere_meta(psd, E_star, args, source):
+def sphere_meta(psd: PSD, E_star: float, args: argparse.Namespace, source: str | None) -> dict:
     """The scene's metadata of a sphere's result file."""
     return {**metadata(psd, E_star, args, source), "geometry": "sphere"}
 
