@@ -106,7 +106,7 @@ def test_walker_sees_the_public_api():
         "fastline.theory.spectra.PSD.cumulative",
         "fastline.theory.spectra.TabulatedPSD.__call__",
         "fastline.theory.interface.InterfaceStatistics.critical_gap",
-        "fastline.theory.persson.pressure_at",
+        "fastline.theory.tables.pressure_at",
         "fastline.theory.laws.TabulatedLaw.separation_and_slope",
         "fastline.theory.asperity.GreenwoodWilliamsonLaw.real_area",
         "fastline.leakage.flow.leak_rate",
