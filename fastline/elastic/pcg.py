@@ -36,8 +36,9 @@ increments falls from 5-32 (the circulant alone) to 1.3-4 (two-level, 32 aggrega
 when the Jacobi-weighted norm of the projected residual fell by ``rtol`` (known before the next
 preconditioner application, which is then saved), and returns the best iterate it saw.
 
-Spectrum against n (issue 13; ``python -m bench.spectrum``, surface 1, the 4th Newton system,
-rtol 1e-3, with 32 aggregates below n = 8192 and 64 from there, the solver before issue 13).
+Spectrum against n (``python -m bench.spectrum``, surface 1, the 4th Newton system, rtol 1e-3,
+with 32 aggregates below n = 8192 and 64 from there, the solver before the count target of
+docs/performance.md).
 Eigenvalues of ``B H`` on zero-load increments, dense at n = 1024 and 4096, Lanczos at 16384:
 
 ======  =====================================  =====================================
@@ -68,7 +69,7 @@ that only at n <= 1024 (simulated: 25 convolutions with 128 aggregates at n = 10
 1e-2); at n = 16384 not even with the O(n^2) coarse level of 4-cell aggregates (37, above).
 
 Tried and not kept (FFT convolutions over the 160 scenes of the count test, 5 hard surfaces x 8
-alphas 1e-4..1e3 x n = 256..16384: 2976 with this module; issue 13):
+alphas 1e-4..1e3 x n = 256..16384: 2976 with this module):
 
 * no circulant (Jacobi and the coarse level only): 6213, and 209 at n = 16384, alpha 1e-4;
   the circulant also only in the tight systems (``rtol < 0.05``): more Newton steps, 33 -> 35-38
@@ -85,19 +86,19 @@ alphas 1e-4..1e3 x n = 256..16384: 2976 with this module; issue 13):
   worse at n = 1024 (worst 33 -> 35), for 2 x 16 extra vector passes per iteration;
 * the circulant's shift at 0.3x or 3x the geometric mean of D: worse at n = 1024 and 4096.
 
-Issue 13, kept: the projection onto zero load along ``B~ 1`` (the preconditioner without its
-circulant, no FFT) in the symmetric form ``Pi B Pi*`` (:func:`_projected_precondition`) instead
-of the B-orthogonal ``Pi B`` along ``B 1`` (one circulant solve per Newton system): each Newton
-step now costs ``2 k + 1``. Over the 160 count scenes 2230 -> 1976 convolutions, per-n maxima
-25 / 33 / 29 / 33 -> 21 / 28 / 27 / 29 (the same CG counts, system for system, in the
-simulation). Why the kept ``B 1`` of the previous system (below) failed and this does not: a
-v other than ``B 1`` in the one-sided form ``Pi B`` makes the preconditioner unsymmetric; in
-the two-sided form any v keeps it symmetric. A random campaign (``python -m bench.campaign``,
-240 scenes, alpha 1e-6..1e4, n 128..8192): 3920 -> 3452 convolutions, at most 77 -> 66, every
-scene converged (one at alpha 1.6e-6, n 8192, had not); the hard contact (``python -m
-bench.hard``): 18 / 9 / 18 / 9 -> 16 / 8 / 16 / 8 at n = 256 / 1024 / 4096 / 16384.
+Kept for the count target: the projection onto zero load along ``B~ 1`` (the preconditioner without
+its circulant, no FFT) in the symmetric form ``Pi B Pi*`` (:func:`_projected_precondition`) instead
+of the B-orthogonal ``Pi B`` along ``B 1`` (one circulant solve per Newton system): each Newton step
+now costs ``2 k + 1``. Over the 160 count scenes 2230 -> 1976 convolutions, per-n maxima 25 / 33 /
+29 / 33 -> 21 / 28 / 27 / 29 (the same CG counts, system for system, in the simulation). Why the
+kept ``B 1`` of the previous system (below) failed and this does not: a v other than ``B 1`` in the
+one-sided form ``Pi B`` makes the preconditioner unsymmetric; in the two-sided form any v keeps it
+symmetric. A random campaign (``python -m bench.campaign``, 240 scenes, alpha 1e-6..1e4, n
+128..8192): 3920 -> 3452 convolutions, at most 77 -> 66, every scene converged (one at alpha 1.6e-6,
+n 8192, had not); the hard contact (``python -m bench.hard``): 18 / 9 / 18 / 9 -> 16 / 8 / 16 / 8 at
+n = 256 / 1024 / 4096 / 16384.
 
-Issue 13, kept: 64 aggregates from n = 4096, 128 from 16384
+Kept for the count target: 64 aggregates from n = 4096, 128 from 16384
 (:func:`fastline.elastic.line.coarse_aggregates`): 2976 -> 2779 over the 160 scenes, per-n maxima
 25 / 33 / 47 / 61 -> 25 / 33 / 41 / 53, for +0-6% warm time at n = 4096 and +9% at 16384.
 Tried and not kept there ("simulated": every scene's recorded Newton systems re-solved by PCG
@@ -131,7 +132,7 @@ inlined the same as one long function (CPU time of the first answer, empty cache
 interleaved rounds: 17.1-19.1 s before the split, 17.9-18.9 s inlined, 19.2-20.7 s not).
 
 Where the time goes (surface 1, alpha = 1e-2, per solve; a C clock around the stages, same
-run as the version before, issue 13). n = 4096 (6 Newton systems, 57 FFT convolutions, 22 CG
+run as the version before the count target). n = 4096 (6 Newton systems, 57 FFT convolutions, 22 CG
 iterations, 4.3 ms): the systems take 3.2 ms, of which FFT convolutions 1.75 ms (54%), the
 coarse products 0.54 ms (17%; 1.19 ms when each aggregate edge was a pass of strip sums of its
 own), set-ups 0.27 ms (9%, mostly logarithms, ~5 ns each, one or two per cell), the rest CG
