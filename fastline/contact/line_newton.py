@@ -188,27 +188,60 @@ def _residual(state, u1_in, fft, kspec, scale, gap, w, law, a, c):
     return u1, math.sqrt(phi2), largest_abs(gk, abs(u1))
 
 
+@numba.njit(**JIT, inline="always")
+def _newton_views(ws, n):
+    """The views of :func:`newton_line` into its work space ``ws``: the FFT buffers ``a, c``,
+    the iterate and the line search's trial (:func:`_iterate_views`), ``D``, ``dp``, and the
+    tail left to the Newton system."""
+    a, c = aligned_views(ws, 2 * n)
+    o = 4 * n + ALIGN_PAD  # aligned_size(2 n)
+    state = _iterate_views(ws, o, n)
+    trial = _iterate_views(ws, o + 6 * n, n)
+    D = ws[o + 12 * n : o + 13 * n]
+    dp = ws[o + 13 * n : o + 14 * n]
+    return a, c, state, trial, D, dp, ws[o + _HEAD_ARRAYS * n :]
+
+
+@numba.njit(**JIT, inline="always")
+def _stop(res, tol, size, u_ref, out_of_steps, eta_cap):
+    """``(status, tol_effective)``: status 0 converged, 1 out of steps, 2 stalled (the forcing
+    capped below ``ETA_RETRY_MIN``), -1 go on. The tolerance is raised to the round-off of the
+    law's separations (``size``, m, against u_ref), and a stalled solve within
+    ``FLOOR_STALL`` of that raised tolerance counts as converged (its noise level)."""
+    tol_eff = max(tol, ROUNDOFF_FACTOR * _EPS * size / u_ref)
+    stalled = eta_cap < ETA_RETRY_MIN
+    if stalled and tol_eff > tol and res < FLOOR_STALL * tol_eff:
+        tol_eff *= FLOOR_STALL
+    if res < tol_eff or out_of_steps or stalled:
+        return (0 if res < tol_eff else (2 if stalled else 1)), tol_eff
+    return -1, tol_eff
+
+
+@numba.njit(**JIT, inline="always")
+def _record(hist, steps, res, its, t):
+    """Row ``steps - 1`` of the Newton history: residual, CG iterations, step taken (0 when the
+    line search failed); steps beyond the history's rows are not recorded."""
+    if steps <= hist.shape[0]:
+        hist[steps - 1, 0] = res
+        hist[steps - 1, 1] = its
+        hist[steps - 1, 2] = t
+
+
 @numba.njit(**JIT)
 def newton_line(fft, tables, op, scene, pressure_law, v_io, settings, out):
-    """Newton-Krylov on v = ln p (in place) for the line contact. ``fft``: the FFT plans of
-    length 2n (:func:`fastline._lib.fftw.acquire`); ``tables``: the log kernel's
-    :class:`fastline.elastic.convolution.KernelTables` ``(kspec, strang, prefix)``; ``op``: its
-    :class:`fastline.elastic.convolution.KernelScale` ``(scale, K00)`` (m/Pa); ``scene``:
-    :class:`Scene` ``(gap, w, load)`` (m, m, N/m); ``pressure_law``: :class:`Law` ``(law,
-    u_ref)``, ``law = (kind, prm, A, B, C, E)`` (module docstring), u_ref in m; ``settings``:
-    :class:`NewtonSettings` ``(tol, max_iter, nc)``; ``out``: :class:`NewtonOutputs` ``(hist,
-    u_out, ws)``: ``hist`` (max_iter x 3) receives (residual, CG iterations, step), ``u_out``
-    the law's separation at the final iterate (m), ``ws`` is float64 work space of
-    :func:`workspace_size` ``(n)`` elements (contents irrelevant: every work array of the solve
-    is a view into it, :func:`fastline.elastic.pcg.solve_newton_system`). Returns ``(u1,
-    residual, status, steps, cg_iterations, k_applications, circulant_solves,
-    tol_effective)``.
+    """Newton-Krylov on v = ln p (in place, ``v_io``) for the line contact.
 
-    Each step: the Newton system (:func:`fastline.elastic.pcg.solve_newton_system`, to the
-    Eisenstat-Walker tolerance :func:`_forcing`), a step guard on ln p (:func:`_step_guard`),
-    Armijo backtracking on ||r|| (:func:`_line_search`); Numba inlines these stages
-    (``inline="always"``: as separately compiled functions they cost cold compile time,
-    :mod:`fastline.elastic.pcg`)."""
+    ``fft``: FFT plans of length 2n (:func:`fastline._lib.fftw.acquire`); ``tables``, ``op``:
+    the log kernel's :class:`~fastline.elastic.convolution.KernelTables` and
+    :class:`~fastline.elastic.convolution.KernelScale` (m/Pa); ``scene``: :class:`Scene` (m, m,
+    N/m); ``pressure_law``: :class:`Law` ``(law, u_ref)`` (module docstring; m);
+    ``settings``: :class:`NewtonSettings`; ``out``: :class:`NewtonOutputs` ``(hist, u_out,
+    ws)``: per step (residual, CG iterations, step), the law's separation at the end (m), work
+    space of :func:`workspace_size` ``(n)`` elements. Returns ``(u1, residual, status, steps,
+    cg_iterations, k_applications, circulant_solves, tol_effective)``. Each step: the Newton
+    system (:func:`fastline.elastic.pcg.solve_newton_system`) to the forcing of
+    :func:`_forcing`, a step guard on ln p (:func:`_step_guard`), Armijo backtracking on ||r||
+    (:func:`_line_search`), all inlined (``inline="always"``: less cold compile time)."""
     kspec, strang, prefix = tables
     scale, K00 = op
     gap, w, load = scene
@@ -216,14 +249,8 @@ def newton_line(fft, tables, op, scene, pressure_law, v_io, settings, out):
     tol, max_iter, nc = settings
     hist, u_out, ws = out
     n = v_io.shape[0]
-    a, c = aligned_views(ws, 2 * n)
+    a, c, state, trial, D, dp, tail = _newton_views(ws, n)  # trial: the line search's
     conv = (fft, kspec, scale, a, c)
-    o = 4 * n + ALIGN_PAD  # aligned_size(2 n)
-    state = _iterate_views(ws, o, n)  # the iterate, and the line search's trial
-    trial = _iterate_views(ws, o + 6 * n, n)
-    D = ws[o + 12 * n : o + 13 * n]
-    dp = ws[o + 13 * n : o + 14 * n]
-    tail = ws[o + _HEAD_ARRAYS * n :]
     for i in range(n):
         state[_V][i] = v_io[i]
     u1, phi, size = _evaluate(state, math.nan, fft, kspec, scale, gap, w, law, a, c)
@@ -233,12 +260,8 @@ def newton_line(fft, tables, op, scene, pressure_law, v_io, settings, out):
     eta_cap = ETA_MAX
     while True:
         res = largest_abs(state[_R], 0.0) / u_ref
-        tol_eff = max(tol, ROUNDOFF_FACTOR * _EPS * size / u_ref)
-        stalled = eta_cap < ETA_RETRY_MIN
-        if stalled and tol_eff > tol and res < FLOOR_STALL * tol_eff:
-            tol_eff *= FLOOR_STALL  # noise level of a raised tolerance: as converged as can be
-        if res < tol_eff or steps >= max_iter or stalled:
-            status = 0 if res < tol_eff else (2 if stalled else 1)
+        status, tol_eff = _stop(res, tol, size, u_ref, steps >= max_iter, eta_cap)
+        if status >= 0:
             for i in range(n):  # loops, not v_io[:] = v: no broadcasting error path to compile
                 v_io[i] = state[_V][i]
                 u_out[i] = state[_U][i]
@@ -258,10 +281,7 @@ def newton_line(fft, tables, op, scene, pressure_law, v_io, settings, out):
             state, trial, dp, t, u1, du1, phi, scene, law, conv
         )
         kapps += trials
-        if steps <= hist.shape[0]:
-            hist[steps - 1, 0] = res
-            hist[steps - 1, 1] = its
-            hist[steps - 1, 2] = t if accepted else 0.0
+        _record(hist, steps, res, its, t if accepted else 0.0)
         if accepted:
             state, trial = trial, state
             u1, phi, size = u1n, phin, sizen

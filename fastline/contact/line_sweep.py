@@ -202,28 +202,29 @@ def _remember(t, x, v, dx, width, scal, cells, nh):
     return nh + 1
 
 
+@numba.njit(**JIT, inline="always")
+def _cold_profiles(cold, k):
+    """The cold-start profiles of load k as the tuple :func:`cold_start_normalised` takes."""
+    return (cold[k, 0], cold[k, 1], cold[k, 2], cold[k, 3], cold[k, 4], cold[k, 5], cold[k, 6])
+
+
 @numba.njit(**JIT)
 def sweep_line(
     fft, tables, cylinder, series, pressure_law, settings, predictor, history, rows, out
 ):
-    """Solve loads ``k0 <= k < k1`` of a sweep (``loads`` increasing, N/m) by continuation
-    (module docstring).
+    """Solve loads ``k0 <= k < k1`` (``rows``) of a sweep by continuation (module docstring).
 
-    ``fft``, ``tables``, ``pressure_law`` (:class:`fastline.contact.line_newton.Law`: ``(law,
-    u_ref)``), ``settings`` (:class:`fastline.contact.line_newton.NewtonSettings`: ``(tol, max_iter,
-    nc)``) as in :func:`fastline.contact.line_newton.newton_line`; ``cylinder``: :class:`Cylinder`
-    ``(khat0, E_star, two_r)`` (dimensionless, Pa, m); ``series``: :class:`SweepLoads` ``(loads,
-    halves, cold)``: the loads (N/m), the domain half-width of each (m), ``cold[k]`` the cold-start
-    profiles ``(a, ln_h, floor, ln_g, 2 s^2, ln_t, k_t)`` of load k; ``predictor = (order, max_step,
-    core_lo, core_hi)``: the degree of the prediction in ln load, the longest step in ln load it is
-    used over, the depths below the peak in ln p between which it blends from core to tail
-    (:func:`predict_into`); ``history = (scal, cells, count)`` (:func:`history_arrays`), updated in
-    place; ``rows = (k0, k1)``. ``out``: :class:`SweepOutputs` ``(U, P, stats, hist, ws)``, row k:
-    ``U`` the law's separation (m), ``P`` the pressure (Pa,
-    :func:`fastline.contact.core.pressure_of` of ln p), ``stats`` the columns of ``STATS`` (the
-    profile's measures of :func:`fastline.contact.kernels.line_measures` among them), ``hist``
-    (max_iter x 3) the Newton history; ``ws``: work space of :func:`workspace_size` ``(n)``
-    elements."""
+    ``fft``, ``tables``, ``pressure_law`` (:class:`~fastline.contact.line_newton.Law`) and
+    ``settings`` (:class:`~fastline.contact.line_newton.NewtonSettings`) as in
+    :func:`~fastline.contact.line_newton.newton_line`; ``cylinder``: :class:`Cylinder` ``(khat0,
+    E_star, two_r)`` (-, Pa, m); ``series``: :class:`SweepLoads` ``(loads, halves, cold)``: the
+    increasing loads (N/m), each one's domain half-width (m) and cold-start profiles ``(a, ln_h,
+    floor, ln_g, 2 s^2, ln_t, k_t)``; ``predictor = (order, max_step, core_lo, core_hi)``: the
+    prediction's degree in ln load, its longest step, the depths below the peak in ln p of its
+    blend from core to tail (:func:`predict_into`); ``history = (scal, cells, count)``
+    (:func:`history_arrays`), updated in place. ``out``: :class:`SweepOutputs` ``(U, P, stats,
+    hist, ws)``, row k: the law's separation (m), the pressure (Pa), the columns of ``STATS``,
+    the Newton history; ``ws`` work space of :func:`workspace_size` ``(n)`` elements."""
     khat0, E_star, two_r = cylinder
     loads, halves, cold = series
     scal, cells, count = history
@@ -239,34 +240,20 @@ def sweep_line(
         dx = 2.0 * halves[k] / n
         line_cells(dx, two_r, x, gap, w)
         scale = dx / E_star
+        op, scene = KernelScale(scale, scale * khat0), Scene(gap, w, load)
+        outputs = NewtonOutputs(hist[k], u, solver_ws)
         t = math.log(load)
         restarted = 0.0
         kapps = circ = 0
         predicted = nh > 0 and t - scal[nh - 1, 0] <= max_step
         for attempt in range(2):
             if not predicted or attempt == 1:
-                profiles = (
-                    cold[k, 0],
-                    cold[k, 1],
-                    cold[k, 2],
-                    cold[k, 3],
-                    cold[k, 4],
-                    cold[k, 5],
-                    cold[k, 6],
-                )
-                cold_start_normalised(x, profiles, load, w, v)
+                cold_start_normalised(x, _cold_profiles(cold, k), load, w, v)
             else:
                 predict_into(t, order, core_lo, core_hi, scal, cells, nh, x, work, v)
                 normalise_into(v, load, w)
             u1, res, status, steps, cg, ka, ci, tol_eff = newton_line(
-                fft,
-                tables,
-                KernelScale(scale, scale * khat0),
-                Scene(gap, w, load),
-                pressure_law,
-                v,
-                settings,
-                NewtonOutputs(hist[k], u, solver_ws),
+                fft, tables, op, scene, pressure_law, v, settings, outputs
             )
             kapps += ka
             circ += ci

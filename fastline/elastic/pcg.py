@@ -246,21 +246,16 @@ def solve_newton_system(
 ) -> tuple[float, int, int, int]:
     """Solve ``(D + K) dp + du1 = rhs``, ``sum(w dp) = 0`` (module docstring) into ``dp``.
 
-    ``fft``: the FFT plans of length 2n (:func:`fastline._lib.fftw.acquire`); ``tables``: the
-    kernel's :class:`~fastline.elastic.convolution.KernelTables` ``(kspec, strang, prefix)``;
-    ``op``: its :class:`~fastline.elastic.convolution.KernelScale` ``(scale, diagonal)`` (m/Pa);
-    ``D`` (m/Pa), ``w`` (cell weights, m), ``rhs`` (m): the system; ``settings``:
-    :class:`CGSettings` ``(rtol, maxit, nc_max)``; ``dp`` (Pa): the solution, written.
-
-    Stages: set up the smoother (:func:`_smoother`) and the coarse level
-    (:func:`_coarse_level`), start projected PCG (:func:`_pcg_start`), iterate (:func:`_pcg`),
-    finish (:func:`_pcg_finish`). Returns ``(du1, iterations, k_applications,
-    circulant_solves)``. ``ws``: float64 work space of :func:`workspace_size` ``(n)`` elements,
-    its contents irrelevant; every n-sized work array is a view into it, so that a caller that
-    keeps it (one per thread) makes a solve allocation-free: fresh allocations of this size
-    come from the operating system page by page, which took 35-45% of a solve at n >= 4096.
-    (Plain loops and homogeneous tuples of arrays: every NumPy convenience costs compile time.)
-    """
+    ``fft``: FFT plans of length 2n (:func:`fastline._lib.fftw.acquire`); ``tables``, ``op``:
+    the kernel's :class:`~fastline.elastic.convolution.KernelTables` and
+    :class:`~fastline.elastic.convolution.KernelScale` (m/Pa); ``D`` (m/Pa), ``w`` (m), ``rhs``
+    (m): the system; ``settings``: :class:`CGSettings`; ``dp`` (Pa): the solution, written.
+    Stages: :func:`_smoother`, :func:`_coarse_level`, :func:`_pcg_start`, :func:`_pcg`,
+    :func:`_pcg_finish`. Returns ``(du1, iterations, k_applications, circulant_solves)``.
+    ``ws``: work space of :func:`workspace_size` ``(n)`` elements, contents irrelevant: every
+    work array is a view into it, so a caller that keeps it (one per thread) solves without
+    allocating (fresh pages took 35-45% of a solve at n >= 4096); plain loops and homogeneous
+    tuples of arrays, since every NumPy convenience costs compile time."""
     kspec, strang, prefix = tables
     scale, K00 = op
     rtol, maxit, nc_max = settings

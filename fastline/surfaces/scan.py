@@ -392,31 +392,26 @@ def analyse_scan(
     Parameters
     ----------
     path : str or path-like
-        A line scan (text or ``.npy``: one column h with ``dx``, or two columns x, h), parallel
-        line scans (one per row of a 2D text or ``.npy`` file, with ``dx``), a height map
-        (``as_map=True``) or an instrument file
-        (:func:`fastline.surfaces.topography.read_topography`).
+        A line scan (text or ``.npy``: a column h with ``dx``, or columns x, h), parallel scans
+        (a row each of a 2D file, with ``dx``), a height map (``as_map=True``) or an
+        instrument file (:func:`fastline.surfaces.topography.read_topography`).
     dx, dy : float, optional
-        Spacing along the scans and, for a map, between its rows, in m. Taken from the file's
-        x column or an instrument file when it has them.
+        Spacing in m along the scans and, for a map, between its rows (default: from the
+        file's x column or the instrument file).
     as_map : bool
-        Analyse a 2D file as a height map (ring-averaged 2D spectrum, :func:`psd_from_map`)
-        instead of its rows as parallel line scans (1D spectra averaged, then the exact inverse
-        Abel transform).
+        A 2D file as a height map (ring-averaged 2D spectrum, :func:`psd_from_map`), not as
+        parallel scans (1D spectra averaged, then the exact inverse Abel transform).
     unit, x_unit : str
-        Units of the file's heights and x column (``"m"``, ``"mm"``, ``"um"``, ``"nm"``; x_unit
-        defaults to unit). Instrument files carry their own.
+        Units of the heights and the x column (``"m"``, ``"mm"``, ``"um"``, ``"nm"``; x_unit
+        defaults to unit); instrument files carry their own.
     window, nan, bins_per_decade, q_range, tip_radius, noise
         As :func:`fastline.surfaces.topography.psd_from_profile` (maps: ``psd_from_map``).
     detrend : str, optional
-        ``"linear"`` for profiles and ``"plane"`` for maps by default; profiles also take
-        ``"mean"``, ``"parabola"``, ``"circle"``; maps ``"mean"``.
-    q1 : float, optional
-        Cut the table at q1 (1/m), or, above the usable range, continue it to q1 with
-        ``extend=True``.
-    extend : bool
-        Allow the continuation above the usable range: the power law ``C ~ q^-2(1+H)`` of the
-        fitted H from the table's last point (:func:`fastline.surfaces.topography.extend_psd`).
+        Default ``"linear"`` (profiles; also ``"mean"``, ``"parabola"``, ``"circle"``) or
+        ``"plane"`` (maps; also ``"mean"``).
+    q1, extend : float, optional; bool
+        Cut the table at q1 (1/m); above the usable range, with ``extend``, continue it by the
+        fitted ``C ~ q^-2(1+H)`` (:func:`fastline.surfaces.topography.extend_psd`).
 
     Returns
     -------
@@ -426,16 +421,14 @@ def analyse_scan(
     ------
     ValueError
         Bad options (before any work), an unreadable or implausible file (too few points,
-        dropouts with ``nan="raise"``, non-uniform x, a spectrum table passed as a scan), an
-        empty usable range, or q1 above the usable range without ``extend``.
-    FileNotFoundError, ImportError
-        No such file; an instrument format without SurfaceTopography installed.
+        dropouts with ``nan="raise"``, non-uniform x, a spectrum table), an empty usable range,
+        or q1 above it without ``extend``; FileNotFoundError, or ImportError for an instrument
+        format without SurfaceTopography.
 
     Warns
     -----
     TopographyWarning
-        From :mod:`fastline.surfaces.topography`: h_rms or slopes that suggest a unit slip,
-        C(q) <= 0 points left out by the inverse transform.
+        h_rms or slopes that suggest a unit slip, C(q) <= 0 points left out.
     """
     path = os.fspath(path)
     detrend, q1 = _checked_options(as_map, detrend, q1, extend)
