@@ -2,7 +2,12 @@
 
 Conventions as :mod:`fastline.surfaces.topography` (docs/theory.md section 2): the two-sided 1D
 spectrum ``h_rms^2 = 2 int_0^inf C1D(k) dk`` (m^3), the isotropic spectrum
-``h_rms^2 = 2 pi int q C dq`` (m^4); heights and lengths in m, wavenumbers in 1/m.
+``h_rms^2 = 2 pi int q C dq`` (m^4); heights and lengths in m, wavenumbers in 1/m. The
+periodogram of a profile of N points (window w, ``sum w_j^2 = N``) is
+``C1D(k_m) = dx^2 / (2 pi L) |sum_j w_j h_j exp(-i k_m x_j)|^2``, ``k_m = 2 pi m / L``; with the
+rectangular window ``sum_m C1D(k_m) 2 pi / L`` over all m equals the mean square of the
+detrended heights exactly (Parseval). Heights with h_rms > 1 mm or an rms slope outside
+[1e-6, 5] suggest a unit slip and warn (:class:`~fastline.errors.TopographyWarning`).
 """
 
 from __future__ import annotations
@@ -210,56 +215,39 @@ def psd_from_profile(
     tip_radius: float | None = None,
     noise: float | None = None,
 ) -> ProfileSpectrum:
-    """The 1D spectrum of a height profile, or the average over parallel profiles.
-
-    ``C1D(k_m) = dx^2 / (2 pi L) |sum_j w_j h_j exp(-i k_m x_j)|^2`` with ``k_m = 2 pi m / L``
-    and ``sum w_j^2 = N``: two-sided, ``h_rms^2 = 2 int_0^inf C1D dk`` (docs/theory.md
-    section 2). With the rectangular window, ``sum_m C1D(k_m) 2 pi / L`` over all m equals the
-    mean square of the detrended heights exactly (Parseval).
+    """The 1D spectrum C1D (m^3) of a height profile, or the average over parallel profiles
+    (the periodogram of the module docstring, binned and cut to its usable range).
 
     Parameters
     ----------
     h : array_like
-        Heights in m: one profile (N,) or parallel profiles (P, N), averaged. At least
-        MIN_POINTS = 32 points per profile.
+        Heights in m: one profile (N,) or parallel profiles (P, N), at least MIN_POINTS each.
     dx : float
         Spacing in m (> 0).
     window : str or None
-        ``"hann"`` (default), ``"none"``, or a name :func:`scipy.signal.get_window` knows;
-        normalised to ``sum w^2 = N``. A window keeps the jump between the two ends of a
-        non-periodic profile from leaking power ~k^-2 into steeper spectra.
+        ``"hann"`` (default), ``"none"``, or a name :func:`scipy.signal.get_window` knows,
+        normalised to ``sum w^2 = N`` (it keeps the jump between a profile's ends from leaking
+        power ~k^-2 into steeper spectra).
     detrend : {"linear", "mean", "parabola", "circle"}
-        Removed from each profile before the window. ``"parabola"`` and ``"circle"`` take out a
-        cylinder's own form (its radius is reported as ``form_radius``).
+        Removed from each profile before the window; ``"parabola"`` and ``"circle"`` take out
+        a cylinder's form (its radius is reported as ``form_radius``).
     nan : {"raise", "interpolate"}
-        NaN heights (instrument dropouts) are refused, or bridged by straight lines (at most
-        20 % of the points; this removes a little high-k power in proportion to the bridged
-        fraction).
+        NaN heights (dropouts) are refused, or bridged by straight lines (at most 20 % of the
+        points; a little high-k power goes in proportion).
     bins_per_decade : int or None
-        Average the periodogram over bins equally spaced in log k (default 20; each value is
-        placed where a power law equals the bin mean; bins are merged to hold at least
-        MIN_PER_BIN = 5 values; two end points continue the first and last bins to the ends of
-        the range), or None for the raw periodogram.
+        Average the periodogram over bins equally spaced in log k (default 20, at least
+        MIN_PER_BIN values each; :mod:`fastline.surfaces.ranges`), or None: the raw one.
     q_range : "auto", None or (lo, hi)
-        The usable range the spectrum is cut to. ``"auto"``: from ``LOW_MODE x 2 pi / L``
-        (the first modes carry the detrending's and the window's distortion) to the lowest of
-        the sampling limit ``2 pi / (4 dx)`` (four points per wavelength), the stylus-tip
-        limit (``tip_radius`` given; Sanner et al. 2022) and the noise limit (``noise`` given:
-        where C1D falls below 10 times the white-noise floor ``noise^2 dx / (2 pi)``). None:
-        the whole periodogram ``2 pi / L .. pi / dx``. A pair overrides either end (None keeps
-        the rule).
+        The usable range: ``"auto"`` by the rules of :mod:`fastline.surfaces.ranges` (from
+        mode LOW_MODE to the lowest of the sampling, tip and noise limits), None the whole
+        periodogram, a pair overrides either end (None keeps the rule).
     tip_radius, noise : float, optional
-        Stylus tip radius and rms instrument noise, in m.
+        Stylus tip radius and rms instrument noise, in m (their limits of ``"auto"``).
 
     Returns
     -------
     ProfileSpectrum
         Unpacks as ``k, C1D``; also the range used, the counts per point and the data's h_rms.
-
-    Warns
-    -----
-    TopographyWarning
-        When h_rms > 1 mm or the rms slope is outside [1e-6, 5]: a unit slip.
     """
     rows, dx = _profile_rows(h, dx)
     detrend = choice("detrend", detrend, _DETRENDS)

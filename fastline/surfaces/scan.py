@@ -13,7 +13,9 @@ range). Every number is the one those functions return; this module only chains 
 records what was done.
 
 Conventions and SI units as :mod:`fastline.surfaces.topography`: heights and spacings in m,
-wavenumbers in 1/m, C1D in m^3, C(q) in m^4 with ``h_rms^2 = 2 pi int q C dq``.
+wavenumbers in 1/m, C1D in m^3, C(q) in m^4 with ``h_rms^2 = 2 pi int q C dq``. The analysis
+warns (:class:`~fastline.errors.TopographyWarning`) when h_rms or the slopes suggest a unit slip
+and when C(q) <= 0 points are left out by the inverse transform.
 """
 
 from __future__ import annotations
@@ -392,18 +394,14 @@ def analyse_scan(
     Parameters
     ----------
     path : str or path-like
-        A line scan (text or ``.npy``: a column h with ``dx``, or columns x, h), parallel scans
-        (a row each of a 2D file, with ``dx``), a height map (``as_map=True``) or an
-        instrument file (:func:`fastline.surfaces.topography.read_topography`).
+        A line scan (a column h with ``dx``, or columns x, h), parallel scans (rows of a 2D
+        file), a height map or an instrument file (text, ``.npy``, or :func:`read_topography`).
     dx, dy : float, optional
-        Spacing in m along the scans and, for a map, between its rows (default: from the
-        file's x column or the instrument file).
+        Spacing in m along the scans and between a map's rows (default: the file's own).
     as_map : bool
-        A 2D file as a height map (ring-averaged 2D spectrum, :func:`psd_from_map`), not as
-        parallel scans (1D spectra averaged, then the exact inverse Abel transform).
+        A 2D file as a height map (ring-averaged 2D spectrum), not as parallel line scans.
     unit, x_unit : str
-        Units of the heights and the x column (``"m"``, ``"mm"``, ``"um"``, ``"nm"``; x_unit
-        defaults to unit); instrument files carry their own.
+        Units of heights and x (``"m"``, ``"mm"``, ``"um"``, ``"nm"``; x_unit defaults to unit).
     window, nan, bins_per_decade, q_range, tip_radius, noise
         As :func:`fastline.surfaces.topography.psd_from_profile` (maps: ``psd_from_map``).
     detrend : str, optional
@@ -420,15 +418,9 @@ def analyse_scan(
     Raises
     ------
     ValueError
-        Bad options (before any work), an unreadable or implausible file (too few points,
-        dropouts with ``nan="raise"``, non-uniform x, a spectrum table), an empty usable range,
-        or q1 above it without ``extend``; FileNotFoundError, or ImportError for an instrument
-        format without SurfaceTopography.
-
-    Warns
-    -----
-    TopographyWarning
-        h_rms or slopes that suggest a unit slip, C(q) <= 0 points left out.
+        Bad options (before any work), an unreadable or implausible file, an empty usable
+        range, q1 above it without ``extend`` (FileNotFoundError, ImportError: no such file;
+        an instrument format without SurfaceTopography).
     """
     path = os.fspath(path)
     detrend, q1 = _checked_options(as_map, detrend, q1, extend)
