@@ -46,7 +46,7 @@ from fastline.contact.kernels import (
     largest_abs,
     normalise_pressure_into,
 )
-from fastline.elastic.convolution import KernelScale, convolve, segment_sum
+from fastline.elastic.convolution import convolve, segment_sum
 from fastline.elastic.line import (
     LogKernelOperator,
     coarse_aggregates,
@@ -389,7 +389,7 @@ def solve_compiled(
         u1, res, status, steps, cg, kapps, circ, tol_eff = newton_line(
             fft,
             compiled_tables(op.n),
-            KernelScale(op._scale, op.diagonal),
+            op.kernel_scale,
             Scene(gap, w, float(load)),
             Law(law_form, float(u_ref)),
             v,

@@ -362,6 +362,11 @@ class LogKernelOperator:
         self.convolutions = 0
         self.circulant_solves = 0
 
+    @property
+    def kernel_scale(self) -> KernelScale:
+        """``(dx / E*, K00)`` in m/Pa, as the compiled solvers take the operator's scale."""
+        return KernelScale(self._scale, self.diagonal)
+
     def __repr__(self) -> str:
         return f"LogKernelOperator(n={self.n}, dx={self.dx!r}, E_star={self.E_star!r})"
 
@@ -451,7 +456,7 @@ class LogKernelOperator:
             du1, its, kapps, circ = solve_newton_system(
                 fft,
                 tables,
-                KernelScale(self._scale, self.diagonal),
+                self.kernel_scale,
                 D,
                 w,
                 rhs,

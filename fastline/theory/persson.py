@@ -69,7 +69,6 @@ from fastline.theory.tables import (
     _solver_form,
     pressure_at,
     separation_at,
-    solver_law,
 )
 from fastline.theory.variants import DEFAULT_VARIANT, Variant, VariantName, get_variant
 
@@ -81,7 +80,6 @@ __all__ = [
     "pressure_at",
     "separation_at",
     "GAMMA_RANGE",
-    "solver_law",
 ]
 
 _SQRT_PI = math.sqrt(math.pi)
@@ -91,7 +89,6 @@ _T2_LOCK = threading.Lock()
 GAMMA_RANGE = (0.05, 1.0)
 #: graded sub-panels towards q1; the integrand's pile-up there is ~1/(0.4 x^2) wide in ln q
 _TOP_LEVELS = 5
-_TWO_OVER_SQRT_PI = 2.0 / _SQRT_PI
 
 
 @dataclass(frozen=True)
