@@ -22,6 +22,7 @@ from .elastic import influence_coefficients as influence_coefficients
 from .errors import AccuracyWarning as AccuracyWarning
 from .errors import ConvergenceWarning as ConvergenceWarning
 from .errors import LeakageWarning as LeakageWarning
+from .errors import NarrowContactWarning as NarrowContactWarning
 from .errors import ValidityWarning as ValidityWarning
 from .leakage import LeakResult as LeakResult
 from .leakage import leak_rate as leak_rate

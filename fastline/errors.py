@@ -13,6 +13,7 @@ __all__ = [
     "ConvergenceWarning",
     "AccuracyWarning",
     "LeakageWarning",
+    "NarrowContactWarning",
     "TopographyWarning",
     "SceneFailureWarning",
     "SpectrumFileError",
@@ -34,6 +35,12 @@ class AccuracyWarning(ValidityWarning):
 
 class LeakageWarning(ValidityWarning):
     """A leak-rate estimate is outside the assumptions of the critical-junction theory."""
+
+
+class NarrowContactWarning(ValidityWarning):
+    """A boundary-element contact too narrow to compare widths: narrower than the longest
+    roughness wavelength ``2 pi / q0`` (the theory's mean field does not hold and each
+    realisation's width is set by a few asperities), or spanning too few cells of the grid."""
 
 
 class TopographyWarning(UserWarning):

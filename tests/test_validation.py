@@ -8,18 +8,22 @@ known to agree (alpha <= 0.1), exit statuses and bad input before any work.
 
 from __future__ import annotations
 
+import dataclasses
 import logging
 import math
 import re
+import warnings
+from concurrent.futures import ThreadPoolExecutor
 from types import SimpleNamespace
 
 import numpy as np
 import pytest
 
 import fastline as fl
-from fastline import bem
+from fastline import bem, surfaces
+from fastline.bem import scene as bem_scene
 from fastline.cli import validate as cli_validate
-from fastline.cli.app import main
+from fastline.cli.app import build_parser, main
 from fastline.io import read_csv
 from fastline.reports import validation
 from fastline.theory.variants import VARIANTS
@@ -36,7 +40,8 @@ Z_AGREE = 2.0
 RTOL_S_SMALL_ALPHA = 0.02
 #: the CSV holds repr() of the API's numbers
 SAME = 1e-12
-TINY = ["--q1", 4 * Q0, "--periods", 1, "--realizations", 2, "--workers", 1, "--n", 256]
+TINY_GRID = ["--q1", 4 * Q0, "--periods", 1, "--realizations", 2, "--workers", 1, "--n", 256]
+TINY = [*TINY_GRID, "--E-star", E_STAR, "--radius", RADIUS]
 MAGIC_PNG = b"\x89PNG\r\n\x1a\n"
 
 
@@ -70,13 +75,19 @@ def test_agreement_at_small_alpha():
     assert v.alpha == pytest.approx(0.1, rel=1e-12)
 
 
-def test_models_of_a_line_validation():
+@pytest.fixture(scope="module")
+def tiny_line_validation():
+    """Every law against 2 BEM surfaces at alpha = 1, q1/q0 = 4 (540 x 16 cells)."""
     psd = _psd(4)
     f = _load(psd, 1.0)
     scene = bem.line_contact_scene(psd, E_STAR, RADIUS, f, periods=1)
-    v = validation.validate_line_contact(
+    return validation.validate_line_contact(
         psd, E_STAR, RADIUS, f, models=validation.MODELS, realizations=2, scene=scene, n=256
     )
+
+
+def test_models_of_a_line_validation(tiny_line_validation):
+    v = tiny_line_validation
     assert tuple(v.results) == validation.MODELS == tuple(v.comparisons)
     for name, c in v.comparisons.items():
         r = v.results[name]
@@ -157,7 +168,7 @@ def test_library_rejects():
 # ------------------------------------------------------------------------------------------------
 # fastline validate
 # ------------------------------------------------------------------------------------------------
-def test_cli_line(tmp_path, capsys):
+def test_cli_line(tmp_path, capsys, tiny_line_validation):
     csv, png = tmp_path / "v.csv", tmp_path / "v.png"
     status, out, err = run(
         ["validate", *TINY, "--alpha", 1, "--all-variants", "--gw", "--csv", csv, "--plot", png],
@@ -166,13 +177,8 @@ def test_cli_line(tmp_path, capsys):
     assert status == 0, err
     assert "540 x 16 cells" in out and "2 realisations" in out and "z = (theory - BEM)" in out
     meta, cols = read_csv(csv)
-    # the same scene through the API
-    psd = _psd(4)
-    f = _load(psd, 1.0)
-    scene = bem.line_contact_scene(psd, E_STAR, RADIUS, f, periods=1)
-    v = validation.validate_line_contact(
-        psd, E_STAR, RADIUS, f, models=validation.MODELS, realizations=2, scene=scene, n=256
-    )
+    v = tiny_line_validation  # the same scene through the API
+    assert float(meta["bem_bin_width_m"]) == v.ensemble.bin_width
     np.testing.assert_allclose(cols["p_bem_Pa"], v.ensemble.pressure, rtol=SAME)
     for m in validation.MODELS:
         key = m.replace("-", "_")
@@ -296,7 +302,7 @@ Z_AGREE_SPHERE_P0 = 3.0
 #: (z up to +3.8: the BEM's s error bar is 0.1-0.2 %), so s is held to a relative band as for the
 #: cylinder (RTOL_S_SMALL_ALPHA)
 RTOL_S_SPHERE = 0.02
-TINY_SPHERE = ["--geometry", "sphere", "--radius", R_SPHERE, "--q1", 4 * Q0]
+TINY_SPHERE = ["--geometry", "sphere", "--radius", R_SPHERE, "--q1", 4 * Q0, "--E-star", E_STAR]
 TINY_SPHERE += ["--points-per-wavelength", SPHERE_GRID, "--realizations", 2, "--workers", 1]
 
 
@@ -439,3 +445,152 @@ def test_cli_sphere(tmp_path, capsys):
 def test_cli_sphere_rejects(argv, message, capsys):
     status, out, err = run(["validate", *TINY_SPHERE, *argv], capsys)
     assert status == 2 and message in err and out == ""
+
+
+# ------------------------------------------------------------------------------------------------
+# bins that follow the contact's width, the narrow-contact warning, the progress bar
+# ------------------------------------------------------------------------------------------------
+#: an O-ring's scene (E* 5 MPa, R 2 mm, 50 N/m: Hertz width 2a = 319 um) on a nearly smooth band
+#: (h_rms 5 nm, alpha 4e-4), so that the BEM profile is Hertz's: w/s = 2 sqrt(3)
+ORING = {"E_star": 5e6, "radius": 2e-3, "load": 50.0}
+#: the binned BEM FWHM against Hertz's: bins of W/20 = a/10 move it by <= 0.7 % (linear
+#: interpolation across the half-maximum) and the 5 um cells by ~0.3 %; bins of a quarter of
+#: 2 pi/q0 = 157 um (the width before bins followed the contact) gave w/s 20 % off
+RTOL_HERTZ_BINNED = 0.015
+
+
+def _near_smooth(q0, q1, **options):
+    psd = fl.SelfAffinePSD(5e-9, 0.8, q0, q0, q1)
+    return bem.line_contact_scene(psd, **ORING, points_per_wavelength=2, periods=1, **options)
+
+
+def test_bins_follow_a_narrow_contact():
+    """2 pi/q0 = 628 um, twice the contact's width: at least BINS_ACROSS bins across it, whole
+    cells, Hertz's w/s; the contact is named too narrow (narrower than the longest wavelength)."""
+    scene = _near_smooth(1e4, 8e4)
+    with pytest.warns(fl.NarrowContactWarning, match="narrower than the longest roughness"):
+        e = bem.run_ensemble(scene, 2)
+    dx = scene.grid.dx
+    assert e.contact_width / e.bin_width >= bem_scene.BINS_ACROSS
+    assert e.bin_width >= dx and e.bin_width / dx == pytest.approx(round(e.bin_width / dx))
+    assert e.contact_width == pytest.approx(2.0 * e.a_hertz, rel=0.01)  # W = 4 s = 2a
+    assert e.w_over_s == pytest.approx(fl.WS_HERTZ, rel=RTOL_HERTZ_BINNED)
+    assert "too narrow to compare widths" in e.narrow and "2 pi/q0" in e.narrow
+    # what bins of a quarter of 2 pi/q0 gave: three bins across, a triangle
+    old = bem.run_ensemble(dataclasses.replace(scene, bin_width=0.5 * math.pi / 1e4), 1)
+    assert abs(old.w_over_s / fl.WS_HERTZ - 1.0) > 10 * RTOL_HERTZ_BINNED
+
+
+def test_bins_of_a_wide_contact():
+    """2 pi/q0 = 31 um, a tenth of the width: bins of a quarter wavelength (two cells), no
+    warning."""
+    scene = _near_smooth(2e5, 8e5)
+    with warnings.catch_warnings():
+        warnings.simplefilter("error", fl.NarrowContactWarning)
+        e = bem.run_ensemble(scene, 1)
+    assert e.bin_width == pytest.approx(2 * scene.grid.dx, rel=1e-12)
+    assert e.bin_width == pytest.approx(0.5 * math.pi / 2e5, rel=1e-9)
+    assert e.contact_width / e.bin_width > bem_scene.BINS_ACROSS and e.narrow == ""
+    assert e.w_over_s == pytest.approx(fl.WS_HERTZ, rel=RTOL_HERTZ_BINNED)
+
+
+def test_narrow_contact_on_a_coarse_grid():
+    """Fewer than MIN_CELLS_ACROSS cells across the contact: named, with the way out."""
+    psd = fl.SelfAffinePSD(5e-9, 0.8, 2e5, 2e5, 8e5)
+    s = 80e-6  # W = 4 s = 320 um
+    coarse = bem.Grid(64, 8, 40e-6, 40e-6)  # 8 cells across W
+    scene = bem.line_contact_scene(psd, **ORING, grid=coarse)
+    why = bem_scene.narrow_contact(scene, s)
+    assert "8 cells of the BEM grid" in why and "points_per_wavelength" in why
+    assert "wavelength 2 pi/q0" not in why
+    fine = bem.line_contact_scene(psd, **ORING, grid=bem.Grid(64, 8, 2e-6, 2e-6))
+    assert bem_scene.narrow_contact(fine, s) == ""
+
+
+def test_progress_bar_over_realisations(capsys):
+    """Silent when stderr is not a terminal (here: captured); on request, also on a pool."""
+    scene = _near_smooth(2e5, 8e5)
+    bem.run_ensemble(scene, 2)
+    assert capsys.readouterr().err == ""
+    with ThreadPoolExecutor(2) as pool:
+        bem.run_ensemble(scene, 2, executor=pool, progress=True)
+    err = capsys.readouterr().err
+    assert "BEM" in err and "/2" in err and "realisation" in err
+    with pytest.raises(TypeError, match="progress"):
+        bem.run_ensemble(scene, 2, progress="yes")
+
+
+class _Captured(Exception):
+    """Raised by a stand-in for validate_line_contact with what the command passed it."""
+
+
+@pytest.fixture
+def captured(monkeypatch):
+    """The arguments ``fastline validate`` gives validate_line_contact (nothing is solved)."""
+
+    def fake(psd, E, R, load, **options):
+        raise _Captured(SimpleNamespace(psd=psd, E=E, R=R, load=load, **options))
+
+    monkeypatch.setattr(validation, "validate_line_contact", fake)
+
+    def call(argv, capsys):
+        with pytest.raises(_Captured) as info:
+            main(["validate", *map(str, argv)])
+        capsys.readouterr()
+        return info.value.args[0]
+
+    return call
+
+
+def test_cli_scene_options_as_profile(captured, capsys):
+    """--E1/--nu1/--E2/--nu2 give E* as --E-star does; defaults E* and R are profile's."""
+    solids = ["--E1", 2.1e11, "--nu1", 0.3, "--E2", 5e6, "--nu2", 0.49]
+    a = captured([*TINY_GRID, *solids, "--radius", 2e-3, "--load", 50], capsys)
+    E = fl.effective_modulus(2.1e11, 0.3, 5e6, 0.49)
+    assert a.E == E and a.scene.E_star == E and a.R == a.scene.radius == 2e-3
+    b = captured([*TINY_GRID, "--E-star", E, "--radius", 2e-3, "--load", 50], capsys)
+    assert dataclasses.replace(b.scene, psd=None) == dataclasses.replace(a.scene, psd=None)
+    assert repr(b.psd) == repr(a.psd)
+    d = captured(TINY_GRID, capsys)
+    profile = build_parser().parse_args(["profile"])
+    assert d.E == 1.33e9 and d.R == profile.radius == 0.01
+    assert d.progress is None  # a bar only on a terminal or with --progress
+    assert captured([*TINY, "--progress"], capsys).progress is True
+
+
+@pytest.mark.filterwarnings("ignore::fastline.errors.TopographyWarning")
+def test_cli_scan(captured, capsys, tmp_path):
+    """--scan takes the spectrum of a measured surface, as profile --scan does."""
+    rng = np.random.default_rng(0)
+    heights = np.cumsum(rng.standard_normal((2, 512)), axis=1) * 1e-8
+    path = tmp_path / "scan.npy"
+    np.save(path, heights)
+    argv = ["--scan", path, "--dx", 1e-6, "--q1", 4e5, "--E-star", E_STAR, "--radius", RADIUS]
+    a = captured([*argv, "--realizations", 2, "--workers", 1, "--load", 5], capsys)
+    scan = surfaces.analyse_scan(str(path), dx=1e-6, q1=4e5)
+    np.testing.assert_array_equal(a.psd.q, scan.psd.q)
+    np.testing.assert_array_equal(a.psd(a.psd.q), scan.psd(scan.psd.q))
+    status, out, err = run(["validate", "--scan", path, "--hurst", 0.8], capsys)
+    assert status == 2 and "--scan cannot be combined with --hurst" in err
+
+
+def test_figure_shows_every_law(tiny_line_validation):
+    """Every law has a legend entry and its own line style, marker and z-order; a narrow
+    contact is said in the title."""
+    from matplotlib.colors import to_rgba
+
+    v = tiny_line_validation
+    fig = fl.plotting.plot_validation(v)
+    ax = fig.axes[0]
+    labels = [t.get_text() for t in ax.get_legend().get_texts()]
+    lines = {ln.get_label(): ln for ln in ax.get_lines()}
+    looks = set()
+    for name in validation.MODELS:
+        assert name in labels
+        ln = lines[name]
+        looks.add((ln.get_linestyle(), ln.get_marker(), ln.get_zorder()))
+        assert to_rgba(ln.get_color())[3] == 1.0
+    assert len(looks) == len(validation.MODELS)
+    widths = [lines[m].get_linewidth() for m in validation.MODELS]
+    assert widths == sorted(widths, reverse=True)  # the first drawn is the widest
+    assert ax.get_title(loc="left") == ""

@@ -152,11 +152,12 @@ def _bin_average(x, p, centres, width):
     return np.interp(points, x, p, left=0.0, right=0.0).mean(axis=1)
 
 
-def _ring_average(r, p, scene):
+def _ring_average(r, p, ensemble):
     """The BEM's ring average applied to the theory's p(r) (linear interpolation, 0 outside)
     sampled at the BEM's cell centres."""
-    idx, _, count = ring_index(scene)
+    scene = ensemble.scene
     grid = scene.grid
+    idx, _, count = ring_index(scene, max(1, int(round(ensemble.bin_width / grid.dx))))
     radius = np.hypot(grid.x[:, None], grid.y[None, :])
     sampled = np.interp(radius.ravel(), r, p, right=0.0)
     sums = np.bincount(idx.ravel(), weights=sampled, minlength=count.size + 1)
@@ -233,8 +234,9 @@ def compare_line_contact(theory: Any, ensemble: ProfileEnsemble) -> LineComparis
     """
     x, p = _checked_theory(theory, ensemble, "cylinder", "x", "N/m")
     centres = ensemble.coordinate
-    width = float(centres[1] - centres[0]) if centres.size > 1 else ensemble.scene.grid.dx
-    return _compare(LineComparison, theory, ensemble, _bin_average(x, p, centres, width))
+    return _compare(
+        LineComparison, theory, ensemble, _bin_average(x, p, centres, ensemble.bin_width)
+    )
 
 
 def compare_point_contact(theory: Any, ensemble: ProfileEnsemble) -> PointComparison:
@@ -256,4 +258,4 @@ def compare_point_contact(theory: Any, ensemble: ProfileEnsemble) -> PointCompar
         ``theory_pressure`` is the theory's p(r) averaged over the BEM's rings.
     """
     r, p = _checked_theory(theory, ensemble, "sphere", "r", "N")
-    return _compare(PointComparison, theory, ensemble, _ring_average(r, p, ensemble.scene))
+    return _compare(PointComparison, theory, ensemble, _ring_average(r, p, ensemble))

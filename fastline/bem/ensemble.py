@@ -12,20 +12,25 @@ ensemble runs wherever :func:`fastline.sweep` runs its tasks (:func:`run_ensembl
 
 Statistics (:func:`run_ensemble`):
 
-* cylinder: ``p_bar(x)``, the pressure averaged along the axis y, over bins of ``x`` of width
-  ``Scene.bin_width`` and over realisations, with the standard error of the mean over
-  realisations in each bin; ``s`` (standard deviation about the centroid, cell-exact) and
-  ``p0`` (peak of the even quartic fitted to the central ``|x - x_c| <= 0.75 s`` of the unbinned
-  mean profile: the largest bin of a noisy profile is biased upward) and ``w`` (FWHM of the
-  binned ``p_bar``);
-* sphere: ``p_bar(r)`` averaged over rings of width ``Scene.bin_width`` about the sphere's axis
-  and over realisations; ``p0`` from the same central fit over the rings with
+* cylinder: ``p_bar(x)``, the pressure averaged along the axis y, over bins of ``x`` and over
+  realisations, with the standard error of the mean over realisations in each bin; ``s``
+  (standard deviation about the centroid, cell-exact) and ``p0`` (peak of the even quartic
+  fitted to the central ``|x - x_c| <= 0.75 s`` of the unbinned mean profile: the largest bin
+  of a noisy profile is biased upward) and ``w`` (FWHM of the binned ``p_bar``);
+* sphere: ``p_bar(r)`` averaged over rings about the sphere's axis and over realisations;
+  ``p0`` from the same central fit over the rings with
   ``r <= 0.75 sqrt(2) s``, ``w = 2 r_half``, and ``s`` the per-axis standard deviation
   ``s^2 = <|r - r_c|^2> / 2`` of the mean pressure map (a Gaussian ``exp(-r^2 / 2 s^2)``
   has standard deviation ``s``);
   Hertz: ``s = a / sqrt(5)``, ``w/s = sqrt(15)``;
 * flat: contact-area fraction, mean gap, and the Reynolds conductance and effective gap
   (:mod:`fastline.bem.flow`), means with standard errors.
+
+The bins (rings) follow the contact's own width, measured on the ensemble's mean profile
+(:func:`~fastline.bem.scene.cells_per_bin`: at least 20 across it, at most a quarter of the
+longest roughness wavelength, at least one cell) unless ``Scene.bin_width`` fixes them; a
+contact too narrow to compare widths (:func:`~fastline.bem.scene.narrow_contact`) is named in
+``ProfileEnsemble.narrow`` and warned about once (:class:`~fastline.errors.NarrowContactWarning`).
 
 The error bars of ``p0``, ``s``, ``w`` and ``w/s`` are jackknife standard errors over
 realisations (B. Efron, C. Stein, Ann. Stat. 9, 586 (1981)), the right tool for a nonlinear
@@ -35,14 +40,17 @@ functional of a mean profile; they need at least two realisations (NaN with one)
 from __future__ import annotations
 
 import math
+import sys
 import time
+import warnings
 from collections.abc import Iterator
-from concurrent.futures import Executor
+from concurrent.futures import Executor, Future, as_completed
 from contextlib import contextmanager
 from dataclasses import dataclass, field
 from typing import TYPE_CHECKING
 
 import numpy as np
+from tqdm import tqdm
 
 from fastline._lib.executors import close_engine, open_engine
 from fastline._lib.validate import integer
@@ -58,13 +66,16 @@ from fastline.bem.flow import reynolds_flow
 from fastline.bem.scene import (
     Scene,
     cells_per_bin,
+    contact_width,
     flat_contact_scene,
     line_contact_scene,
+    narrow_contact,
     point_contact_scene,
     ring_index,
     with_grid,
 )
 from fastline.bem.surface import random_surface
+from fastline.errors import NarrowContactWarning
 
 if TYPE_CHECKING:  # annotations only: dask is optional
     from distributed import Client
@@ -87,7 +98,6 @@ __all__ = [
 ]
 
 
-#: u0 / h_rms of the exponential law, used only to size default grids (paper: ~0.4).
 # ---- one realisation ---------------------------------------------------------------------------
 @dataclass(frozen=True)
 class Realization:
@@ -98,8 +108,8 @@ class Realization:
     seed
         The seed it was drawn from.
     profile : ndarray or None
-        Cylinder: pressure averaged along y, shape (nx,) [Pa]; sphere: ring-averaged pressure
-        [Pa]; flat: None.
+        Cylinder: pressure averaged along y, shape (nx,) [Pa]; sphere: pressure averaged over
+        rings one cell wide (``ring_index(scene, 1)``) [Pa]; flat: None.
     moments : ndarray
         ``(sum p, sum x p, sum y p, sum (x^2 + y^2) p)`` over the cells [Pa, Pa m, Pa m, Pa m^2].
     contact_fraction : float
@@ -221,7 +231,7 @@ def _profile_and_flow(
     if scene.geometry == "cylinder":
         return p.mean(axis=1), (math.nan, math.nan, False)
     if scene.geometry == "sphere":
-        idx, _, count = ring_index(scene)
+        idx, _, count = ring_index(scene, 1)
         sums = np.bincount(idx.ravel(), weights=p.ravel(), minlength=count.size + 1)
         return sums[: count.size] / count, (math.nan, math.nan, False)
     flow = reynolds_flow(res.gap, scene.grid.dx, scene.grid.dy, viscosity=scene.viscosity)
@@ -249,6 +259,14 @@ class ProfileEnsemble:
         Smooth-contact references [Pa, m, m].
     alpha : float
         ``h_rms / delta`` (``psd.h_rms``; 0 if smooth).
+    bin_width : float
+        Width of the bins (cylinder) or rings (sphere) of ``pressure`` [m] (module docstring).
+    contact_width : float
+        The contact's width ``W`` [m] the bins follow (:func:`~fastline.bem.scene.contact_width`:
+        4 s for a cylinder, 2 sqrt(5) s for a sphere; Hertz 2a).
+    narrow : str
+        Why the contact is too narrow to compare widths
+        (:func:`~fastline.bem.scene.narrow_contact`), or ``""``.
     image_curvature : float
         Cylinder: ``kappa`` of :func:`~fastline.bem.contact.image_curvature` (the relative
         shift of ``s`` by the periodic images is ``-kappa/2`` uncorrected, ``O(kappa^2)`` with
@@ -281,6 +299,9 @@ class ProfileEnsemble:
     a_hertz: float
     delta: float
     alpha: float
+    bin_width: float
+    contact_width: float
+    narrow: str
     image_curvature: float
     p0_ratio: float
     p0_ratio_error: float
@@ -335,38 +356,51 @@ def _mean_se(values):
     return float(v.mean()), float(v.std(ddof=1) / math.sqrt(v.size))
 
 
-def _line_bins(scene):
-    """Bin of every cell (bins of ``m`` cells centred on x = 0) and the bin centres [m].
+def _line_bins(scene, m):
+    """Bin of every cell (bins of ``m`` cells centred on x = 0), the cells in each bin, the
+    bin centres [m] and the bins' cells.
 
-    ``m`` has the parity of ``nx`` (or is 1) so that the bins are symmetric about the axis."""
+    ``m`` is lowered to the parity of ``nx`` (or is 1) so that the bins are symmetric about
+    the axis."""
     grid = scene.grid
-    m = cells_per_bin(scene)
     if m > 1 and m % 2 != grid.nx % 2:
-        m += 1
+        m -= 1
     if m == 1:
-        return np.arange(grid.nx), np.ones(grid.nx, dtype=np.int64), grid.x
+        return np.arange(grid.nx), np.ones(grid.nx, dtype=np.int64), grid.x, 1
     offset = np.arange(grid.nx) - 0.5 * (grid.nx - 1)
     k = np.rint(offset / m).astype(np.int64)
     k -= k.min()
     centres = (np.arange(k.max() + 1) + np.rint(offset[0] / m)) * m * grid.dx
-    return k, np.bincount(k), centres
+    return k, np.bincount(k), centres, m
 
 
-def _line_statistic(scene):
+def _line_s(x, profile, dx):
+    """Standard deviation [m] of a profile about its centroid (cell-exact)."""
+    m0 = profile.sum()
+    xc = np.dot(x, profile) / m0
+    return math.sqrt(np.dot((x - xc) ** 2, profile) / m0 + dx**2 / 12.0)
+
+
+def _line_statistic(scene, k, count, centres):
+    """``profile -> (p0, s, w, w/s)`` on the bins ``k`` (:func:`_line_bins`)."""
     grid = scene.grid
     x = grid.x
-    k, count, centres = _line_bins(scene)
 
     def stat(profile):
         binned = np.bincount(k, weights=profile) / count
-        m0 = profile.sum()
-        xc = np.dot(x, profile) / m0
-        s = math.sqrt(np.dot((x - xc) ** 2, profile) / m0 + grid.dx**2 / 12.0)
+        s = _line_s(x, profile, grid.dx)
+        xc = np.dot(x, profile) / profile.sum()
         p0 = _profile.central_peak(x - xc, profile, s)
         left, right = _profile.half_crossings(centres, binned, 0.5 * p0)
         return p0, s, right - left, (right - left) / s
 
-    return stat, lambda profiles: np.stack([np.bincount(k, weights=p) / count for p in profiles])
+    return stat
+
+
+def _sphere_s(m, dx, dy):
+    """Per-axis standard deviation [m] from the moments of a pressure map."""
+    var = 0.5 * (m[3] / m[0] - (m[1] ** 2 + m[2] ** 2) / m[0] ** 2) + (dx * dx + dy * dy) / 24
+    return math.sqrt(var)
 
 
 def _sphere_statistic(r, count, dx, dy):
@@ -374,8 +408,7 @@ def _sphere_statistic(r, count, dx, dy):
 
     def stat(sample):
         profile, m = sample[:nring], sample[nring:]
-        var = 0.5 * (m[3] / m[0] - (m[1] ** 2 + m[2] ** 2) / m[0] ** 2) + (dx * dx + dy * dy) / 24
-        s = math.sqrt(var)
+        s = _sphere_s(m, dx, dy)
         # radial window 0.75 sqrt(2) s: the same fraction of the profile as on a line
         p0 = _profile.central_peak(r / math.sqrt(2.0), profile, s, weights=count)
         _, r_half = _profile.half_crossings(r, profile, 0.5 * p0)
@@ -384,21 +417,45 @@ def _sphere_statistic(r, count, dx, dy):
     return stat
 
 
-def _profile_ensemble(scene, runs):
+def _merge_rings(scene, profiles, cells):
+    """One-cell ring averages (each row of ``profiles``) merged into rings of ``cells`` cells:
+    (merged profiles, mean radii, cell counts) as :func:`ring_index` ``(scene, cells)``."""
+    _, rmean, count = ring_index(scene, cells)
+    _, _, count1 = ring_index(scene, 1)
+    ring = np.arange(count1.size) // cells
+    keep = ring < count.size
+    sums = np.stack([np.bincount(ring[keep], weights=(p * count1)[keep]) for p in profiles])
+    return sums[:, : count.size] / count, rmean, count
+
+
+def _binned(scene, runs):
+    """(samples of the jackknife, statistic, bin centres, binned profiles, bin width, s) with
+    the bins of the contact's width (:func:`~fastline.bem.scene.cells_per_bin`)."""
     grid = scene.grid
     profiles = np.array([r.profile for r in runs])
     if scene.geometry == "cylinder":
-        stat, binner = _line_statistic(scene)
-        samples = profiles
-        coord = _line_bins(scene)[2]
-        profiles = binner(profiles)
-    else:
-        _, coord, count = ring_index(scene)
-        samples = np.concatenate([profiles, np.array([r.moments for r in runs])], axis=1)
-        stat = _sphere_statistic(coord, count.astype(np.float64), grid.dx, grid.dy)
+        s = _line_s(grid.x, profiles.mean(axis=0), grid.dx)
+        k, count, centres, cells = _line_bins(scene, cells_per_bin(scene, s))
+        stat = _line_statistic(scene, k, count, centres)
+        binned = np.stack([np.bincount(k, weights=p) / count for p in profiles])
+        return profiles, stat, centres, binned, cells * grid.dx, s
+    moments = np.array([r.moments for r in runs])
+    s = _sphere_s(moments.mean(axis=0), grid.dx, grid.dy)
+    cells = cells_per_bin(scene, s)
+    binned, coord, count = _merge_rings(scene, profiles, cells)
+    samples = np.concatenate([binned, moments], axis=1)
+    stat = _sphere_statistic(coord, count.astype(np.float64), grid.dx, grid.dy)
+    return samples, stat, coord, binned, cells * grid.dx, s
+
+
+def _profile_ensemble(scene, runs):
+    samples, stat, coord, profiles, bin_width, s_mean = _binned(scene, runs)
     (p0, s, w, ws), (p0_e, s_e, w_e, ws_e) = _profile.jackknife(samples, stat)
     n = len(runs)
     err = profiles.std(axis=0, ddof=1) / math.sqrt(n) if n > 1 else np.full(coord.size, np.nan)
+    narrow = narrow_contact(scene, s_mean)
+    if narrow:
+        warnings.warn(narrow, NarrowContactWarning, stacklevel=3)
     p0_h, a_h, delta = scene.hertz()
     h_rms = 0.0 if scene.psd is None else scene.psd.h_rms
     return ProfileEnsemble(
@@ -418,6 +475,9 @@ def _profile_ensemble(scene, runs):
         a_hertz=a_h,
         delta=delta,
         alpha=h_rms / delta,
+        bin_width=bin_width,
+        contact_width=contact_width(scene, s_mean),
+        narrow=narrow,
         image_curvature=_image_curvature(scene),
         p0_ratio=float(p0 / p0_h),
         p0_ratio_error=float(p0_e / p0_h),
@@ -491,17 +551,35 @@ def ensemble_executor(
         close_engine(engine)
 
 
-def _map(executor, scene, seeds) -> list:
+def _map(executor, scene, seeds, bar) -> list:
     """``run_realization`` over the seeds, results in seed order (``submit``, not ``map``: a
-    dask executor's ``map`` needs sized iterables and batches differently)."""
+    dask executor's ``map`` needs sized iterables and batches differently); ``bar`` advances
+    as each realisation completes."""
     if executor is None:
-        return [run_realization(s, scene) for s in seeds]
+        out = []
+        for s in seeds:
+            out.append(run_realization(s, scene))
+            bar.update(1)
+        return out
     futures = [executor.submit(run_realization, s, scene) for s in seeds]
     try:
+        if all(isinstance(f, Future) for f in futures):
+            for _ in as_completed(futures):
+                bar.update(1)
         return [f.result() for f in futures]
     finally:
         for f in futures:
             f.cancel()
+
+
+def _progress(progress, total: int, desc: str) -> tqdm:
+    """A tqdm bar over realisations on stderr (None: only when stderr is a terminal)."""
+    if progress is not None and not isinstance(progress, (bool, np.bool_)):
+        raise TypeError(f"progress must be True, False or None, got {type(progress).__name__}")
+    disable = None if progress is None else not progress
+    return tqdm(
+        total=total, desc=desc, unit="realisation", file=sys.stderr, disable=disable, leave=False
+    )
 
 
 def run_ensemble(
@@ -511,6 +589,8 @@ def run_ensemble(
     *,
     executor: ExecutorLike = None,
     workers: int | None = None,
+    progress: bool | None = None,
+    desc: str = "BEM",
 ) -> ProfileEnsemble | FlatEnsemble:
     """Run ``realizations`` independent realisations of ``scene`` and average them.
 
@@ -529,6 +609,11 @@ def run_ensemble(
         dask cluster needs the scene to pickle: the package's spectra do).
     workers : int, optional
         Processes of a local pool made and shut down here (``executor=None`` only).
+    progress : bool or None
+        A tqdm progress bar over the realisations on stderr, advanced as each completes
+        (None, the default: only when stderr is a terminal).
+    desc : str
+        The bar's label.
 
     Returns
     -------
@@ -548,8 +633,8 @@ def run_ensemble(
     else:
         root = np.random.SeedSequence(integer("seed", seed, 0))
     seeds = root.spawn(n)
-    with ensemble_executor(executor, workers, n) as ex:
-        runs = _map(ex, scene, seeds)
+    with _progress(progress, n, desc) as bar, ensemble_executor(executor, workers, n) as ex:
+        runs = _map(ex, scene, seeds, bar)
     if scene.geometry == "flat":
         return _flat_ensemble(scene, runs)
     return _profile_ensemble(scene, runs)

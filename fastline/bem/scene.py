@@ -1,7 +1,16 @@
 """BEM scenes: a rough cylinder, sphere or nominally flat contact (:class:`Scene`), built and
 checked by :func:`line_contact_scene`, :func:`point_contact_scene` and
 :func:`flat_contact_scene`, which also size the default grid; the bins (cylinder) and rings
-(sphere) of a scene's reported nominal pressure (:func:`ring_index`).
+(sphere) of a scene's reported nominal pressure (:func:`cells_per_bin`, :func:`ring_index`)
+and whether its contact is too narrow to compare widths (:func:`narrow_contact`).
+
+The bins follow the contact's own width ``W`` (the Hertz width 2a in units of the profile's
+standard deviation s: ``W = 4 s`` for a cylinder, ``2 sqrt(5) s`` for a sphere, exact for
+Hertz): at least :data:`BINS_ACROSS` bins across ``W``, no wider than a quarter of the longest
+roughness wavelength ``2 pi / q0`` (the nominal pressure is a mean over the roughness), and
+never narrower than one cell of the grid, the finest scale the BEM resolves.  The FWHM is read
+by linear interpolation between bin centres ``b`` apart, which moves it by up to
+``b^2 |p''| / (8 |p'|)`` at the half-maximum: for Hertz at ``b = W / 20 = a / 10`` up to 0.7 %.
 
 Units: m, Pa; a cylinder's load in N/m, a sphere's in N, a flat contact's nominal pressure in
 Pa.
@@ -27,7 +36,11 @@ __all__ = [
     "flat_contact_scene",
     "with_grid",
     "cells_per_bin",
+    "contact_width",
+    "narrow_contact",
     "ring_index",
+    "BINS_ACROSS",
+    "MIN_CELLS_ACROSS",
 ]
 
 _GAMMA_U = 0.4
@@ -35,6 +48,14 @@ _GAMMA_U = 0.4
 _CELLS_PER_WIDTH = 64
 _IMAGE_SPACING = 4.0  # cylinder: Lx = 4 widths (8 a): Hertz s +2e-5 with the image correction
 _PATCH_WIDTHS = 4.0  # sphere (isolated patch): L = 4 widths
+#: Bins (cylinder) or ring widths (sphere) across the contact's width ``W``, at least, when
+#: the bins follow the contact (``Scene.bin_width`` None).
+BINS_ACROSS = 20
+#: Fewer cells than this across ``W``: the grid does not resolve the contact's width.
+MIN_CELLS_ACROSS = 10
+#: The contact's width ``W`` in units of the profile's s: the Hertz width 2a (cylinder
+#: s = a/2, sphere s = a/sqrt(5)); a Gaussian profile carries 95 % of the load within 4 s.
+_WIDTH_PER_S = {"cylinder": 4.0, "sphere": 2.0 * math.sqrt(5.0)}
 
 
 @dataclass(frozen=True)
@@ -65,11 +86,11 @@ class Scene:
         CCG settings (:func:`~fastline.bem.contact.solve_contact`).
     viscosity : float
         Fluid viscosity for the flat scene's flow [Pa s].
-    bin_width : float
+    bin_width : float or None
         Width of the x bins (cylinder) or rings (sphere) of the reported ``p_bar`` [m], from
-        which ``p0`` and ``w`` are read (``s`` uses every cell); 0 means one cell.  The
-        nominal pressure is defined on scales above the roughness: the builders default to a
-        quarter of the longest wavelength ``2 pi / q0`` (one cell if smooth).
+        which ``w`` is read (``p0`` and ``s`` use every cell); 0 means one cell.  None (the
+        default): from the contact's own width, measured on the ensemble (module docstring,
+        :func:`cells_per_bin`).
     image_correction : bool
         Cylinder: cancel the leading effect of the periodic images in x
         (:func:`~fastline.bem.contact.image_curvature`).
@@ -86,7 +107,7 @@ class Scene:
     tol: float = DEFAULT_TOL
     max_iter: int = 5000
     viscosity: float = 1e-3
-    bin_width: float = 0.0
+    bin_width: float | None = None
     image_correction: bool = True
 
     @property
@@ -183,7 +204,8 @@ def line_contact_scene(
     points_per_wavelength, periods : float
         Default-grid resolution of ``2 pi / q1`` (>= 2) and ``Ly`` in ``2 pi / q0`` (> 0).
     bin_width : float, optional
-        Bin width of ``p_bar`` [m], >= 0 (:class:`Scene`; default ``pi / (2 q0)``).
+        Bin width of ``p_bar`` [m], >= 0 (:class:`Scene`; default None: from the contact's
+        width, :func:`cells_per_bin`).
     image_correction : bool
         Cancel the periodic images' curvature (default True; :class:`Scene`).
     amplitudes, tol, max_iter
@@ -194,7 +216,7 @@ def line_contact_scene(
     tol, max_iter = _check_settings(grid, amplitudes, tol, max_iter)
     if grid is None:
         grid = _line_grid(psd, E_star, radius, load, points_per_wavelength, periods)
-    kw = {"bin_width": _bin_width(psd, bin_width)}
+    kw = {"bin_width": _bin_width(bin_width)}
     kw["image_correction"] = _flag("image_correction", image_correction)
     return Scene("cylinder", psd, E_star, load, radius, grid, True, amplitudes, tol, max_iter, **kw)
 
@@ -264,7 +286,7 @@ def point_contact_scene(
         amplitudes,
         tol,
         max_iter,
-        bin_width=_bin_width(psd, bin_width),
+        bin_width=_bin_width(bin_width),
     )
 
 
@@ -319,13 +341,13 @@ def _flag(name, value):
     return bool(value)
 
 
-def _bin_width(psd, bin_width):
-    if bin_width is not None:
-        out = finite_scalar("bin_width", bin_width)
-        if out < 0.0:
-            raise ValueError(f"bin_width must be >= 0 m (allowed range [0, inf)), got {out!r}")
-        return out
-    return 0.0 if psd is None else 0.5 * math.pi / psd.q0
+def _bin_width(bin_width):
+    if bin_width is None:
+        return None
+    out = finite_scalar("bin_width", bin_width)
+    if out < 0.0:
+        raise ValueError(f"bin_width must be >= 0 m (allowed range [0, inf)), got {out!r}")
+    return out
 
 
 def _grid_options(points_per_wavelength, periods):
@@ -335,13 +357,61 @@ def _grid_options(points_per_wavelength, periods):
     return ppw, positive("periods", periods)
 
 
-def cells_per_bin(scene: Scene) -> int:
-    """Cells of the grid in one bin (cylinder) or ring width (sphere) of ``p_bar``, >= 1."""
-    return max(1, int(round(scene.bin_width / scene.grid.dx)))
+def contact_width(scene: Scene, s: float) -> float:
+    """The contact's width ``W`` [m] of a profile of standard deviation ``s`` [m]: ``4 s``
+    (cylinder) or ``2 sqrt(5) s`` (sphere), the Hertz width 2a."""
+    return _WIDTH_PER_S[scene.geometry] * s
 
 
-def ring_index(scene: Scene) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """The rings of a sphere scene's ``p_bar``, of width ``cells_per_bin(scene)`` cells.
+def cells_per_bin(scene: Scene, s: float | None = None) -> int:
+    """Cells of the grid in one bin (cylinder) or ring width (sphere) of ``p_bar``, >= 1.
+
+    ``Scene.bin_width`` if given; else (with the profile's s [m]) the width
+    ``min(W / BINS_ACROSS, pi / (2 q0))`` with ``W = contact_width(scene, s)``, rounded to
+    whole cells (one cell for a smooth scene, or without ``s``)."""
+    dx = scene.grid.dx
+    if scene.bin_width is not None:
+        return max(1, int(round(scene.bin_width / dx)))
+    if scene.psd is None or s is None or not s > 0.0:
+        return 1
+    width = min(contact_width(scene, s) / BINS_ACROSS, 0.5 * math.pi / scene.psd.q0)
+    return max(1, int(width / dx + 1e-9))
+
+
+def narrow_contact(scene: Scene, s: float) -> str:
+    """Why the contact of profile standard deviation ``s`` [m] is too narrow to compare
+    widths, or ``""``: ``W`` (:func:`contact_width`) spans fewer than
+    :data:`MIN_CELLS_ACROSS` cells, or is narrower than the longest roughness wavelength
+    ``2 pi / q0`` (the theory's mean field assumes the nominal pressure varies slowly on that
+    scale, and each realisation's width is set by a few asperities)."""
+    width = contact_width(scene, s)
+    what = "4 s" if scene.geometry == "cylinder" else "2 sqrt(5) s"
+    why = []
+    cells = width / scene.grid.dx
+    if cells < MIN_CELLS_ACROSS:
+        why.append(
+            f"it spans {cells:.3g} cells of the BEM grid (at least {MIN_CELLS_ACROSS} resolve "
+            "its width; raise points_per_wavelength)"
+        )
+    if scene.psd is not None:
+        lam = 2.0 * math.pi / float(scene.psd.q0)
+        if width < lam:
+            why.append(
+                f"it is narrower than the longest roughness wavelength 2 pi/q0 = {lam:.3g} m "
+                "(a few asperities set each realisation's width; the theory's mean field "
+                "assumes the pressure varies slowly on that scale)"
+            )
+    if not why:
+        return ""
+    return (
+        f"the BEM contact (width {width:.3g} m = {what}) is too narrow to compare widths: "
+        + "; ".join(why)
+    )
+
+
+def ring_index(scene: Scene, cells: int | None = None) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """The rings of a sphere scene's ``p_bar``, of width ``cells`` cells (default
+    :func:`cells_per_bin` without the profile: ``Scene.bin_width``, else one cell).
 
     Returns
     -------
@@ -354,7 +424,7 @@ def ring_index(scene: Scene) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         Cells in each of those rings.
     """
     grid = scene.grid
-    width = cells_per_bin(scene) * grid.dx
+    width = (cells_per_bin(scene) if cells is None else cells) * grid.dx
     x, y = grid.x[:, None], grid.y[None, :]
     r = np.sqrt(x * x + y * y)
     nring = max(int(0.5 * min(grid.lx, grid.ly) / width), 1)

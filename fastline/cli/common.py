@@ -190,8 +190,11 @@ def spectrum_options(parser: argparse.ArgumentParser) -> None:
     )
 
 
-def material_options(parser: argparse.ArgumentParser, load: bool, geometry: bool = False) -> None:
-    """E* or the solids' constants, the radius, the load (``load``), --geometry (``geometry``)."""
+def material_options(
+    parser: argparse.ArgumentParser, load: bool, geometry: bool = False
+) -> argparse._ArgumentGroup:
+    """E* or the solids' constants, the radius, the load (``load``), --geometry (``geometry``);
+    returns the group (``validate`` adds its load options to it)."""
     m = parser.add_argument_group(
         "material and geometry",
         "Give the effective modulus directly or the two solids' elastic constants "
@@ -210,7 +213,7 @@ def material_options(parser: argparse.ArgumentParser, load: bool, geometry: bool
     m.add_argument("--nu2", type=number, metavar="NU", help="Poisson ratio of solid 2 [-]")
     if geometry:
         _geometry_options(m, load)
-        return
+        return m
     m.add_argument(
         "--radius",
         type=positive,
@@ -226,6 +229,7 @@ def material_options(parser: argparse.ArgumentParser, load: bool, geometry: bool
             metavar="N/M",
             help="normal load per unit cylinder length f_N [N/m] (default 1e4)",
         )
+    return m
 
 
 def _geometry_options(m, load: bool) -> None:

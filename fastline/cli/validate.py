@@ -14,17 +14,18 @@ import math
 import os
 import sys
 import time
+import warnings
 from typing import Any
 
 import fastline as fl
 from fastline import bem, reports, theory
 from fastline.cli.common import (
-    GEOMETRIES,
     CLIError,
     check_outputs,
     count,
     figure_options,
     gamma,
+    material_options,
     number,
     open_executor,
     positive,
@@ -32,19 +33,19 @@ from fastline.cli.common import (
     spectrum_line,
     variant_option,
 )
+from fastline.cli.scene import scan_options, scene
 
 __all__ = ["validate_parser", "cmd_validate", "VALIDATE_DEFAULTS"]
 
-#: defaults of the scene: the narrow-band paper-like surface of docs/validation.md (floats in
-#: SI units; None: derived from q0)
+#: defaults of the spectrum, the narrow-band paper-like surface of docs/validation.md (a BEM
+#: grid resolves q1/q0 up to ~100, not profile's 1e6), and of the load, alpha = 1 (floats in SI
+#: units; None: derived from q0); E* (1.33e9 Pa) and R (0.01 m) are profile's
 VALIDATE_DEFAULTS: dict[str, Any] = {
     "h_rms": 0.5e-6,
     "hurst": 0.8,
     "q0": 2.0 * math.pi / 40e-6,
     "qr": None,  # = q0 (no roll-off)
     "q1": None,  # = 32 q0
-    "E_star": 10e6,
-    "radius": 32.8e-3,
     "alpha": 1.0,
 }
 #: defaults that depend on the geometry (the theory's grid; the cell length along the axis)
@@ -78,14 +79,23 @@ theory's real contact area, mean separation u(p) and critical-junction gap u_c.
 
 The BEM grid has --points-per-wavelength cells per shortest wavelength 2 pi/q1 and a period of
 --periods longest wavelengths 2 pi/q0 along the axis: spectra with q1/q0 up to ~100 run in
-seconds to minutes per realisation. Defaults: the paper-like narrow-band scene of
-docs/validation.md (H 0.8, q1/q0 = 32, h_rms 0.5 um, E* 10 MPa, R 32.8 mm, alpha = 1)."""
+seconds to minutes per realisation. The nominal pressure is averaged over bins that follow
+the contact's own width (at least 20 across it, at most a quarter of 2 pi/q0, at least one
+cell); a contact too narrow to compare widths (narrower than 2 pi/q0, or fewer than 10 cells
+across) is named in the table and the figure. Defaults: the spectrum of the paper-like
+narrow-band scene of docs/validation.md (H 0.8, q1/q0 = 32, h_rms 0.5 um), alpha = 1, and
+profile's E* (1.33 GPa) and R (10 mm). Spectra: self-affine, --psd or --scan, as for profile."""
 
 EPILOG = """\
 examples:
   fastline validate --realizations 8 --plot validate.png
-  fastline validate --realizations 40 --scheduler tcp://host:8786 --csv profile.csv
+  fastline validate --E-star 10e6 --radius 32.8e-3 --realizations 40 \\
+      --scheduler tcp://host:8786 --csv profile.csv
   fastline validate --alpha 0.1 --all-variants --gw --csv profile.csv
+  fastline validate --E1 2.1e11 --nu1 0.3 --E2 5e6 --nu2 0.49 --radius 2e-3 --load 50 \\
+      --q0 1e4 --qr 1e5 --q1 1e6 --points-per-wavelength 2
+  fastline validate --scan examples/scan_example.txt --dx 1e-6 --units um --q1 1e6 \\
+      --points-per-wavelength 2 --alpha 0.3
   fastline validate --geometry sphere --q1 1.26e6 --alpha 0.3 --workers 2 --plot sphere.png
   fastline validate --leak --pressure 2e3 1e4 5e4 --all-variants --plot flat.png"""
 
@@ -100,6 +110,7 @@ def validate_parser(sub: argparse._SubParsersAction, fmt: type[argparse.HelpForm
         epilog=EPILOG,
     )
     _spectrum_group(p)
+    scan_options(p)
     _scene_group(p)
     _theory_group(p)
     _bem_group(p)
@@ -124,23 +135,9 @@ def _spectrum_group(p: argparse.ArgumentParser) -> None:
 
 
 def _scene_group(p: argparse.ArgumentParser) -> None:
-    """Material and scene: E*, geometry, radius, the load (or alpha), or the flat contact."""
-    m = p.add_argument_group("material and scene")
-    m.add_argument("--E-star", type=positive, metavar="PA", help="E* [Pa] (default 10e6)")
-    m.add_argument(
-        "--geometry",
-        choices=GEOMETRIES,
-        default="cylinder",
-        help="rigid cylinder on a flat (line contact, default) or sphere on a flat (point "
-        "contact); the load is per unit length [N/m] for a cylinder, the total load [N] for a "
-        "sphere",
-    )
-    m.add_argument(
-        "--radius",
-        type=positive,
-        metavar="M",
-        help="cylinder radius [m], or the sphere's with --geometry sphere (default 32.8e-3)",
-    )
+    """Material and scene as for profile (E* or the solids' constants, geometry, radius), the
+    load (or alpha), or the flat contact."""
+    m = material_options(p, load=False, geometry=True)
     load = m.add_mutually_exclusive_group()
     load.add_argument(
         "--load",
@@ -236,6 +233,13 @@ def _bem_group(p: argparse.ArgumentParser) -> None:
         help="cell length along the axis (flat: both ways) in 2 pi/q0 (default 2; not for "
         "the sphere, whose patch is sized from the contact)",
     )
+    b.add_argument(
+        "--progress",
+        action="store_true",
+        default=None,
+        help="a progress bar over the realisations on stderr also when stderr is not a "
+        "terminal (default: only on a terminal)",
+    )
 
 
 def _realizations(text: str) -> int:
@@ -254,18 +258,16 @@ def _realizations(text: str) -> int:
 # scene
 # ----------------------------------------------------------------------------------------------
 def _scene(args):
-    """(psd, E*, source) with the validate defaults."""
-    E = VALIDATE_DEFAULTS["E_star"] if args.E_star is None else args.E_star
-    keys = ("h_rms", "hurst", "q0", "qr", "q1")
-    if args.psd is not None:
-        given = [f"--{k.replace('_', '-')}" for k in keys if getattr(args, k) is not None]
-        if given:
-            raise CLIError(f"--psd cannot be combined with {', '.join(given)}")
-        return fl.io.read_spectrum(args.psd), E, args.psd
-    v = {k: VALIDATE_DEFAULTS[k] if getattr(args, k) is None else getattr(args, k) for k in keys}
-    v["qr"] = v["q0"] if v["qr"] is None else v["qr"]
-    v["q1"] = 32.0 * v["q0"] if v["q1"] is None else v["q1"]
-    return fl.SelfAffinePSD(v["h_rms"], v["hurst"], v["q0"], v["qr"], v["q1"]), E, None
+    """(psd, E*, source) as profile's scene (E* or --E1/--nu1/--E2/--nu2, --psd, --scan), with
+    the validate spectrum's defaults for a self-affine spectrum."""
+    if args.psd is None and args.scan is None:
+        d = VALIDATE_DEFAULTS
+        q0 = d["q0"] if args.q0 is None else args.q0
+        defaults = {"h_rms": d["h_rms"], "hurst": d["hurst"], "q0": q0, "qr": q0, "q1": 32 * q0}
+        for key, value in defaults.items():
+            if getattr(args, key) is None:
+                setattr(args, key, value)
+    return scene(args)
 
 
 def _models(args) -> tuple[str, ...]:
@@ -351,11 +353,17 @@ def _header(psd, E, source, grid, args, what: str) -> list[str]:
 
 
 def _run(args, validate, *params, **options):
-    """``validate(*params, **options)`` on the workers or the dask scheduler of the options."""
+    """``validate(*params, **options)`` on the workers or the dask scheduler of the options,
+    with a progress bar on a terminal (or with --progress); a contact too narrow to compare
+    widths is said by the table, not warned about a second time."""
     client, release = open_executor(args)
     try:
         workers = _workers(args) if client is None else None
-        return validate(*params, executor=client, workers=workers, **options)
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore", fl.NarrowContactWarning)
+            return validate(
+                *params, executor=client, workers=workers, progress=args.progress, **options
+            )
     finally:
         release()
 
@@ -389,7 +397,7 @@ def _profile_scene(args, psd, E: float, R: float, load: float):
 def _profile(args) -> int:
     """A cylinder or a sphere: BEM ensemble against each model's profile."""
     psd, E, source = _scene(args)
-    R = VALIDATE_DEFAULTS["radius"] if args.radius is None else args.radius
+    R = args.radius
     load = _load(args, psd, E, R)
     check_outputs(args)
     scene = _profile_scene(args, psd, E, R, load)
@@ -423,6 +431,7 @@ def _profile(args) -> int:
         f"{v.seconds_bem:.1f} s ({float(e.seconds.mean()):.2f} s per realisation), theory "
         f"{v.seconds_theory:.2f} s"
     )
+    print(_bins_line(e))
     print(v.table())
     print("z = (theory - BEM) / BEM standard error; |z| <= 2: agreement at about 95 %")
     if args.csv:
@@ -431,6 +440,17 @@ def _profile(args) -> int:
         save(fl.plotting.plot_validation(v), args.plot, args)
     ok = e.converged and all(r.converged for r in v.results.values())
     return _status(ok)
+
+
+def _bins_line(e) -> str:
+    """The bins (rings) of the BEM's p_bar and the contact's width they follow."""
+    what = "bins" if e.geometry == "cylinder" else "rings"
+    per_s = "4 s" if e.geometry == "cylinder" else "2 sqrt(5) s"
+    return (
+        f"BEM {what:<12} {e.bin_width:.4g} m ({e.bin_width / e.scene.grid.dx:.0f} cells): "
+        f"{e.contact_width / e.bin_width:.3g} across the contact's width {e.contact_width:.4g} "
+        f"m (= {per_s})"
+    )
 
 
 def _flat(args) -> int:
@@ -512,7 +532,11 @@ def _profile_csv(path, v, psd, E, R, source, args) -> None:
         "bem_p0_ratio": f"{e.p0_ratio!r} +- {e.p0_ratio_error!r}",
         "bem_s_m": f"{e.s!r} +- {e.s_error!r}",
         "bem_w_over_s": f"{e.w_over_s!r} +- {e.w_over_s_error!r}",
+        "bem_bin_width_m": e.bin_width,
+        "bem_contact_width_m": e.contact_width,
     }
+    if e.narrow:
+        extra["bem_warning"] = e.narrow
     for name, c in v.comparisons.items():
         key = _key(name)
         extra[f"{key}_p0_ratio"] = v.results[name].p0_ratio

@@ -141,7 +141,8 @@ class ProfileValidation:
     def table(self) -> str:
         """Plain text: BEM values with standard errors, then each model's values and their
         difference from the BEM (relative, and z in BEM standard errors); columns at least two
-        spaces apart whatever the widths of the values."""
+        spaces apart whatever the widths of the values; a last line ``warning: ...`` when the
+        contact is too narrow to compare widths (``ensemble.narrow``)."""
         e = self.ensemble
         head = ["", "p0/p0_Hertz", "s [m]", "w/s", "profile chi2/bin"]
         rows = [
@@ -163,7 +164,10 @@ class ProfileValidation:
                     f"{c.chi2_per_bin:.3g}",
                 ]
             )
-        return _columns([head, *rows])
+        table = _columns([head, *rows])
+        if e.narrow:
+            table += f"\nwarning: {e.narrow}"
+        return table
 
 
 @dataclass(frozen=True)
@@ -216,37 +220,38 @@ def validate_line_contact(
     periods: float = 2.0,
     n: int = 1024,
     scene: bem.Scene | None = None,
+    progress: bool | None = None,
 ) -> LineValidation:
     """BEM ensemble of a rough cylinder against the theory's p(x) for each model.
 
     Parameters
     ----------
-    psd : PSD
-        Roughness spectrum (m^4 vs 1/m).
-    E_star, radius, load : float
-        Effective modulus [Pa], cylinder radius [m], load per unit length [N/m].
-    models : sequence of str
-        Laws to compare, from :data:`MODELS` (default the default variant).
-    gamma : float, optional
-        Parameter of the Persson variants (default: each variant's own).
+    psd, E_star, radius, load
+        Roughness spectrum (m^4 vs 1/m), effective modulus [Pa], cylinder radius [m], load
+        per unit length [N/m].
+    models, gamma
+        Laws to compare, from :data:`MODELS` (default the default variant), and the gamma of
+        the Persson variants (default: each variant's own).
     realizations, seed : int
         BEM surfaces (>= 2: the error bars) and root seed (:func:`fastline.bem.run_ensemble`).
-    executor : None, "serial", str, concurrent.futures.Executor or dask Client
-        Where the realisations run, as for :func:`fastline.sweep`: a dask scheduler address
-        (``"tcp://host:8786"``) or Client, any executor (default: this process;
-        :func:`fastline.bem.run_ensemble`).
-    workers : int, optional
-        Run the realisations on a local pool of this many processes (``executor=None`` only).
+    executor, workers, progress
+        Where the realisations run (as for :func:`fastline.sweep`: a dask scheduler address or
+        Client, any executor; default this process; ``workers``: a local pool of that many
+        processes) and a progress bar on stderr (None: on a terminal only), as for
+        :func:`fastline.bem.run_ensemble`.
     points_per_wavelength, periods : float
         BEM grid (:func:`fastline.bem.line_contact_scene`).
-    n : int
-        Theory grid points.
-    scene : fastline.bem.Scene, optional
-        A prebuilt BEM scene (then the grid options are ignored).
+    n, scene
+        Theory grid points; a prebuilt BEM scene (then the grid options are ignored).
 
     Returns
     -------
     LineValidation
+
+    Warns
+    -----
+    fastline.NarrowContactWarning
+        When the BEM contact is too narrow to compare widths (``ensemble.narrow``).
     """
     models = _check_inputs(psd, models, realizations, seed)
     if scene is None:
@@ -254,10 +259,9 @@ def validate_line_contact(
         scene = bem.line_contact_scene(psd, E_star, radius, load, **grid)
     elif not isinstance(scene, bem.Scene) or scene.geometry != "cylinder":
         raise ValueError("scene must be a cylinder scene (fastline.bem.line_contact_scene)")
-    results, seconds_theory = _theory_results(
-        LineContact, psd, E_star, radius, load, models, gamma, n
-    )
-    ensemble, seconds_bem = _bem_ensemble(scene, realizations, seed, executor, workers)
+    results, seconds_theory = _theory_results(LineContact, psd, E_star, radius, load, models,
+                                              gamma, n)  # fmt: skip
+    ensemble, seconds_bem = _bem_ensemble(scene, realizations, seed, executor, workers, progress)
     comparisons = {m: compare_line_contact(r, ensemble) for m, r in results.items()}
     return LineValidation(ensemble, results, comparisons, seconds_bem, seconds_theory)
 
@@ -277,11 +281,13 @@ def validate_point_contact(
     points_per_wavelength: float = 4.0,
     n: int = 512,
     scene: bem.Scene | None = None,
+    progress: bool | None = None,
 ) -> PointValidation:
     """BEM ensemble of a rough sphere against the theory's p(r) for each model.
 
     The BEM's nominal pressure ``p_bar(r)`` is the pressure averaged over rings about the
-    sphere's axis (width ``Scene.bin_width``, default a quarter of ``2 pi / q0``) and over
+    sphere's axis (``Scene.bin_width``, default from the contact's width:
+    :func:`fastline.bem.run_ensemble`) and over
     realisations; p0, s (``s^2 = int r^2 p dA / 2F``), the FWHM along a diameter and w/s as
     for the theory (docs/sphere.md; :func:`fastline.bem.run_ensemble`).
 
@@ -291,8 +297,8 @@ def validate_point_contact(
         Roughness spectrum (m^4 vs 1/m).
     E_star, radius, load : float
         Effective modulus [Pa], sphere radius [m], normal force on the sphere [N].
-    models, gamma, realizations, seed, executor, workers
-        As :func:`validate_line_contact`.
+    models, gamma, realizations, seed, executor, workers, progress
+        As :func:`validate_line_contact` (which also names the warning).
     points_per_wavelength : float
         BEM cells per shortest wavelength ``2 pi / q1`` (>= 2;
         :func:`fastline.bem.point_contact_scene`: an isolated square patch four contact widths
@@ -316,7 +322,7 @@ def validate_point_contact(
     results, seconds_theory = _theory_results(
         PointContact, psd, E_star, radius, load, models, gamma, n
     )
-    ensemble, seconds_bem = _bem_ensemble(scene, realizations, seed, executor, workers)
+    ensemble, seconds_bem = _bem_ensemble(scene, realizations, seed, executor, workers, progress)
     comparisons = {m: compare_point_contact(r, ensemble) for m, r in results.items()}
     return PointValidation(ensemble, results, comparisons, seconds_bem, seconds_theory)
 
@@ -347,12 +353,14 @@ def _theory_results(contact, psd, E_star, radius, load, models, gamma, n):
     return results, time.perf_counter() - t0
 
 
-def _bem_ensemble(scene, realizations, seed, executor, workers):
+def _bem_ensemble(scene, realizations, seed, executor, workers, progress):
     """(ProfileEnsemble, seconds) of ``realizations`` surfaces."""
     t0 = time.perf_counter()
     ensemble = cast(
         bem.ProfileEnsemble,
-        bem.run_ensemble(scene, realizations, seed, executor=executor, workers=workers),
+        bem.run_ensemble(
+            scene, realizations, seed, executor=executor, workers=workers, progress=progress
+        ),
     )
     return ensemble, time.perf_counter() - t0
 
@@ -432,6 +440,7 @@ def validate_flat_contact(
     points_per_wavelength: float = 4.0,
     periods: float = 2.0,
     thresholds: Sequence[float] = THRESHOLDS,
+    progress: bool | None = None,
 ) -> FlatValidation:
     """BEM ensembles of a nominally flat contact against the theory, one per pressure.
 
@@ -448,6 +457,9 @@ def validate_flat_contact(
         needs the contact area erf(x)).
     thresholds : sequence of float
         Percolation thresholds of the critical junction (default 0.42 and 0.5).
+    progress : bool or None
+        A progress bar over each pressure's realisations on stderr (None: only when stderr
+        is a terminal).
 
     Returns
     -------
@@ -464,15 +476,28 @@ def validate_flat_contact(
     grid = {"points_per_wavelength": points_per_wavelength, "periods": periods}
     scenes = [bem.flat_contact_scene(psd, E_star, float(pi), **grid) for pi in p]
     t0 = time.perf_counter()
-    with bem.ensemble_executor(executor, workers, realizations) as ex:
-        ensembles = [
-            cast(bem.FlatEnsemble, bem.run_ensemble(scene, realizations, seed + i, executor=ex))
-            for i, scene in enumerate(scenes)
-        ]
+    ensembles = _flat_ensembles(scenes, realizations, seed, executor, workers, progress)
     seconds = time.perf_counter() - t0
     area, separation = _area_and_separation(laws, p, ensembles)
     gaps = _critical_gaps(leak_theory, p, ensembles, thresholds)
     return FlatValidation(p, ensembles, area, separation, gaps, leak_model, laws, seconds)
+
+
+def _flat_ensembles(scenes, realizations, seed, executor, workers, progress) -> list:
+    """One :class:`fastline.bem.FlatEnsemble` per scene (seeds ``seed + i``), all on one pool or
+    client, each with its progress bar."""
+    with bem.ensemble_executor(executor, workers, realizations) as ex:
+        return [
+            bem.run_ensemble(
+                scene,
+                realizations,
+                seed + i,
+                executor=ex,
+                progress=progress,
+                desc=f"BEM p = {scene.load:.4g} Pa",
+            )
+            for i, scene in enumerate(scenes)
+        ]
 
 
 def _leak_theory(models, laws, psd, E_star) -> tuple[str, PerssonTheory]:

@@ -19,7 +19,7 @@ if TYPE_CHECKING:  # annotations only: matplotlib and the validation load on fir
 
     from fastline.reports.validation import FlatValidation, ProfileValidation
 
-__all__ = ["plot_validation", "plot_flat_validation"]
+__all__ = ["plot_validation", "plot_flat_validation", "LAW_STYLES"]
 
 
 def _pressure_unit(p_max: float) -> tuple[float, str]:
@@ -41,55 +41,87 @@ def _pressure_axis(ax) -> None:
     ax.xaxis.set_minor_formatter(NullFormatter())
 
 
+#: per law, in the order drawn: line style, width, marker (open), so that laws whose profiles
+#: coincide still show: the first is widest at the bottom, each later one narrower on top, with
+#: markers at staggered places along the line
+LAW_STYLES = (("-", 2.8, None), ("--", 2.0, "o"), ("-.", 1.5, "s"), (":", 1.3, "^"))
+_MARK_STEP = 0.09  # markers every 9 % of the axes' diagonal, staggered by law
+
+
+def _law_style(k: int, laws: int) -> dict:
+    """Line keywords of the k-th of ``laws`` laws (:data:`LAW_STYLES`)."""
+    style, width, marker = LAW_STYLES[k % len(LAW_STYLES)]
+    kw = {"ls": style, "lw": width, "color": f"C{k}", "zorder": 3 + k}
+    if marker is not None:
+        start = 0.02 + _MARK_STEP * k / max(laws, 1)
+        kw |= {"marker": marker, "ms": 4.5, "mfc": "white", "mew": 1.0}
+        kw["markevery"] = (start, _MARK_STEP)
+    return kw
+
+
+def _narrow_note(ax, e) -> None:
+    """Say on the figure that the contact is too narrow to compare widths, and why."""
+    scene = e.scene
+    why = []
+    if scene.psd is not None and e.contact_width < 2.0 * np.pi / scene.psd.q0:
+        lam = 2.0 * np.pi / scene.psd.q0
+        why.append(rf"$W$ = {e.contact_width * 1e3:.3g} mm < $2\pi/q_0$ = {lam * 1e3:.3g} mm")
+    cells = e.contact_width / scene.grid.dx
+    if cells < 10:
+        why.append(f"{cells:.3g} cells across")
+    ax.set_title(
+        "BEM contact too narrow to compare widths: " + ", ".join(why),
+        fontsize=7.5,
+        color="C3",
+        loc="left",
+    )
+
+
 def plot_validation(validation: ProfileValidation, *, ax: Axes | None = None) -> Figure:
     """Theory against BEM for a cylinder or a sphere
     (:func:`fastline.reports.validation.validate_line_contact`,
     :func:`~fastline.reports.validation.validate_point_contact`): the BEM ensemble ``p_bar(x)``
     (sphere: ``p_bar(r)`` over rings) with a band of two standard errors, each model's profile
-    and the Hertz profile.
+    (:data:`LAW_STYLES`: every law visible where they coincide) and the Hertz profile; a title
+    in red when the contact is too narrow to compare widths.
 
     Parameters
     ----------
     validation : fastline.reports.validation.LineValidation or PointValidation
     ax : matplotlib Axes, optional
     """
-    fig, ax, _ = figure_and_axes(ax)
+    fig, ax, own = figure_and_axes(ax, size=(6.4, 3.8))
+    if own:
+        fig.subplots_adjust(left=0.11, right=0.64, top=0.9 if validation.ensemble.narrow else 0.96)
     e = validation.ensemble
     scale, unit = _pressure_unit(max(e.p0, e.p0_hertz))
     x = e.coordinate * 1e3
     band = 2.0 * e.pressure_error
     ax.fill_between(
-        x,
-        (e.pressure - band) / scale,
-        (e.pressure + band) / scale,
-        color="0.75",
-        lw=0,
-        label="BEM ± 2 s.e.",
-    )
-    ax.plot(
-        x,
-        e.pressure / scale,
-        "-",
-        color="k",
-        lw=1.2,
-        label=rf"BEM $\bar p$ ({e.realizations} surfaces)",
-    )
+        x, (e.pressure - band) / scale, (e.pressure + band) / scale, color="0.8", lw=0,
+        label="BEM ± 2 s.e.", zorder=1,
+    )  # fmt: skip
+    label = rf"BEM $\bar p$ ({e.realizations} surfaces)"
+    ax.plot(x, e.pressure / scale, "-", color="k", lw=1.1, label=label, zorder=10)
     sphere = validation.geometry == "sphere"
-    styles = ["-", "--", "-.", ":"]
+    laws = len(validation.results)
     for k, (name, r) in enumerate(validation.results.items()):
         coord = r.r if sphere else r.x
-        ax.plot(coord * 1e3, r.pressure / scale, styles[k % 4], color=f"C{k}", lw=1.2, label=name)
+        ax.plot(coord * 1e3, r.pressure / scale, label=name, **_law_style(k, laws))
     scene = e.scene
     hertz = hertz_point_contact if sphere else hertz_line_contact
     hz = hertz(scene.E_star, scene.radius, scene.load)
     half = 1.3 * max(hz.a, 2.5 * e.s)
     xs = np.linspace(0.0 if sphere else -half, half, 801)
-    ax.plot(xs * 1e3, hz.pressure(xs) / scale, ":", color="0.4", lw=1, label="Hertz (smooth)")
+    ax.plot(xs * 1e3, hz.pressure(xs) / scale, ":", color="0.45", lw=1, label="Hertz (smooth)",
+            zorder=2)  # fmt: skip
     ax.set_xlim(xs[0] * 1e3, half * 1e3)
     ax.set_ylim(0.0, None)
     ax.set_xlabel(r"$r$ (mm)" if sphere else r"$x$ (mm)")
     ax.set_ylabel(rf"nominal pressure $p$ ({unit})")
     ax.text(0.02, 0.97, rf"$\alpha$ = {e.alpha:.3g}", transform=ax.transAxes, va="top", fontsize=8)
+    if e.narrow:
+        _narrow_note(ax, e)
     outside_legend(ax)
     return fig
 
