@@ -125,7 +125,8 @@ def test_table_columns_stay_apart():
                                  z=123.4), w_over_s=SimpleNamespace(theory=2.5, relative=-0.33,
                                  z=-3.9), chi2_per_bin=1234.5)  # fmt: skip
     ensemble = SimpleNamespace(p0_ratio=0.87531, p0_ratio_error=0.33, s=9.6912e-05,
-                               s_error=1.3e-05, w_over_s=3.8, w_over_s_error=0.32)  # fmt: skip
+                               s_error=1.3e-05, w_over_s=3.8, w_over_s_error=0.32,
+                               narrow="")  # fmt: skip
     names = ["yang-persson-energy", "a-model-with-a-longer-name-than-22"]
     v = validation.LineValidation(
         ensemble,
@@ -136,6 +137,8 @@ def test_table_columns_stay_apart():
     )
     lines = v.table().splitlines()
     assert len(lines) == 2 + len(names)
+    narrow = dataclasses.replace(v, ensemble=SimpleNamespace(**{**vars(ensemble), "narrow": "x"}))
+    assert narrow.table().splitlines() == [*lines, "warning: x"]
     # the header has 4 titled columns; BEM 4 cells; each model 5 (name, 3 values, chi2)
     widths = [len(re.split(r"\s{2,}", ln.strip())) for ln in lines]
     assert widths == [4, 4, *[5] * len(names)], v.table()
@@ -349,8 +352,9 @@ def test_sphere_agreement_at_small_alpha():
     assert abs(c.p0.z) <= Z_AGREE_SPHERE_P0 and abs(c.s.relative) <= RTOL_S_SPHERE
     assert c.p0.theory == v.results["yang-persson-energy"].p0 and c.p0.bem == e.p0
     assert c.s.z == pytest.approx((c.s.theory - e.s) / e.s_error, rel=1e-12)
-    # rings of 2 cells: sum of p_bar over ring areas ~ F (the rings are whole cells)
-    width = 2 * e.scene.grid.dx
+    # rings of whole cells: sum of p_bar over ring areas ~ F (the rings are whole cells)
+    width = e.bin_width
+    assert width == 2 * e.scene.grid.dx  # a quarter of 2 pi/q0: narrower than W/20
     edges = width * np.arange(e.coordinate.size + 1)
     ring_area = math.pi * np.diff(edges**2)
     assert np.sum(e.pressure * ring_area) == pytest.approx(e.scene.load, rel=0.02)
