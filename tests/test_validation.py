@@ -126,7 +126,7 @@ def test_table_columns_stay_apart():
                                  z=-3.9), chi2_per_bin=1234.5)  # fmt: skip
     ensemble = SimpleNamespace(p0_ratio=0.87531, p0_ratio_error=0.33, s=9.6912e-05,
                                s_error=1.3e-05, w_over_s=3.8, w_over_s_error=0.32,
-                               narrow="")  # fmt: skip
+                               narrow="", realizations=8)  # fmt: skip
     names = ["yang-persson-energy", "a-model-with-a-longer-name-than-22"]
     v = validation.LineValidation(
         ensemble,
@@ -139,6 +139,10 @@ def test_table_columns_stay_apart():
     assert len(lines) == 2 + len(names)
     narrow = dataclasses.replace(v, ensemble=SimpleNamespace(**{**vars(ensemble), "narrow": "x"}))
     assert narrow.table().splitlines() == [*lines, "warning: x"]
+    assert "1.23e+03" in lines[-1]
+    # chi2/bin needs 4 realisations: with 2 or 3 z^2 has no mean
+    few = dataclasses.replace(v, ensemble=SimpleNamespace(**{**vars(ensemble), "realizations": 3}))
+    assert few.table().splitlines()[-1].endswith("  n/a")
     # the header has 4 titled columns; BEM 4 cells; each model 5 (name, 3 values, chi2)
     widths = [len(re.split(r"\s{2,}", ln.strip())) for ln in lines]
     assert widths == [4, 4, *[5] * len(names)], v.table()

@@ -434,6 +434,10 @@ def _profile(args) -> int:
     print(_bins_line(e))
     print(v.table())
     print("z = (theory - BEM) / BEM standard error; |z| <= 2: agreement at about 95 %")
+    print(
+        "chi2/bin: mean z^2 over the profile's core bins, (n-1)/(n-3) expected with n "
+        f"realisations (n/a below {reports.validation.MIN_CHI2_REALIZATIONS})"
+    )
     if args.csv:
         _profile_csv(args.csv, v, psd, E, R, source, args)
     if args.plot:

@@ -63,6 +63,10 @@ __all__ = [
 GW = "greenwood-williamson"
 #: fewest BEM realisations: every difference is in units of their standard error (one has none)
 MIN_REALIZATIONS = 2
+#: fewest realisations for the table's profile chi2/bin: below, the mean of z^2 over the bins
+#: does not exist (each z is Student-t with n - 1 <= 2 degrees of freedom; 2 realisations gave
+#: chi2/bin 8.5-320 where the profiles agree within their band)
+MIN_CHI2_REALIZATIONS = 4
 #: the laws a validation can compare: the variants of the Persson theory and the GW law
 MODELS = (*VARIANTS, GW)
 #: the critical-junction thresholds compared in a flat validation (Persson; Bruggeman)
@@ -141,8 +145,10 @@ class ProfileValidation:
     def table(self) -> str:
         """Plain text: BEM values with standard errors, then each model's values and their
         difference from the BEM (relative, and z in BEM standard errors); columns at least two
-        spaces apart whatever the widths of the values; a last line ``warning: ...`` when the
-        contact is too narrow to compare widths (``ensemble.narrow``)."""
+        spaces apart whatever the widths of the values; the profile's chi2/bin (``n/a`` below
+        :data:`MIN_CHI2_REALIZATIONS` realisations; with the theory right it averages
+        (n - 1)/(n - 3), 1.4 for 8); a last line ``warning: ...`` when the contact is too
+        narrow to compare widths (``ensemble.narrow``)."""
         e = self.ensemble
         head = ["", "p0/p0_Hertz", "s [m]", "w/s", "profile chi2/bin"]
         rows = [
@@ -161,7 +167,7 @@ class ProfileValidation:
                     _vz(self.results[name].p0_ratio, c.p0),
                     _vz(c.s.theory, c.s),
                     _vz(c.w_over_s.theory, c.w_over_s),
-                    f"{c.chi2_per_bin:.3g}",
+                    _chi2_cell(c.chi2_per_bin, e.realizations),
                 ]
             )
         table = _columns([head, *rows])
@@ -193,6 +199,13 @@ def _columns(rows: list[list[str]], gap: int = 2) -> str:
         ]
         lines.append((" " * gap).join(cells).rstrip())
     return "\n".join(lines)
+
+
+def _chi2_cell(chi2: float, realizations: int) -> str:
+    """The profile's chi2/bin, or ``n/a`` below :data:`MIN_CHI2_REALIZATIONS` (with n
+    realisations each bin's z is Student-t with n - 1 degrees of freedom, whose z^2 has the
+    mean (n - 1)/(n - 3) for n > 3 and none for n <= 3)."""
+    return f"{chi2:.3g}" if realizations >= MIN_CHI2_REALIZATIONS else "n/a"
 
 
 def _pm(value: float, error: float) -> str:

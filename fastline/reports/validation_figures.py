@@ -90,9 +90,9 @@ def plot_validation(validation: ProfileValidation, *, ax: Axes | None = None) ->
     validation : fastline.reports.validation.LineValidation or PointValidation
     ax : matplotlib Axes, optional
     """
-    fig, ax, own = figure_and_axes(ax, size=(6.4, 3.8))
-    if own:
-        fig.subplots_adjust(left=0.11, right=0.64, top=0.9 if validation.ensemble.narrow else 0.96)
+    fig, ax, own = figure_and_axes(ax, size=(6.0, 3.8))
+    if own:  # the legend's longest entry ("greenwood-williamson") ends at 96 % of the width
+        fig.subplots_adjust(left=0.11, right=0.66, top=0.9 if validation.ensemble.narrow else 0.96)
     e = validation.ensemble
     scale, unit = _pressure_unit(max(e.p0, e.p0_hertz))
     x = e.coordinate * 1e3
