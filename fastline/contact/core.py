@@ -537,7 +537,7 @@ def picard(
             ok = res < tol_eff
             message = _message(ok, res, tol, tol_eff, f"{sweeps} sweeps")
             if why and not ok:
-                message = message.replace("(max_iter)", f"({why}; method='newton' solves it)")
+                message = message.replace("(max_iter)", f"({why}; use method='newton')")
             info = {"damping": omega, "stopped": why if not ok else None}
             return Outcome(it.v, it.u1, res, ok, sweeps, message, info, it.p)
         sweeps += 1
