@@ -361,9 +361,9 @@ def _best_u1(it: _Iterate) -> _Iterate:
     :func:`_line_search` may cut to a sliver; an approach left behind then holds a uniform
     residual that no direction in ln p removes (seen at alpha 4e3-9e4, where ``K p`` is tiny
     beside the gap: 36 of 597 random point contacts of ``python -m bench.point_campaign``
-    stopped at residuals 1e-6..5e-5). On the
-    path with the best approach the slope of the merit is that along ``(dv, du1)`` (its
-    derivative in u1 vanishes there), so a descent direction stays one."""
+    stopped at residuals 1e-6..5e-5). On the path with the best approach the slope of the
+    merit is that along ``(dv, du1)`` (its derivative in u1 vanishes there), so a descent
+    direction stays one."""
     shift = float(np.mean(it.r))
     it.u1 += shift
     it.r = it.r - shift
