@@ -7,6 +7,7 @@ import pytest
 
 import fastline as fl
 from bench.conftest import ALPHAS, E_STAR, RADIUS, surfaces
+from fastline.elastic import ring
 from fastline.reports.paper import sphere_load_for_alpha
 
 
@@ -52,3 +53,26 @@ def test_sphere_paper_sweep(benchmark):
     flat = [r for rs in res for r in rs]
     benchmark.extra_info["convolutions_total"] = sum(r.convolutions for r in flat)
     assert all(r.converged for r in flat)
+
+
+def test_sphere_cold_large_n(benchmark):
+    """A first solve at the largest grid, n = 4096: the coefficient matrices (4096 and the
+    nested start's 1024 and 256) built from nothing, the nested start and the Newton solve, on
+    the scene whose steep contact edge took 100 Newton steps from the blended cold start."""
+    benchmark.group = "sphere-cold-large-n"
+    psd = fl.SelfAffinePSD(1.6252659152708667e-07, 0.7507584274033539, 11.838074501303021,
+                           11.838074501303021, 1457256.6822658174)  # fmt: skip
+    scene = (psd, 9467232.038449507, 1.8499331365511182e-05, 6.008112696548577e-08)
+
+    def cold():
+        ring._matrices.clear()
+        ring._coarse.clear()
+        return fl.solve_point_contact(*scene, n=4096, warn=False)
+
+    res = benchmark.pedantic(cold, rounds=1, iterations=1)
+    benchmark.extra_info.update(
+        iterations=res.iterations,
+        convolutions=res.convolutions,
+        nested=res.diagnostics["nested_start"],
+    )
+    assert res.converged

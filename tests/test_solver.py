@@ -434,7 +434,7 @@ def test_picard_stops_and_never_nan():
     for model in ("persson", "exponential"):
         with pytest.warns(fl.ConvergenceWarning):
             res = solve(psd, 1e-3, method="picard", model=model)
-        assert not res.converged and "stagnated" in res.message
+        assert not res.converged and ("stagnated" in res.message or "too slow" in res.message)
         assert res.iterations < 1000 and np.all(np.isfinite(res.pressure))
 
 

@@ -24,8 +24,10 @@ regime the scene is in (information) and which model assumptions fail (warnings)
   :data:`EDGE_LIMIT` of p0 (``"truncated_domain"``): a ``half_width`` (``domain_radius``)
   given too small cuts off part of the contact, and p0, s and w/s are off, converged or not
   (not for a result of ``accuracy=`` that met it: its error estimate counts the truncation);
-* **resolution**: a warning when the FWHM spans fewer than :data:`RESOLUTION_CELLS` grid cells
-  (``"resolution"``): p0 and w/s are then limited by the grid, converged or not.
+* **resolution**: a warning when the FWHM spans fewer than :data:`RESOLUTION_CELLS` grid cells,
+  or the contact's edge (the fall from p0/2 to :data:`ROLLOFF_LEVEL` p0) fewer than
+  :data:`ROLLOFF_CELLS` (``"resolution"``): p0 and w/s are then limited by the grid, converged
+  or not.
 
 Warnings reach the user once: :func:`assess` lists them (``warning_causes``,
 ``warning_messages``) and emits them when ``warn=True``; for many results (a sweep)
@@ -65,6 +67,7 @@ __all__ = [
     "HERTZ_LIKE_ALPHA",
     "GAUSSIAN_LIKE_ALPHA",
     "RESOLUTION_CELLS",
+    "ROLLOFF_CELLS",
     "EDGE_LIMIT",
 ]
 
@@ -84,6 +87,16 @@ HALF_WIDTH_LIMIT = 0.1
 #: 0.4 % for the paper's scenes; the needle scene has p0 off by 4 % at 2.8 cells, 0.5 % at
 #: 5.9 and 0.07 % at 11.9.
 RESOLUTION_CELLS = 8.0
+#: fewest grid cells across the contact's edge, the fall of p from p0/2 to ROLLOFF_LEVEL p0
+#: (outermost crossings, linear interpolation). A Hertz-like contact with a steep edge can
+#: have a FWHM of many cells and an edge of one: a sphere whose law is in full contact up to
+#: the edge (rms slope 6e-5, the domain sized by u0 23 times the Hertz radius) had, against
+#: n = 2048 on its domain, w/s off by 4.0 % at n = 128 (FWHM 9.2 cells, edge 1.4 cells),
+#: 0.5 % at 256 (2.2 cells) and 0.08 % at 512 (3.7 cells). The paper's surface 1 (alpha
+#: 1e-3..100) has edges of 3.3 cells or more already at n = 32, with w/s within 0.6 %.
+ROLLOFF_CELLS = 3.0
+#: the level (relative to p0) where the edge ends, for ROLLOFF_CELLS
+ROLLOFF_LEVEL = 0.01
 #: pressure at the domain edge, relative to p0, above which the domain cuts off the contact.
 #: Measured against the default domain (paper surface 1, E* = 1.33 GPa, R = 1 cm, n = 2048,
 #: domains a + k sqrt(R u0)): an edge pressure of 1e-3 goes with errors of 0.03-0.4 % in s
@@ -210,14 +223,41 @@ def _domain(out, result, msgs) -> None:
 def _resolution(out, result, msgs) -> None:
     step = result.dr if hasattr(result, "dr") else result.dx  # a point contact's ring width
     cells = result.fwhm / step if step > 0 else float("nan")
+    edge = _edge_cells(result, step)
     out["fwhm_cells"] = float(cells)
-    out["resolution_ok"] = bool(cells >= RESOLUTION_CELLS)
-    if not out["resolution_ok"] and math.isfinite(cells):  # NaN: no FWHM inside the domain
+    out["edge_cells"] = edge
+    wide = not cells < RESOLUTION_CELLS  # NaN: no FWHM inside the domain (the domain check)
+    sharp = not edge < ROLLOFF_CELLS
+    out["resolution_ok"] = bool(cells >= RESOLUTION_CELLS and sharp)
+    fix = f"raise n or narrow {_domain_parameter(result)}"
+    if not wide:
         msgs["resolution"] = (
             f"the FWHM spans {cells:.3g} grid cells (< {RESOLUTION_CELLS:g}): p0 and w/s are "
-            f"limited by the grid (errors of percents); raise n or narrow "
-            f"{_domain_parameter(result)}"
+            f"limited by the grid (errors of percents); {fix}"
         )
+    elif not sharp:
+        msgs["resolution"] = (
+            f"the contact's edge (p falling from p0/2 to {ROLLOFF_LEVEL:g} p0) spans {edge:.2g} "
+            f"grid cells (< {ROLLOFF_CELLS:g}): p0, s and w/s are limited by the grid (errors "
+            f"of percents, though the FWHM spans {cells:.3g} cells); {fix}"
+        )
+
+
+def _edge_cells(result, step: float) -> float:
+    """Grid cells between the outermost crossings of p0/2 and ``ROLLOFF_LEVEL`` p0 (linear
+    interpolation between cell centres); NaN when p does not fall that far in the domain."""
+    x = result.r if hasattr(result, "r") else result.x
+    p, p0 = np.asarray(result.pressure), float(result.p0)
+    if not (step > 0 and p0 > 0 and math.isfinite(p0)):
+        return float("nan")
+    ends = []
+    for level in (0.5 * p0, ROLLOFF_LEVEL * p0):
+        above = np.flatnonzero(p >= level)
+        j = int(above[-1]) if above.size else -1
+        if j < 0 or j == p.size - 1:
+            return float("nan")
+        ends.append(x[j] + (p[j] - level) / (p[j] - p[j + 1]) * (x[j + 1] - x[j]))
+    return float((ends[1] - ends[0]) / step)
 
 
 def _asperities(out, result, theory, hardness, msgs) -> None:
@@ -301,9 +341,10 @@ def assess(
         (bool), ``longest_wavelength`` (m, ``2 pi/q0``) and ``mean_field_ok`` (contact at least
         that wide), ``domain_half_width`` (m, the solved domain's extent) and ``domain_ok``
         (edge pressure at most :data:`EDGE_LIMIT` of p0), ``fwhm_cells`` (FWHM / grid
-        spacing) and ``resolution_ok``, ``rms_slope``
-        (-), ``asperity_pressure`` (Pa, ``h' E*/2``), ``real_area_at_peak`` (-,
-        ``P(q1, p0)``), ``plastic_likely`` (bool or None), ``p0_over_beta_E_star`` (-); for
+        spacing), ``edge_cells`` (cells from p0/2 to ``ROLLOFF_LEVEL`` p0) and
+        ``resolution_ok``, ``rms_slope`` (-), ``asperity_pressure`` (Pa, ``h' E*/2``),
+        ``real_area_at_peak`` (-, ``P(q1, p0)``), ``plastic_likely`` (bool or None),
+        ``p0_over_beta_E_star`` (-); for
         ``model="persson"`` ``beyond_exponential_law`` (the peak lies above the range where
         the exponential law holds); for ``model="exponential"`` ``exponential_valid`` (bool),
         ``exponential_valid_range`` ((p_min, p_max) in Pa where the law is within 5 % in u;
@@ -392,8 +433,9 @@ def _headline(cause: str, result) -> str:
             "default, sizes it for each load)"
         ),
         "resolution": (
-            f"the FWHM spans fewer than {RESOLUTION_CELLS:g} grid cells: p0 and w/s are limited "
-            f"by the grid (errors of percents); raise n or narrow {_domain_parameter(result)}"
+            f"the FWHM spans fewer than {RESOLUTION_CELLS:g} grid cells, or the contact's edge "
+            f"fewer than {ROLLOFF_CELLS:g}: p0 and w/s are limited by the grid (errors of "
+            f"percents); raise n or narrow {_domain_parameter(result)}"
         ),
     }[cause]
     return f"{text} (this scene's numbers: result.diagnostics['warning_messages'])"

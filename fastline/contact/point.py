@@ -25,6 +25,7 @@ SI units: m, Pa, N (the load on the sphere; a cylinder's is per unit length, N/m
 
 from __future__ import annotations
 
+import copy
 import math
 from collections.abc import Callable, Iterable
 from dataclasses import KW_ONLY, dataclass
@@ -61,6 +62,14 @@ __all__ = [
 DEFAULT_N = 512
 #: largest grid (the ring operator is a dense n x n matrix)
 MAX_N = _OPERATOR_MAX_N
+#: nested iteration: a cold Newton solve on more than ``NESTED_ABOVE`` cells starts from the
+#: same load's solution on ``n // NESTED_FACTOR`` cells of the same domain (itself nested), as
+#: the line contact does. A cold start at n = 3000-4096 took 100 Newton steps and more (over
+#: 1,000 products with the dense operator, ~30 s) on a scene whose contact edge falls from
+#: 0.3 p0 to 1e-3 p0 within a few cells, where the law turns from full contact to its tail;
+#: from the solution on a quarter of the cells it takes 4-10 (docs/sphere.md, "Performance")
+NESTED_ABOVE = 512
+NESTED_FACTOR = 4
 #: loads accepted, in units of E* R^2: the Hertz radius stays between ~1e-6 R and ~100 R
 LOAD_RANGE = (1e-18, 1e6)
 
@@ -353,6 +362,29 @@ class PointContact(ContactModel):
 
     def _rescaled_start(self, grid: _RingGrid, initial: PointContactResult) -> np.ndarray:
         return _rescaled_start(grid, initial)
+
+    def _coarse_start(self, grid: _RingGrid, load: float) -> tuple[np.ndarray | None, dict | None]:
+        """Nested iteration (:data:`NESTED_ABOVE`): the same load on ``n // NESTED_FACTOR``
+        cells of this domain, interpolated in ln p (None if it did not converge); its work goes
+        to ``diagnostics["nested_start"]`` (its operator applications are of size n / 4 and
+        not counted in ``convolutions``)."""
+        if self.n <= NESTED_ABOVE or self._law is None or self.method != "newton":
+            return None, None
+        coarse_model = self.__dict__.get("_nested")
+        if coarse_model is None:  # made once; a race between threads makes two equal copies
+            coarse_model = copy.copy(self)
+            coarse_model.__dict__.pop("_nested", None)
+            coarse_model.n, coarse_model.warn = self.n // NESTED_FACTOR, False
+            self._nested = coarse_model
+        cgrid = _build_grid(coarse_model.n, grid.half_width, self.radius, self.E_star, grid.hertz)
+        cstart, counts = coarse_model._coarse_start(cgrid, load)
+        coarse = coarse_model._solve_on(cgrid, cstart, False, counts)
+        start = _rescaled_start(grid, coarse) if coarse.converged else None
+        inner = (counts or {}).get("nested_start", {}).get("convolutions", 0)
+        work = dict(
+            n=coarse_model.n, convolutions=coarse.convolutions + inner, used=start is not None
+        )
+        return start, {"nested_start": work}
 
     def _result(self, grid: _RingGrid, out: _core.Outcome) -> PointContactResult:
         r, dr, hz = grid.x, grid.dr, grid.hertz

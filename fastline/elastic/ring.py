@@ -51,12 +51,21 @@ and far from it, where the coefficients are small, ``G`` must be summed as its p
 below ``k^2 = 1/4`` (the elliptic form cancels like ``1/k^2``; with it the error at (2000, 0)
 was 2.6e-6, with the series 2e-13).
 
+The matrix is built by a compiled kernel straight into its one n x n array: the upper triangle
+row by row from two rows of disc interactions, mirrored (``W khat`` is symmetric) and scaled.
+Above ``k^2 = 1/4`` the kernel evaluates E and K by Gauss's arithmetic-geometric mean
+(Abramowitz & Stegun 1964, 17.6), within 1.3e-15 of SciPy's ``ellipe``/``ellipkm1`` form for
+``1 - k^2 > 1e-4``. A cold build at n = 4096 took 30 s and 1.2 GB of NumPy temporaries for
+the (n + 1)^2 disc interactions (9x the matrix); it now takes the matrix's 8 n^2 bytes and
+6 s at n = 4096 on a 2-core machine under a load average of 24 (docs/sphere.md, "Performance").
+
 Application and preconditioner
 ------------------------------
 ``apply`` is a dense product with ``khat``, ``O(n^2)``, in a single-threaded compiled loop
 (~30 us at the default n = 512, ~6 us at 256, ~130 us at 1024 on the 2-core test machine):
 docs/sphere.md ("Performance") gives the figures and why no fast transform is used. The dense
-matrix caps ``n`` (8 n^2 bytes: 134 MB at n = 4096).
+matrix caps ``n`` (8 n^2 bytes: 134 MB at n = 4096; a point solve above 512 cells also keeps the
+matrix of its nested start on n/4 cells, 1/16 more).
 
 :class:`BalancingPreconditioner` approximates ``(D + K)^{-1}`` for the Newton-Krylov core by
 Jacobi plus an exact solve on a coarse space of piecewise-constant blocks of cells, combined as a
@@ -153,21 +162,108 @@ def disc_interaction(a: ArrayLike, c: ArrayLike) -> np.ndarray:
         ``Phi(a, a) = 16 pi a^3 / 3``.
     """
     a, c = np.broadcast_arrays(real_array("a", a), real_array("c", c))
+    return _phi(a, c)
+
+
+def _phi(a: np.ndarray, c: np.ndarray) -> np.ndarray:
+    """:func:`disc_interaction` of checked arrays of one shape: each entry is summed by the one
+    form it needs (the series below ``k^2 = 1/4``, the elliptic form above), in place."""
     lo, hi = np.minimum(a, c), np.maximum(a, c)
-    safe = np.where(hi > 0.0, hi, 1.0)
-    m = (lo / safe) ** 2
-    m1 = (hi - lo) * (hi + lo) / safe**2  # 1 - m without cancellation near m = 1
+    out = np.zeros(lo.shape)
+    pos = hi > 0.0
+    lo, hi = lo[pos], hi[pos]
+    m = (lo / hi) ** 2
     small = m < _SERIES_BELOW
-    g = np.where(small, _g_series(np.where(small, m, 0.0)), _g_elliptic(m, m1))
-    return np.where(hi > 0.0, 8.0 * np.pi * hi**3 * g, 0.0)
+    g = np.empty_like(m)
+    g[small] = _g_series(m[small])
+    big = ~small
+    lb, hb = lo[big], hi[big]
+    g[big] = _g_elliptic(m[big], (hb - lb) * (hb + lb) / hb**2)  # 1 - m without cancellation
+    out[pos] = 8.0 * np.pi * hi**3 * g
+    return out
 
 
-def _build_matrix(n: int) -> np.ndarray:
-    e = ring_edges(n)
-    phi = disc_interaction(e[:, None], e[None, :])
-    mutual = phi[1:, 1:] - phi[1:, :-1] - phi[:-1, 1:] + phi[:-1, :-1]
-    mutual = 0.5 * (mutual + mutual.T)  # exact symmetry (the sums differ in rounding order)
-    return mutual / (np.pi * ring_areas(n)[:, None])
+@numba.njit(**JIT)
+def _g_scalar(lo, hi):
+    """``G(lo / hi)`` of :func:`disc_interaction` for ``0 <= lo <= hi``, ``hi > 0``.
+
+    Below ``k^2 = 1/4`` the power series (summed until its terms fall below 1e-17 of the
+    sum); above it ``[(1 + m) E - m1 K] / 3`` with ``K = pi / (2 AGM(1, sqrt(m1)))`` and
+    ``E = K [(1 + m1)/2 - sum_{j>=1} 2^(j-1) c_j^2]``, ``c_1 = m / (2 (1 + sqrt(m1)))``,
+    ``c_{j+1} = c_j^2 / (4 a_{j+1})`` (Gauss's arithmetic-geometric mean; Abramowitz &
+    Stegun 1964, 17.6): no difference of nearly equal numbers, ``m1 = 1 - m`` from the radii.
+    """
+    m = (lo / hi) ** 2
+    if m < _SERIES_BELOW:
+        term = 1.0
+        total = 1.0
+        for j in range(_SERIES_TERMS):
+            term = term * ((j - 0.5) * (j + 0.5) / ((j + 2.0) * (j + 1.0))) * m
+            total += term
+            if abs(term) < 1e-17 * total:
+                break
+        return 0.25 * np.pi * m * total
+    m1 = (hi - lo) * (hi + lo) / (hi * hi)
+    if m1 <= 0.0:
+        return 2.0 / 3.0  # E(1) = 1, m1 K -> 0
+    a = 1.0
+    b = np.sqrt(m1)
+    c = m / (2.0 * (1.0 + b))
+    a, b = 0.5 * (a + b), np.sqrt(a * b)
+    power = 1.0
+    tail = 0.0
+    for _ in range(40):
+        tail += power * c * c
+        if c < 1e-17 * a:
+            break
+        a, b = 0.5 * (a + b), np.sqrt(a * b)
+        c = c * c / (4.0 * a)
+        power *= 2.0
+    k = 0.5 * np.pi / a
+    e = k * (0.5 * (1.0 + m1) - tail)
+    return ((1.0 + m) * e - m1 * k) / 3.0
+
+
+@numba.njit(**JIT)
+def _interaction_rows(e, out):
+    """``out[i, j] = Phi(e_i+1, e_j+1) - Phi(e_i+1, e_j) - Phi(e_i, e_j+1) + Phi(e_i, e_j)``
+    for ``j >= i`` (the cell interactions times 1/(8 pi); the lower triangle is left alone),
+    from two rows of disc interactions at a time."""
+    n = e.size - 1
+    prev = np.zeros(n + 1)  # Phi(e_0 = 0, .) = 0
+    cur = np.zeros(n + 1)
+    for i in range(n):
+        ri = e[i + 1]
+        for j in range(max(i - 1, 0), n + 1):
+            lo, hi = min(ri, e[j]), max(ri, e[j])
+            cur[j] = hi * hi * hi * _g_scalar(lo, hi)
+        for j in range(i, n):
+            out[i, j] = cur[j + 1] - cur[j] - prev[j + 1] + prev[j]
+        prev, cur = cur, prev
+
+
+@numba.njit(**JIT)
+def _mirror_scaled(out, scale):
+    """Copy the upper triangle of ``out`` onto the lower, then ``out[:, j] *= scale[j]``."""
+    n = out.shape[0]
+    for i in range(n):
+        for j in range(i):
+            out[i, j] = out[j, i]
+    for i in range(n):
+        for j in range(n):
+            out[i, j] *= scale[j]
+
+
+def _build_matrix_t(n: int) -> np.ndarray:
+    """``khat`` transposed (C-contiguous), built in one n x n array and no other of that size.
+
+    ``W khat`` is symmetric: ``khat^T = M diag(8 / w)`` with ``M`` the cell interactions over
+    ``8 pi`` (:func:`_interaction_rows`, the upper triangle, mirrored); ``8 pi / (pi w)``.
+    """
+    out = np.empty((n, n))
+    _interaction_rows(ring_edges(n), out)
+    _mirror_scaled(out, 8.0 / ring_areas(n))
+    return out
 
 
 def _cached(store: OrderedDict, key, build):
@@ -189,7 +285,7 @@ def _khat_t(n: int) -> np.ndarray:
     """``khat`` transposed, C-contiguous and read-only (the kernel reads its rows)."""
 
     def build():
-        kt = np.ascontiguousarray(_build_matrix(n).T)
+        kt = _build_matrix_t(n)
         kt.flags.writeable = False
         return kt
 
@@ -456,9 +552,12 @@ def _coarse_parts(n: int, b: int) -> tuple:
     P the piecewise-constant block indicator and W the dimensionless cell areas."""
 
     def build():
-        khat = _khat(n)
         starts = np.arange(0, n, b)
-        kp = np.add.reduceat(khat, starts, axis=1)
+        kt = _khat_t(n)  # khat P from blocks of the stored transpose's contiguous rows (0.4 s
+        kpt = np.empty((starts.size, n))  # at n = 4096; reduceat over the columns took 2.8 s)
+        for k, s in enumerate(starts):
+            np.add.reduce(kt[s : s + b], axis=0, out=kpt[k])
+        kp = np.ascontiguousarray(kpt.T)
         ac = np.add.reduceat(ring_areas(n)[:, None] * kp, starts, axis=0)
         ac = 0.5 * (ac + ac.T)
         for arr in (starts, kp, ac):
