@@ -308,7 +308,9 @@ def _pcg_start(w, rhs, prec, fft, bufs, cg):
     work = bufs[2]
     n = D.shape[0]
     tmp, ones, acc = work[:n], work[2 * n : 3 * n], work[3 * n :]
-    _precondition(ones, 0.0, m1, prec, fft, bufs, False)  # no FFT
+    # circulant False (no FFT), as a run-time bool (n < 0): a constant would be typed as a
+    # literal and compile a second _precondition
+    _precondition(ones, 0.0, m1, prec, fft, bufs, n < 0)
     for i in range(n):
         jac[i] = w[i] * minv[i]  # 0 on frozen cells: their residual is theirs alone
         res[i] = rhs[i]
@@ -342,7 +344,7 @@ def _projected_precondition(res, z, w, v, s_v, prec, fft, bufs):
     n = res.shape[0]
     ones, acc = bufs[2][2 * n : 3 * n], bufs[2][3 * n :]
     shift = _wdot(w, v, res, acc) / s_v  # Pi* res = res - shift
-    circ = _precondition(res, shift, z, prec, fft, bufs, True)
+    circ = _precondition(res, shift, z, prec, fft, bufs, n > 0)  # True, typed at run time
     lam = _wdot(w, z, ones, acc) / s_v
     for i in range(n):
         z[i] -= lam * v[i]

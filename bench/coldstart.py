@@ -1,0 +1,145 @@
+"""Cold, fallback and warm start of a fresh process, as a user meets them.
+
+``python -m bench.coldstart [--runs 5]`` copies the package's sources (no cache) to a temporary
+installation and measures, each as whole processes started from the shell (time to the printed
+answer of one line-contact solve, min and median of ``--runs``):
+
+* fallback: an empty Numba cache (``NUMBA_CACHE_DIR`` a new empty directory per run): every
+  kernel the solve reaches is compiled at first use;
+* ``fastline compile``: its wall time and its groups' CPU seconds, once, on the copy;
+* after compile: a new process of the compiled copy (the kernels loaded from the cache);
+* after a copy: the compiled installation copied to another path (new files, new times);
+* warm: the same copy, again (the figure the two above must match).
+
+Each run also reports the kernels it compiled (Numba's ``numba:compile`` event), so a cache
+that did not serve shows as a count, not only as seconds. The machine's load is printed: on a
+shared machine, compare the figures of one run with each other.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import os
+import shutil
+import statistics
+import subprocess
+import sys
+import tempfile
+import time
+
+import fastline
+
+#: the first answer: one line-contact solve, with the count of kernels compiled
+SCRIPT = (
+    "import time\n"
+    "from numba.core import event\n"
+    "n = [0]\n"
+    "class C(event.Listener):\n"
+    "    def on_start(self, e): n[0] += 1\n"
+    "    def on_end(self, e): pass\n"
+    "event.register('numba:compile', C())\n"
+    "import fastline as fl\n"
+    "psd = fl.SelfAffinePSD(10e-6, 0.8, 1e3, 1e4, 1e9)\n"
+    "r = fl.solve_line_contact(psd, 1.33e9, 0.01, 1.0e4, warn=False)\n"
+    "print(r.p0_ratio, n[0], fl.__file__)\n"
+)
+
+
+def _env(cache_dir=None, parent=None):
+    env = dict(os.environ)
+    for name in ("NUMBA_CACHE_DIR", "FASTLINE_NUMBA_CACHE", "PYTHONDONTWRITEBYTECODE"):
+        env.pop(name, None)
+    if cache_dir:
+        env["NUMBA_CACHE_DIR"] = cache_dir
+    if parent:
+        env["PYTHONPATH"] = parent
+    return env
+
+
+def first_answer(parent, cache_dir=None):
+    """``(seconds to the printed answer, kernels compiled)`` of a fresh interpreter importing
+    the fastline under ``parent``."""
+    t = time.perf_counter()
+    proc = subprocess.Popen(
+        [sys.executable, "-u", "-c", SCRIPT],
+        env=_env(cache_dir, parent),
+        cwd=parent,
+        stdout=subprocess.PIPE,
+        stderr=subprocess.PIPE,
+        text=True,
+    )
+    line = proc.stdout.readline()
+    seconds = time.perf_counter() - t
+    _, err = proc.communicate()
+    if proc.returncode:
+        raise RuntimeError(err)
+    _, compiled, where = line.split()
+    assert where.startswith(parent), where  # the copy, not the checkout
+    return seconds, int(compiled)
+
+
+def series(label, runs, call):
+    """Run ``call`` ``runs`` times; print and return min, median and the compile counts."""
+    results = [call() for _ in range(runs)]
+    secs = [s for s, _ in results]
+    counts = sorted({c for _, c in results})
+    row = dict(label=label, min=min(secs), median=statistics.median(secs), compiled=counts)
+    print(
+        f"{label:<40} min {row['min']:6.2f} s  median {row['median']:6.2f} s  "
+        f"kernels compiled per run {counts}",
+        flush=True,
+    )
+    return row
+
+
+def _copy_sources(dest):
+    src = os.path.dirname(fastline.__file__)
+    shutil.copytree(
+        src, os.path.join(dest, "fastline"), ignore=shutil.ignore_patterns("__pycache__")
+    )
+
+
+def main(argv=None):
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--runs", type=int, default=5)
+    parser.add_argument("--skip-fallback", action="store_true", help="no empty-cache runs")
+    parser.add_argument("--json", metavar="FILE", help="write the rows to FILE")
+    args = parser.parse_args(argv)
+    print(f"load average at start: {os.getloadavg()[0]:.1f} ({os.cpu_count()} CPUs)")
+    rows = []
+    with tempfile.TemporaryDirectory(prefix="fastline-coldstart-") as tmp:
+        a, b = os.path.join(tmp, "a"), os.path.join(tmp, "b")
+        _copy_sources(a)
+        if not args.skip_fallback:
+
+            def cold():
+                with tempfile.TemporaryDirectory(prefix="numba-") as cache:
+                    return first_answer(a, cache)
+
+            rows.append(series("fallback: empty cache", args.runs, cold))
+        t = time.perf_counter()
+        out = subprocess.run(
+            [sys.executable, "-m", "fastline", "compile"],
+            env=_env(None, a),
+            cwd=a,
+            capture_output=True,
+            text=True,
+            check=True,
+        )
+        wall = time.perf_counter() - t
+        print(f"fastline compile: {wall:.1f} s wall\n{out.stdout}", flush=True)
+        rows.append(dict(label="fastline compile", seconds=wall, output=out.stdout))
+        rows.append(series("after fastline compile", args.runs, lambda: first_answer(a)))
+        shutil.copytree(a, b)
+        rows.append(series("after copying to another path", args.runs, lambda: first_answer(b)))
+        rows.append(series("warm (the first copy, again)", args.runs, lambda: first_answer(a)))
+    print(f"load average at end: {os.getloadavg()[0]:.1f}")
+    if args.json:
+        with open(args.json, "w") as f:
+            json.dump(rows, f, indent=1)
+    return rows
+
+
+if __name__ == "__main__":
+    main()
