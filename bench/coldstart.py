@@ -141,5 +141,79 @@ def main(argv=None):
     return rows
 
 
+#: the section's text before the measured table (docs/performance.md)
+PROSE = """## Cold, fallback and warm start
+
+fastline's kernels are compiled by Numba for the CPU that runs them and kept in Numba's on-disk
+cache: beside the installed sources (`__pycache__/*.nbi`, `*.nbc`), or under `NUMBA_CACHE_DIR`
+when that is set. A new process starts in one of three ways:
+
+- **warm**: the cache holds every kernel it calls, which load in a fraction of a second;
+- **after `fastline compile`**: the same, for a fresh installation. `fastline compile` (or
+  `python -m fastline compile`, or `fl.compile_kernels()` in Python) compiles every kernel a
+  user can reach (the line contact with its laws and nested start, sweeps, the point contact,
+  the Persson tables, leakage), one group of kernels per process, several at once on a machine
+  with more than one core;
+- **fallback**: the cache holds nothing for this machine (an installation not compiled, another
+  CPU, another Numba or Python, an edited module, or `FASTLINE_NUMBA_CACHE=0`). The kernels a
+  call needs compile at its first use, and the process says so once, on stderr, before it waits:
+
+```text
+fastline: compiling the solver for this machine, once: ~15 s (`fastline compile` ...)
+```
+
+In Python the notice is a message of level WARNING on the logger `"fastline"` (printed on stderr
+when logging is not configured). A program that embeds fastline silences it with
+`logging.getLogger("fastline").setLevel(logging.ERROR)`.
+
+Numba keys each cached kernel by a hash of its source file, the CPU's name and features and the
+Numba and Python versions; fastline adds a hash of the contents of every module of the package
+(a kernel holds the kernels it calls, compiled in, from other files, so any edit recompiles all).
+Nothing in the key depends on where the package lies or on its files' times: a compiled
+installation copied elsewhere (a container image layer, an install with pip's `--target`, a shared
+network install) keeps its kernels.
+
+Recipes:
+
+```bash
+# a virtual environment (the README's set-up does this):
+.venv/bin/pip install ".[plot]" && .venv/bin/fastline compile
+# a container image (in its build, as the user who will run it; the cache lands beside the
+# installed sources), from the checkout:  RUN pip install . && fastline compile
+# a read-only installation: a cache directory the running user can write, the same path
+# at build and at run time:  NUMBA_CACHE_DIR=/var/cache/fastline-numba fastline compile
+```
+
+The workers of a dask cluster each compile for their own machine: bake `fastline compile` into
+the workers' image as above, or once per cluster, from the client,
+`client.run(fl.compile_kernels)` (each worker compiles in its own installation; workers of one
+machine share the cache, which Numba writes atomically). `pip install` itself does not compile:
+a build step would run in pip's isolated build environment, which would need its own Numba,
+NumPy, SciPy and pyFFTW, possibly of other versions than those installed, so `fastline compile`
+after the install costs the same compilation once with the installed versions.
+
+The measurements below: `python -m bench.coldstart` (whole processes started from the shell,
+the time to the printed p0 ratio of one line-contact solve at n = 1024, min and median of 5 each,
+one run of the script; a copy of the package's sources serves as the installation, compiled by
+`fastline compile` and then copied to another path). Beside the times, the kernels each start
+compiled (Numba's `numba:compile` event).
+"""
+
+
+def markdown(rows) -> list[str]:
+    """The cold-start section of docs/performance.md from :func:`main`'s rows."""
+    by = {r["label"]: r for r in rows}
+    L = [PROSE]
+    L.append("| start | min | median | kernels compiled |")
+    L.append("|---|---|---|---|")
+    for label, row in by.items():
+        if "min" in row:
+            counts = ", ".join(str(c) for c in row["compiled"])
+            L.append(f"| {label} | {row['min']:.2f} s | {row['median']:.2f} s | {counts} |")
+    if "fastline compile" in by:
+        L.append(f"\n`fastline compile` itself: {by['fastline compile']['seconds']:.1f} s wall.\n")
+    return L
+
+
 if __name__ == "__main__":
     main()

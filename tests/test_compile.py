@@ -7,7 +7,12 @@ cache entry. The scenes below run in a fresh interpreter (sharing the on-disk Nu
 the test run, so this is ~1 s once the cache is warm) through the paths a first user meets:
 a Persson and an exponential solve at two grid sizes, and a (compiled) sweep with polynomial
 predictions and a long step that starts cold.
-"""
+
+The tests after those hold Numba's on-disk cache as users meet it: a copy of the package's
+sources is compiled once (one small group of kernels) and must load every kernel when copied
+to another path, compile again, and say so once, on another CPU, and compile again after any
+module is edited; ``fastline compile`` fills the cache of every group so that a second run
+compiles nothing."""
 
 from __future__ import annotations
 
