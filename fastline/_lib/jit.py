@@ -36,7 +36,8 @@ running the old Newton-system solver. fastline's kernels are therefore stamped w
 package (:func:`package_stamp`: the relative path and the contents of every ``.py`` file), so
 any change to any module recompiles them all. The stamp follows the contents only, not the
 files' sizes, modification times or place: an installation copied elsewhere (a container
-image layer, an install with pip's ``--target``, a shared network install) keeps its compiled kernels.
+image layer, an install with pip's ``--target``, a shared network install) keeps its compiled
+kernels.
 Numba adds the CPU's name and features and the Numba and Python versions to each entry; where
 those differ, the kernels are compiled anew.
 

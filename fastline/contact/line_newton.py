@@ -161,9 +161,10 @@ def _evaluate(state, u1_in, fft, kspec, scale, gap, w, law, a, c):
     return _residual(state, u1_in, fft, kspec, scale, gap, w, law, a, c)
 
 
-@numba.njit(**JIT)
+@numba.njit(**JIT, inline="always")
 def _residual(state, u1_in, fft, kspec, scale, gap, w, law, a, c):
-    """:func:`_evaluate` with the pressure ``p`` of v given."""
+    """:func:`_evaluate` with the pressure ``p`` of v given (inlined there: one compiled
+    kernel fewer)."""
     v, p, U, dU, gk, r = state
     kind, prm, A, B, C, E = law
     fr2c, fc2r, pf, pb = fft
