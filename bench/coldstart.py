@@ -21,6 +21,7 @@ from __future__ import annotations
 import argparse
 import json
 import os
+import resource
 import shutil
 import statistics
 import subprocess
@@ -57,9 +58,15 @@ def _env(cache_dir=None, parent=None):
     return env
 
 
+def _children_cpu():
+    r = resource.getrusage(resource.RUSAGE_CHILDREN)
+    return r.ru_utime + r.ru_stime
+
+
 def first_answer(parent, cache_dir=None):
-    """``(seconds to the printed answer, kernels compiled)`` of a fresh interpreter importing
-    the fastline under ``parent``."""
+    """``(seconds to the printed answer, kernels compiled, CPU seconds of the whole process)``
+    of a fresh interpreter importing the fastline under ``parent``."""
+    cpu = _children_cpu()
     t = time.perf_counter()
     proc = subprocess.Popen(
         [sys.executable, "-u", "-c", SCRIPT],
@@ -76,18 +83,20 @@ def first_answer(parent, cache_dir=None):
         raise RuntimeError(err)
     _, compiled, where = line.split()
     assert where.startswith(parent), where  # the copy, not the checkout
-    return seconds, int(compiled)
+    return seconds, int(compiled), _children_cpu() - cpu
 
 
 def series(label, runs, call):
     """Run ``call`` ``runs`` times; print and return min, median and the compile counts."""
     results = [call() for _ in range(runs)]
-    secs = [s for s, _ in results]
-    counts = sorted({c for _, c in results})
+    secs = [s for s, _, _ in results]
+    counts = sorted({c for _, c, _ in results})
+    cpu = statistics.median(c for _, _, c in results)
     row = dict(label=label, min=min(secs), median=statistics.median(secs), compiled=counts)
+    row.update(cpu=cpu, load=os.getloadavg()[0])
     print(
         f"{label:<40} min {row['min']:6.2f} s  median {row['median']:6.2f} s  "
-        f"kernels compiled per run {counts}",
+        f"CPU (median) {cpu:6.2f} s  kernels compiled per run {counts}  load {row['load']:.1f}",
         flush=True,
     )
     return row
@@ -118,7 +127,7 @@ def main(argv=None):
                     return first_answer(a, cache)
 
             rows.append(series("fallback: empty cache", args.runs, cold))
-        t = time.perf_counter()
+        t, cpu = time.perf_counter(), _children_cpu()
         out = subprocess.run(
             [sys.executable, "-m", "fastline", "compile"],
             env=_env(None, a),
@@ -127,9 +136,9 @@ def main(argv=None):
             text=True,
             check=True,
         )
-        wall = time.perf_counter() - t
-        print(f"fastline compile: {wall:.1f} s wall\n{out.stdout}", flush=True)
-        rows.append(dict(label="fastline compile", seconds=wall, output=out.stdout))
+        wall, cpu = time.perf_counter() - t, _children_cpu() - cpu
+        print(f"fastline compile: {wall:.1f} s wall, {cpu:.1f} s CPU\n{out.stdout}", flush=True)
+        rows.append(dict(label="fastline compile", seconds=wall, cpu=cpu, output=out.stdout))
         rows.append(series("after fastline compile", args.runs, lambda: first_answer(a)))
         shutil.copytree(a, b)
         rows.append(series("after copying to another path", args.runs, lambda: first_answer(b)))
@@ -159,7 +168,7 @@ when that is set. A new process starts in one of three ways:
   call needs compile at its first use, and the process says so once, on stderr, before it waits:
 
 ```text
-fastline: compiling the solver for this machine, once: ~15 s (`fastline compile` ...)
+fastline: compiling the solver for this machine, once: ~20 s (`fastline compile` ...)
 ```
 
 In Python the notice is a message of level WARNING on the logger `"fastline"` (printed on stderr
@@ -196,7 +205,9 @@ The measurements below: `python -m bench.coldstart` (whole processes started fro
 the time to the printed p0 ratio of one line-contact solve at n = 1024, min and median of 5 each,
 one run of the script; a copy of the package's sources serves as the installation, compiled by
 `fastline compile` and then copied to another path). Beside the times, the kernels each start
-compiled (Numba's `numba:compile` event).
+compiled (Numba's `numba:compile` event), the CPU seconds of the whole process and the
+machine's load average (1 min) after each series: on a shared machine the wall times grow with
+the load, the CPU times and counts much less.
 """
 
 
@@ -204,14 +215,22 @@ def markdown(rows) -> list[str]:
     """The cold-start section of docs/performance.md from :func:`main`'s rows."""
     by = {r["label"]: r for r in rows}
     L = [PROSE]
-    L.append("| start | min | median | kernels compiled |")
-    L.append("|---|---|---|---|")
+    L.append("| start | min | median | CPU of the process (median) | kernels compiled | load |")
+    L.append("|---|---|---|---|---|---|")
     for label, row in by.items():
         if "min" in row:
             counts = ", ".join(str(c) for c in row["compiled"])
-            L.append(f"| {label} | {row['min']:.2f} s | {row['median']:.2f} s | {counts} |")
+            L.append(
+                f"| {label} | {row['min']:.2f} s | {row['median']:.2f} s | {row['cpu']:.2f} s "
+                f"| {counts} | {row['load']:.1f} |"
+            )
     if "fastline compile" in by:
-        L.append(f"\n`fastline compile` itself: {by['fastline compile']['seconds']:.1f} s wall.\n")
+        c = by["fastline compile"]
+        L.append(
+            f"\n`fastline compile` itself: {c['seconds']:.1f} s wall, {c['cpu']:.1f} s CPU in "
+            "all its processes:\n"
+        )
+        L.append("```text\n" + c["output"].rstrip() + "\n```\n")
     return L
 
 

@@ -148,9 +148,9 @@ NOTICE = (
     "fastline: compiling the solver for this machine, once: ~{seconds} s{why} "
     "(`fastline compile` does it ahead of time; docs/performance.md, cold start)"
 )
-#: CPU seconds of the line contact's first compilation on a 2-core x86-64 machine (measured
-#: by ``python -m bench.coldstart``); the notice's estimate
-COMPILE_SECONDS = 15
+#: seconds of the line contact's first compilation (22-24 s of CPU measured on a loaded 2-core
+#: x86-64 machine by Numba's event API, ``python -m bench.coldstart``): the notice's estimate
+COMPILE_SECONDS = 20
 _log = logging.getLogger("fastline")
 _notice = {"given": False}
 
