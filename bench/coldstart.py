@@ -188,7 +188,7 @@ Recipes:
 # a virtual environment (the README's set-up does this):
 .venv/bin/pip install ".[plot]" && .venv/bin/fastline compile
 # a container image (in its build, as the user who will run it; the cache lands beside the
-# installed sources), from the checkout:  RUN pip install . && fastline compile
+# installed sources), from the checkout:  RUN pip install ".[plot]" && fastline compile
 # a read-only installation: a cache directory the running user can write, the same path
 # at build and at run time:  NUMBA_CACHE_DIR=/var/cache/fastline-numba fastline compile
 ```

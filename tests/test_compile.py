@@ -111,8 +111,8 @@ def installed(tmp_path_factory):
 
 @pytest.mark.slow
 def test_a_copied_installation_loads_its_kernels(installed, tmp_path):
-    """A fresh process of a copy at another path (as a container layer or ``pip install
-    --target`` makes, all files rewritten with new times) compiles nothing, and is silent."""
+    """A fresh process of a copy at another path (as a container layer or an install with pip's
+    ``--target`` makes, all files rewritten with new times) compiles nothing, and is silent."""
     moved = tmp_path / "elsewhere"
     shutil.copytree(installed, moved)  # new modification times, another path
     compiled, err = _group_run(moved)

@@ -4,7 +4,8 @@ Every kernel is decorated with ``@numba.njit(**JIT)``:
 
 * ``cache`` - compiled machine code is kept on disk next to the sources (or under
   ``NUMBA_CACHE_DIR``), so only the first call in the first process pays the compilation
-  (15-20 s for the line solver on a 2-core machine, once per installation). Set the
+  (20-25 s for the line solver on a 2-core machine, once per installation; ``fastline
+  compile`` pays it ahead of time, for every kernel, at once). Set the
   environment variable ``FASTLINE_NUMBA_CACHE=0`` before importing fastline to switch the
   on-disk cache off, e.g. on a read-only file system or when many processes start at once on
   a shared network drive. Processes of a pool share the cache safely (Numba writes its index
