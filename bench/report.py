@@ -23,7 +23,7 @@ import numpy as np  # noqa: E402
 
 import fastline as fl  # noqa: E402
 from bench import baseline as bl  # noqa: E402
-from bench import core, hard  # noqa: E402
+from bench import coldstart, core, hard  # noqa: E402
 from bench.conftest import (  # noqa: E402
     ALPHAS,
     E_STAR,
@@ -518,6 +518,7 @@ def main():
         "The time to the answer also holds the interpreter's start (~0.03 s); the exit adds "
         "Numba's and LLVM's teardown, the same for the trivial program as for fastline.\n"
     )
+    L += coldstart.markdown(coldstart.main(["--runs", "5"]))
 
     runtime = time.perf_counter() - t_start
     text = "\n".join(L).replace("{RUNTIME}", f"{runtime:.0f}")

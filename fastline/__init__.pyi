@@ -2,6 +2,7 @@
 # its subpackage on first access (fastline/__init__.py reads this file), so that `import
 # fastline` costs only what a program uses; type checkers and IDEs read the same list.
 from . import io as io
+from ._lib.warmup import compile_kernels as compile_kernels
 from .batch import SweepTable as SweepTable
 from .batch import sweep as sweep
 from .contact import ErrorEstimate as ErrorEstimate

@@ -7,13 +7,24 @@ cache entry. The scenes below run in a fresh interpreter (sharing the on-disk Nu
 the test run, so this is ~1 s once the cache is warm) through the paths a first user meets:
 a Persson and an exponential solve at two grid sizes, and a (compiled) sweep with polynomial
 predictions and a long step that starts cold.
-"""
+
+The tests after those hold Numba's on-disk cache as users meet it: a copy of the package's
+sources is compiled once (one small group of kernels) and must load every kernel when copied
+to another path, compile again, and say so once, on another CPU, and compile again after any
+module is edited; ``fastline compile`` fills the cache of every group so that a second run
+compiles nothing."""
 
 from __future__ import annotations
 
 import json
+import os
+import shutil
 import subprocess
 import sys
+
+import pytest
+
+import fastline as fl
 
 SCRIPT = """
 import gc, json
@@ -52,3 +63,102 @@ def test_first_solves_compile_each_kernel_once():
         assert sigs.get(name), f"{name} was not compiled by the scenes"
     twice = {name: s for name, s in sigs.items() if len(s) > 1}
     assert not twice, f"kernels compiled for more than one signature: {twice}"
+
+
+# --- the compiled kernels' cache: carried with a copied installation, refused where it does not
+# --- apply (another CPU, an edited source), and the notice of a compilation
+
+#: the group of kernels these tests compile: the Persson tables' (6 kernels, ~2.5 s of CPU)
+GROUP = "theory tables"
+
+
+def _group_run(package_parent, extra_env=None, prelude=""):
+    """Run GROUP's scenes in a fresh interpreter that imports the fastline under
+    ``package_parent`` with its in-tree cache; returns ``(kernels compiled, stderr)``."""
+    from fastline._lib.warmup import COUNTER, GROUPS, REPORT
+
+    env = dict(os.environ, PYTHONPATH=str(package_parent))
+    for name in ("NUMBA_CACHE_DIR", "FASTLINE_NUMBA_CACHE", "NUMBA_CPU_NAME"):
+        env.pop(name, None)
+    env.update(extra_env or {})
+    check = f"\nassert fl.__file__.startswith({str(package_parent)!r}), fl.__file__\n"
+    out = subprocess.run(
+        [sys.executable, "-c", prelude + COUNTER + check + GROUPS[GROUP] + REPORT],
+        capture_output=True,
+        text=True,
+        env=env,
+        cwd=str(package_parent),
+        timeout=600,
+    )
+    assert out.returncode == 0, out.stderr
+    return json.loads(out.stdout.strip().splitlines()[-1])["compiled"], out.stderr
+
+
+@pytest.fixture(scope="module")
+def installed(tmp_path_factory):
+    """A copy of the package's sources (no cache), its group compiled once: the parent dir."""
+    parent = tmp_path_factory.mktemp("install") / "a"
+    shutil.copytree(
+        os.path.dirname(fl.__file__),
+        parent / "fastline",
+        ignore=shutil.ignore_patterns("__pycache__", "*.nbi", "*.nbc"),
+    )
+    compiled, err = _group_run(parent)
+    assert compiled >= 3, "the group compiled too few kernels for the checks to mean anything"
+    assert err.count("fastline: compiling the solver") == 1, err
+    return parent
+
+
+@pytest.mark.slow
+def test_a_copied_installation_loads_its_kernels(installed, tmp_path):
+    """A fresh process of a copy at another path (as a container layer or an install with pip's
+    ``--target`` makes, all files rewritten with new times) compiles nothing, and is silent."""
+    moved = tmp_path / "elsewhere"
+    shutil.copytree(installed, moved, copy_function=shutil.copy)  # new times, another path
+    compiled, err = _group_run(moved)
+    assert compiled == 0 and "compiling" not in err, err
+
+
+@pytest.mark.slow
+def test_another_cpu_compiles_and_says_so_once(installed):
+    """The cache does not serve another CPU (Numba keys it by the CPU's name): the kernels
+    compile, and the notice says so once, naming why."""
+    compiled, err = _group_run(installed, {"NUMBA_CPU_NAME": "generic"})
+    assert compiled > 0
+    assert err.count("fastline: compiling the solver") == 1, err
+    assert "another CPU" in err
+
+
+@pytest.mark.slow
+def test_a_content_change_invalidates_the_cache(installed, tmp_path):
+    """Any edited module (here one whose kernels the group does not define) recompiles every
+    kernel; a library user who silenced the ``fastline`` logger sees no notice."""
+    edited = tmp_path / "edited"
+    shutil.copytree(installed, edited)
+    with open(edited / "fastline" / "contact" / "kernels.py", "a") as f:
+        f.write("\n# an edit\n")
+    silence = "import logging\nlogging.getLogger('fastline').setLevel(logging.ERROR)\n"
+    compiled, err = _group_run(edited, prelude=silence)
+    assert compiled > 0 and "compiling" not in err, err
+
+
+@pytest.mark.slow
+def test_compile_builds_every_group_then_nothing_compiles():
+    """``fl.compile_kernels`` (``fastline compile``) fills the cache of every group; run again,
+    each group's fresh process loads all of its kernels (0 compiled)."""
+    first = fl.compile_kernels()
+    assert [r.error for r in first] == [""] * len(first)
+    again = fl.compile_kernels()
+    assert {r.name: r.compiled for r in again} == {r.name: 0 for r in first}
+
+
+def test_compile_command_refuses_bad_jobs():
+    res = subprocess.run(
+        [sys.executable, "-m", "fastline", "compile", "--jobs", "0"],
+        capture_output=True,
+        text=True,
+        timeout=120,
+    )
+    assert res.returncode == 2 and "--jobs" in res.stderr and "Traceback" not in res.stderr
+    with pytest.raises(ValueError, match="groups"):
+        fl.compile_kernels(groups=["no such group"])

@@ -4,7 +4,8 @@ Every kernel is decorated with ``@numba.njit(**JIT)``:
 
 * ``cache`` - compiled machine code is kept on disk next to the sources (or under
   ``NUMBA_CACHE_DIR``), so only the first call in the first process pays the compilation
-  (15-20 s for the line solver on a 2-core machine, once per installation). Set the
+  (20-25 s for the line solver on a 2-core machine, once per installation; ``fastline
+  compile`` pays it ahead of time, for every kernel, at once). Set the
   environment variable ``FASTLINE_NUMBA_CACHE=0`` before importing fastline to switch the
   on-disk cache off, e.g. on a read-only file system or when many processes start at once on
   a shared network drive. Processes of a pool share the cache safely (Numba writes its index
@@ -31,20 +32,32 @@ Every kernel is decorated with ``@numba.njit(**JIT)``:
 
 Cache freshness: Numba keys a kernel's cached machine code by the source file that defines
 it, but a kernel's code also holds every kernel it calls, compiled in, from other files: edit
-``_toeplitz_pcg.py`` and the cached ``newton_line`` of ``_line_newton.py`` would keep running
-the old Newton-system solver. fastline's kernels are therefore stamped with the whole
-package (:func:`package_stamp`: path, size and modification time of every ``.py`` file), so
-any change to any module recompiles them all. Installs from a wheel or an sdist never
-change a file in place, but an editable (developer) install does.
+``elastic/pcg.py`` and the cached ``newton_line`` of ``contact/line_newton.py`` would keep
+running the old Newton-system solver. fastline's kernels are therefore stamped with the whole
+package (:func:`package_stamp`: the relative path and the contents of every ``.py`` file), so
+any change to any module recompiles them all. The stamp follows the contents only, not the
+files' sizes, modification times or place: an installation copied elsewhere (a container
+image layer, an install with pip's ``--target``, a shared network install) keeps its compiled
+kernels.
+Numba adds the CPU's name and features and the Numba and Python versions to each entry; where
+those differ, the kernels are compiled anew.
+
+The first compilation in a process (a cache miss: a fresh installation, another CPU, an
+edited source, ``FASTLINE_NUMBA_CACHE=0``) is announced once, before it starts, by a message
+of level WARNING on the logger ``"fastline"`` (:data:`NOTICE`; with no logging configured,
+Python prints it on stderr). Silence it with
+``logging.getLogger("fastline").setLevel(logging.ERROR)``. ``fastline compile`` (or
+:func:`fastline.compile_kernels`) compiles every kernel ahead of time.
 """
 
 from __future__ import annotations
 
 import functools
 import hashlib
+import logging
 import os
 
-__all__ = ["JIT", "JIT_SUMS", "CACHE_ENV", "package_stamp"]
+__all__ = ["JIT", "JIT_SUMS", "CACHE_ENV", "NOTICE", "package_stamp", "compile_notice_given"]
 
 #: the package's directory (the parent of _lib): kernels defined below it get the package-wide stamp
 _ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
@@ -71,17 +84,19 @@ JIT_SUMS = dict(JIT, fastmath={"contract", "arcp", "nsz", "reassoc"})
 
 @functools.cache
 def package_stamp(root: str = _ROOT) -> str:
-    """A digest of every ``.py`` file under ``root``: relative path, size and modification time
-    (nanoseconds). Computed once per process (~60 ``stat`` calls, well under 1 ms)."""
+    """A digest of every ``.py`` file under ``root``: its path relative to ``root`` and its
+    contents (not its size, modification time or absolute place, so that a copied installation
+    keeps its cache). Computed once per process (~60 files, about 2 ms)."""
     digest = hashlib.sha256()
     for dirpath, dirnames, filenames in os.walk(root):
         dirnames[:] = sorted(d for d in dirnames if d != "__pycache__")
         for name in sorted(filenames):
             if name.endswith(".py"):
                 path = os.path.join(dirpath, name)
-                st = os.stat(path)
-                rel = os.path.relpath(path, root)
-                digest.update(f"{rel}:{st.st_size}:{st.st_mtime_ns};".encode())
+                rel = os.path.relpath(path, root).replace(os.sep, "/")
+                with open(path, "rb") as f:
+                    body = hashlib.sha256(f.read()).hexdigest()
+                digest.update(f"{rel}:{body};".encode())
     return digest.hexdigest()
 
 
@@ -129,5 +144,57 @@ def _install_locator() -> None:
         locators.insert(0, _PackageStampedLocator)
 
 
+#: what the first compilation of a process says (logger ``"fastline"``, level WARNING)
+NOTICE = (
+    "fastline: compiling the solver for this machine, once: ~{seconds} s{why} "
+    "(`fastline compile` does it ahead of time; docs/performance.md, cold start)"
+)
+#: seconds of the line contact's first compilation (22-24 s of CPU measured on a loaded 2-core
+#: x86-64 machine by Numba's event API, ``python -m bench.coldstart``): the notice's estimate
+COMPILE_SECONDS = 20
+_log = logging.getLogger("fastline")
+_notice = {"given": False}
+
+
+def compile_notice_given() -> bool:
+    """Whether this process has announced a compilation (:data:`NOTICE`)."""
+    return _notice["given"]
+
+
+def _why(dispatcher) -> str:
+    """`` (the compiled kernels found here ...)`` when this kernel has a cache index that did not
+    serve this machine (another CPU, Numba, Python or source), else ``""``."""
+    try:
+        index = dispatcher._cache._cache_file._index_path  # Numba's private cache layout
+    except AttributeError:
+        return ""
+    if not os.path.exists(index):
+        return ""
+    return " (the compiled kernels found were built for another CPU, Numba, Python or source)"
+
+
+def _on_compile(dispatcher) -> None:
+    """Announce the process's first compilation of a fastline kernel, once (module docstring)."""
+    if _notice["given"] or not dispatcher.py_func.__module__.startswith("fastline."):
+        return
+    _notice["given"] = True
+    _log.warning(NOTICE.format(seconds=COMPILE_SECONDS, why=_why(dispatcher)))
+
+
+def _install_notice() -> None:
+    """Listen to Numba's ``numba:compile`` event, which starts only on a cache miss."""
+    from numba.core import event
+
+    class _Notice(event.Listener):
+        def on_start(self, ev) -> None:
+            _on_compile(ev.data["dispatcher"])
+
+        def on_end(self, ev) -> None:
+            pass
+
+    event.register("numba:compile", _Notice())
+
+
 if JIT["cache"]:
     _install_locator()
+_install_notice()

@@ -53,6 +53,7 @@ from fastline.cli.common import (
     sweep_in_parallel,
     table_status,
 )
+from fastline.cli.compile import cmd_compile, compile_parser
 from fastline.cli.leak import cmd_leak, leak_parser
 from fastline.cli.psd import cmd_psd, psd_parser
 from fastline.cli.scene import run_profile, scan_options, scene
@@ -162,6 +163,7 @@ def build_parser() -> argparse.ArgumentParser:
     leak_parser(sub, fmt)
     psd_parser(sub, fmt)
     validate_parser(sub, fmt)
+    compile_parser(sub, fmt)
     return parser
 
 
@@ -421,6 +423,7 @@ COMMANDS = {
     "batch": cmd_batch,
     "psd": cmd_psd,
     "validate": cmd_validate,
+    "compile": cmd_compile,
 }
 
 

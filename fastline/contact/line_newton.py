@@ -161,9 +161,10 @@ def _evaluate(state, u1_in, fft, kspec, scale, gap, w, law, a, c):
     return _residual(state, u1_in, fft, kspec, scale, gap, w, law, a, c)
 
 
-@numba.njit(**JIT)
+@numba.njit(**JIT, inline="always")
 def _residual(state, u1_in, fft, kspec, scale, gap, w, law, a, c):
-    """:func:`_evaluate` with the pressure ``p`` of v given."""
+    """:func:`_evaluate` with the pressure ``p`` of v given (inlined there: one compiled
+    kernel fewer)."""
     v, p, U, dU, gk, r = state
     kind, prm, A, B, C, E = law
     fr2c, fc2r, pf, pb = fft
@@ -184,7 +185,9 @@ def _residual(state, u1_in, fft, kspec, scale, gap, w, law, a, c):
             gk[i] = gap[i] + scale * gk[i]
     for i in range(n):
         r[i] = U[i] - u1 - gk[i]
-    phi2 = segment_sum(r, r, 0, n)  # ||r||^2 in four chains
+    # ||r||^2 in four chains; lo = n - n, not 0: a constant would be typed as a literal and
+    # compile a second segment_sum
+    phi2 = segment_sum(r, r, n - n, n)
     return u1, math.sqrt(phi2), largest_abs(gk, abs(u1))
 
 

@@ -130,6 +130,10 @@ mixed tuples, took 18 s to compile cold). The solve's stages (:func:`_smoother`,
 cost ~2 s more of cold compilation (each is linked into its callers and optimised again there),
 inlined the same as one long function (CPU time of the first answer, empty cache, two
 interleaved rounds: 17.1-19.1 s before the split, 17.9-18.9 s inlined, 19.2-20.7 s not).
+:func:`solve_newton_system` is in turn inlined into the line contact's Newton kernel, which
+saves compiling (and linking and optimising again) a copy of its own there (CPU of the
+compilations of the first answer, empty cache, Numba's event API: 23.0 s against 24.0 s);
+called from Python, it compiles on its own.
 
 Where the time goes (surface 1, alpha = 1e-2, per solve; a C clock around the stages, same
 run as the version before the count target). n = 4096 (6 Newton systems, 57 FFT convolutions, 22 CG
@@ -232,7 +236,7 @@ def workspace_size(n: int) -> int:
     return aligned_size(2 * n) + (3 * n + min(n, _STRIP)) + (3 * n + 1) + (4 * n + 1) + 8 * n
 
 
-@numba.njit(**JIT)
+@numba.njit(**JIT, inline="always")
 def solve_newton_system(
     fft: tuple,
     tables: KernelTables,
@@ -308,7 +312,9 @@ def _pcg_start(w, rhs, prec, fft, bufs, cg):
     work = bufs[2]
     n = D.shape[0]
     tmp, ones, acc = work[:n], work[2 * n : 3 * n], work[3 * n :]
-    _precondition(ones, 0.0, m1, prec, fft, bufs, False)  # no FFT
+    # circulant False (no FFT), as a run-time bool (n < 0): a constant would be typed as a
+    # literal and compile a second _precondition
+    _precondition(ones, 0.0, m1, prec, fft, bufs, n < 0)
     for i in range(n):
         jac[i] = w[i] * minv[i]  # 0 on frozen cells: their residual is theirs alone
         res[i] = rhs[i]
@@ -342,7 +348,7 @@ def _projected_precondition(res, z, w, v, s_v, prec, fft, bufs):
     n = res.shape[0]
     ones, acc = bufs[2][2 * n : 3 * n], bufs[2][3 * n :]
     shift = _wdot(w, v, res, acc) / s_v  # Pi* res = res - shift
-    circ = _precondition(res, shift, z, prec, fft, bufs, True)
+    circ = _precondition(res, shift, z, prec, fft, bufs, n > 0)  # True, typed at run time
     lam = _wdot(w, z, ones, acc) / s_v
     for i in range(n):
         z[i] -= lam * v[i]
