@@ -24,6 +24,7 @@ import argparse
 import re
 import sys
 import time
+import warnings
 
 import fastline as fl
 from fastline import batch, theory
@@ -439,7 +440,9 @@ def main(argv: list[str] | None = None) -> int:
             args.variant = theory.DEFAULT_VARIANT
         if getattr(args, "gamma", 0.0) is None:  # the variant's own gamma
             args.gamma = theory.get_variant(args.variant).default_gamma
-        return COMMANDS[args.command](args)
+        with warnings.catch_warnings():  # the scene's check printed them once
+            warnings.filterwarnings("ignore", category=fl.UnitWarning)
+            return COMMANDS[args.command](args)
     except (CLIError, ValueError) as e:
         msg = " ".join(str(e).split())
         print(f"fastline: error: {msg}", file=sys.stderr)

@@ -32,8 +32,9 @@ from typing import NamedTuple
 import numpy as np
 
 from fastline._lib.validate import (
-    E_STAR_RANGE,
+    MAX_ITER_RANGE,
     RADIUS_RANGE,
+    boolean,
     finite_scalar,
     in_span,
     integer,
@@ -48,7 +49,7 @@ from fastline.contact.hard import hard_contact
 from fastline.contact.kernels import cold_start_into, cold_start_normalised, hermite_accumulate
 from fastline.theory.laws import ExponentialLaw, PerssonLaw, PressureLaw, TabulatedLaw, check_law
 from fastline.theory.persson import PerssonTheory
-from fastline.theory.spectra import PSD
+from fastline.theory.spectra import PSD, check_modulus, modulus_slip
 from fastline.theory.variants import DEFAULT_VARIANT, VARIANTS, get_variant
 
 MODELS = ("persson", "exponential", "hertz")
@@ -338,7 +339,7 @@ class ContactModel:
     # -- construction stages ----------------------------------------------------------------
     def _check_settings(self, E_star, radius, method, n) -> None:
         """E_star, radius, method and n (the first checks of every geometry's __init__)."""
-        self.E_star = in_span("E_star", E_star, E_STAR_RANGE, "Pa")
+        self.E_star = check_modulus(E_star, stacklevel=outside_stacklevel())
         self.radius = in_span("radius", radius, RADIUS_RANGE, "m")
         if method not in METHODS:
             raise ValueError(f"method must be one of {METHODS}, got {method!r}")
@@ -358,9 +359,11 @@ class ContactModel:
         self.tol = finite_scalar("tol", tol)
         if not 0.0 < self.tol <= 1e-2:
             raise ValueError(f"tol must lie in (0, 1e-2], got {tol!r}")
-        self.max_iter = None if max_iter is None else integer("max_iter", max_iter, 1)
+        if max_iter is not None:
+            max_iter = integer("max_iter", max_iter, *MAX_ITER_RANGE)
+        self.max_iter = max_iter
         self.hardness = None if hardness is None else positive("hardness", hardness, "Pa")
-        self.warn = bool(warn)
+        self.warn = boolean("warn", warn)
         if psd is not None and not isinstance(psd, PSD):
             raise TypeError(f"psd must be a fastline PSD or None, got {type(psd).__name__}")
         if theory is not None and not isinstance(theory, PerssonTheory):
@@ -522,7 +525,16 @@ class ContactModel:
         if type(load) in _FLOATS and lo * scale <= load <= hi * scale:  # in_span's answer, faster
             return float(load)
         unit = f"{self.LOAD_UNIT} ([{lo:g}, {hi:g}] {self.LOAD_SCALE_TEXT})"
-        return in_span(name, load, (lo * scale, hi * scale), unit)
+        slip = modulus_slip(self.E_star)
+        if slip is None:
+            return in_span(name, load, (lo * scale, hi * scale), unit)
+        try:  # the load range scales with E*: an implausible E* is the likelier culprit
+            return in_span(name, load, (lo * scale, hi * scale), unit)
+        except ValueError as e:
+            raise ValueError(
+                f"E_star = {self.E_star:g} Pa looks like a unit slip (E* is in Pa; the "
+                f"UnitWarning names the likely unit), and with it {e}"
+            ) from None
 
     def _check_loads(self, loads) -> np.ndarray:
         if isinstance(loads, Iterable) and not isinstance(

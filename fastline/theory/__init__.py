@@ -20,7 +20,16 @@ import lazy_loader as _lazy
 __getattr__, __dir__, __all__ = _lazy.attach(
     __name__,
     submod_attrs={
-        "spectra": ["PSD", "SelfAffinePSD", "TabulatedPSD", "SumPSD", "effective_modulus"],
+        "spectra": [
+            "PSD",
+            "SelfAffinePSD",
+            "TabulatedPSD",
+            "SumPSD",
+            "effective_modulus",
+            "check_modulus",
+            "modulus_slip",
+            "E_STAR_PLAUSIBLE",
+        ],
         "quadrature": ["EtaRule", "interval_moments", "tabulated_quadrature"],
         "special": [
             "universal_F",
