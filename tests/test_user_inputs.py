@@ -5,7 +5,10 @@ stays finite and silent at vanishing and enormous pressures, and a spectrum file
 accepted wherever a spectrum is.
 """
 
+import subprocess
+import sys
 import warnings
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -102,3 +105,59 @@ def test_critical_gap_at_huge_pressure_is_sealed_and_silent():
         warnings.simplefilter("error")  # an overflow RuntimeWarning would fail here
         r = th.critical_gap(1e300)
     assert r.sealed and r.u_c == 0.0
+
+
+# ---- files ------------------------------------------------------------------------------------
+EXAMPLE_PSD = str(Path(__file__).parent.parent / "examples" / "psd_example.txt")
+
+
+def test_solve_reads_a_spectrum_path_as_sweep_does():
+    direct = fl.solve_line_contact(EXAMPLE_PSD, E_STAR, R, LOAD, n=64, warn=False)
+    read = fl.solve_line_contact(
+        fl.io.read_spectrum(EXAMPLE_PSD), E_STAR, R, LOAD, n=64, warn=False
+    )
+    table = fl.sweep([dict(psd=EXAMPLE_PSD, E_star=E_STAR, radius=R, load=LOAD, n=64)],
+                     progress=False)  # fmt: skip
+    assert direct.p0 == read.p0 == table["p0"][0]
+    assert fl.LineContact(Path(EXAMPLE_PSD), E_STAR, R, n=64).psd.h_rms == psd.h_rms
+    with pytest.raises(ValueError, match="nope.txt"):
+        fl.solve_line_contact("nope.txt", E_STAR, R, LOAD, n=64)
+
+
+def test_profile_csv_header_has_the_p0_ratio(tmp_path):
+    r = fl.solve_line_contact(None, E_STAR, R, LOAD, model="hertz", n=64)
+    fl.io.write_profile_csv(tmp_path / "p.csv", r)
+    meta, _ = fl.io.read_csv(tmp_path / "p.csv")
+    assert float(meta["p0_ratio"]) == r.p0_ratio
+
+
+def test_text_cells_quoted_as_csv(tmp_path):
+    fl.io.write_csv(tmp_path / "t.csv", ["label", "x"], [('a, "b"', 1.0), ("  c", 2.0)])
+    _, cols = fl.io.read_csv(tmp_path / "t.csv")
+    assert cols["label"].tolist() == ['a, "b"', "  c"] and cols["x"].tolist() == [1.0, 2.0]
+
+
+@pytest.mark.parametrize("name", ["out.jpg", "out.JPEG", "out.tiff"])
+def test_figure_extension_written_or_refused(name, tmp_path, capsys):
+    pytest.importorskip("matplotlib")
+    with pytest.raises(ValueError, match=rf"{name}: figures are written as png, pdf, svg"):
+        fl.plotting.figure_format(name)
+    status = main(["profile", "--model", "hertz", "--n", "64", "--plot", str(tmp_path / name)])
+    assert status == 2 and name in capsys.readouterr().err
+    assert not (tmp_path / name).exists()
+    assert fl.plotting.figure_format("out") == "png"
+    assert fl.plotting.figure_format("out.SVG") == "svg"
+    with pytest.raises(ValueError, match="contradicts format pdf"):
+        fl.plotting.figure_format("out.png", "pdf")
+
+
+def test_a_closed_pipe_ends_quietly():
+    """``fastline ... | head -1``: the reader leaves; no BrokenPipeError traceback, the exit
+    status of a Unix tool killed by SIGPIPE (128 + 13)."""
+    argv = [sys.executable, "-m", "fastline", "profile", "--model", "hertz", "--n", "64"]
+    proc = subprocess.Popen(argv, stdout=subprocess.PIPE, stderr=subprocess.PIPE,
+                            cwd=Path(__file__).parent.parent)  # fmt: skip
+    proc.stdout.close()  # before the first line is written
+    err = proc.stderr.read().decode()
+    assert proc.wait(timeout=600) == 141
+    assert "Traceback" not in err and "BrokenPipe" not in err

@@ -162,9 +162,10 @@ class SweepStats:
 
 
 def _text_cell(v) -> str:
-    """A text cell for a CSV file: one line, no commas (the files are read by splitting)."""
+    """A text cell for a CSV file, on one line (:func:`fastline.io.write_csv` quotes it when
+    it holds commas or quotes)."""
     text = "none" if v is None else v if isinstance(v, str) else repr(v)
-    return " ".join(text.split()).replace(",", ";")
+    return " ".join(text.split())
 
 
 class SweepTable:
@@ -238,9 +239,10 @@ class SweepTable:
         the load is ``load_N`` when every scene is a sphere, ``load`` when the table mixes
         geometries, and the header's ``load_unit`` line says which unit each geometry's has).
 
-        Text cells are written on one line with commas replaced by ``;``; ``psd`` cells as the
-        file path or the spectrum's repr. :func:`fastline.io.read_csv` reads the file back,
-        :func:`read_scenes` reads its scene columns.
+        Text cells are written on one line, in double quotes when they hold a comma or a quote
+        (as CSV quotes them); ``psd`` cells as the file path or the spectrum's repr.
+        :func:`fastline.io.read_csv` reads the file back, :func:`read_scenes` reads its scene
+        columns (and skips the result columns), so a table's file is a campaign to run again.
         """
         path = check_output_file(path)
         header = {"fastline_version": __version__, "scenes": len(self)}

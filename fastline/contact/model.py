@@ -23,6 +23,7 @@ SI units throughout: m, Pa, N/m (line) or N (point).
 from __future__ import annotations
 
 import math
+import os
 import threading
 import warnings
 from collections.abc import Callable, Iterable
@@ -47,6 +48,7 @@ from fastline.contact.core import ConvergenceWarning, dot, normalise
 from fastline.contact.diagnostics import assess, outside_stacklevel, warn_once
 from fastline.contact.hard import hard_contact
 from fastline.contact.kernels import cold_start_into, cold_start_normalised, hermite_accumulate
+from fastline.theory.files import read_spectrum
 from fastline.theory.laws import ExponentialLaw, PerssonLaw, PressureLaw, TabulatedLaw, check_law
 from fastline.theory.persson import PerssonTheory
 from fastline.theory.spectra import PSD, check_modulus, modulus_slip
@@ -364,8 +366,13 @@ class ContactModel:
         self.max_iter = max_iter
         self.hardness = None if hardness is None else positive("hardness", hardness, "Pa")
         self.warn = boolean("warn", warn)
+        if isinstance(psd, str | os.PathLike):  # a spectrum file, read as fastline.sweep does
+            psd = read_spectrum(psd)
         if psd is not None and not isinstance(psd, PSD):
-            raise TypeError(f"psd must be a fastline PSD or None, got {type(psd).__name__}")
+            raise TypeError(
+                f"psd must be a fastline PSD, a spectrum file's path or None, got "
+                f"{type(psd).__name__}"
+            )
         if theory is not None and not isinstance(theory, PerssonTheory):
             raise TypeError(f"theory must be a PerssonTheory or None, got {type(theory).__name__}")
         self.psd = psd

@@ -14,7 +14,7 @@ from typing import TYPE_CHECKING, Literal
 if TYPE_CHECKING:  # annotations only: matplotlib loads on first use
     from matplotlib.figure import Figure
 
-__all__ = ["FORMATS", "DEFAULT_DPI", "save_figure"]
+__all__ = ["FORMATS", "DEFAULT_DPI", "figure_format", "save_figure"]
 
 #: file formats :func:`save_figure` writes
 FORMATS = ("png", "pdf", "svg")
@@ -82,6 +82,24 @@ def no_outside_legend(fig, ax, own: bool) -> None:
         fig.set_size_inches(4.6, fig.get_size_inches()[1])
 
 
+def figure_format(path: str | os.PathLike, format: str | None = None) -> str:
+    """The format :func:`save_figure` writes to ``path``: ``format``, else the extension's,
+    else PNG (no extension). A ValueError naming the file when its extension is not one of
+    :data:`FORMATS` (``out.jpg`` would hold PNG bytes) or contradicts ``format``."""
+    path = os.fspath(path)
+    if format is not None and format not in FORMATS:
+        raise ValueError(f"format must be one of {FORMATS}, got {format!r}")
+    ext = os.path.splitext(path)[1].lower().lstrip(".")
+    if ext and ext not in FORMATS:
+        raise ValueError(
+            f"cannot write {path}: figures are written as {', '.join(FORMATS)}, not .{ext} "
+            f"(name the file .png, .pdf or .svg)"
+        )
+    if ext and format is not None and ext != format:
+        raise ValueError(f"cannot write {path}: its extension .{ext} contradicts format {format}")
+    return format or ext or "png"
+
+
 def save_figure(
     fig: Figure,
     path: str | os.PathLike,
@@ -96,16 +114,13 @@ def save_figure(
     fig : matplotlib Figure
     path : str or path-like
     format : {"png", "pdf", "svg"}, optional
-        Default: from the file extension, else PNG.
+        Default: from the file extension (PNG without one). A path whose extension names
+        another format (``.jpg``) is refused (:func:`figure_format`).
     dpi : float, optional
         Resolution of PNG output (default 150).
     """
     path = os.fspath(path)
-    if format is None:
-        ext = os.path.splitext(path)[1].lower().lstrip(".")
-        format = ext if ext in FORMATS else "png"
-    if format not in FORMATS:
-        raise ValueError(f"format must be one of {FORMATS}, got {format!r}")
+    format = figure_format(path, format)
     if dpi is not None and not (isinstance(dpi, int | float) and 10 <= dpi <= 2400):
         raise ValueError(f"dpi must be a number in [10, 2400], got {dpi!r}")
     meta = {"png": {"Software": "fastline"}, "pdf": {"Creator": "fastline"}}
