@@ -113,9 +113,8 @@ EXAMPLE_PSD = str(Path(__file__).parent.parent / "examples" / "psd_example.txt")
 
 def test_solve_reads_a_spectrum_path_as_sweep_does():
     direct = fl.solve_line_contact(EXAMPLE_PSD, E_STAR, R, LOAD, n=64, warn=False)
-    read = fl.solve_line_contact(
-        fl.io.read_spectrum(EXAMPLE_PSD), E_STAR, R, LOAD, n=64, warn=False
-    )
+    psd = fl.io.read_spectrum(EXAMPLE_PSD)
+    read = fl.solve_line_contact(psd, E_STAR, R, LOAD, n=64, warn=False)
     table = fl.sweep([dict(psd=EXAMPLE_PSD, E_star=E_STAR, radius=R, load=LOAD, n=64)],
                      progress=False)  # fmt: skip
     assert direct.p0 == read.p0 == table["p0"][0]
