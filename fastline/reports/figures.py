@@ -21,6 +21,7 @@ FORMATS = ("png", "pdf", "svg")
 #: resolution of raster (PNG) figures in dots per inch
 DEFAULT_DPI = 150
 _PANEL = (5.6, 3.8)  # inches: one panel with a legend on its right
+_ABOVE_WIDTH = 5.0  # inches: one panel with its legend above
 
 
 def figure_and_axes(ax, size=_PANEL):
@@ -73,6 +74,26 @@ def log_axis(axis) -> None:
 def outside_legend(ax) -> None:
     """Legend outside the axes, on the right (never over the data)."""
     ax.legend(loc="upper left", bbox_to_anchor=(1.02, 1.0), fontsize=8, frameon=False)
+
+
+def legend_above(ax, own: bool, ncol: int = 2) -> None:
+    """Legend in ``ncol`` columns above the axes, as wide as they are (never over the data, no
+    empty margin beside them); a figure made here (``own``) gets the axes the full width and
+    the legend's rows their height on top."""
+    handles, labels = ax.get_legend_handles_labels()
+    if not handles:
+        return
+    ncol = min(ncol, len(handles))
+    ax.legend(
+        loc="lower left", bbox_to_anchor=(0.0, 1.02, 1.0, 0.1), mode="expand", ncol=ncol,
+        fontsize=8, frameon=False, borderaxespad=0.0,
+    )  # fmt: skip
+    fig = ax.figure
+    if own and len(fig.axes) == 1:
+        rows = math.ceil(len(handles) / ncol)
+        height = _PANEL[1] + 0.18 * rows
+        fig.set_size_inches(_ABOVE_WIDTH, height)
+        fig.subplots_adjust(left=0.14, right=0.96, top=1.0 - (0.12 + 0.19 * rows) / height)
 
 
 def no_outside_legend(fig, ax, own: bool) -> None:
