@@ -56,3 +56,9 @@ def main(workers: int = 2, sizes=SIZES) -> None:
 
 if __name__ == "__main__":
     main(*(int(a) for a in sys.argv[1:2]))
+
+
+def distinct(rows: int, n: int = 1024) -> list[dict]:
+    """``rows`` scenes, each of its own spectrum (a theory build each)."""
+    return [dict(h_rms=1e-6 * (1 + i / rows), hurst=0.8, q0=1e3, qr=1e4, q1=1e9, E_star=1.33e9,
+                 radius=0.01, load=1e4, n=n) for i in range(rows)]  # fmt: skip

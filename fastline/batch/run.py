@@ -15,7 +15,7 @@ from tqdm import tqdm
 
 from fastline._lib.executors import close_engine, open_engine
 from fastline._lib.validate import integer
-from fastline.batch.plan import Piece, default_chunksize, plan_tasks
+from fastline.batch.plan import Piece, default_chunksize, plan_tasks, pool_pays
 from fastline.batch.scenes import normalise
 from fastline.batch.table import (
     SweepStats,
@@ -58,7 +58,9 @@ def sweep(
         would (``PointContact`` for a sphere); a bad value fails that scene only.
     executor : None, "serial", str, concurrent.futures.Executor or dask Client
         None (default): a local pool of ``workers`` spawned processes, made and shut down here
-        (a single task or ``workers=1`` runs in this process). ``"serial"``: in this process,
+        (a single task or ``workers=1`` runs in this process, and so does a table too small
+        to pay for starting the workers when ``workers`` is not given:
+        :func:`fastline.batch.plan.pool_pays`, docs/sweeps.md). ``"serial"``: in this process,
         in order. A dask scheduler address (``"tcp://host:8786"``; the ``dask`` extra), an
         executor or a ``distributed.Client``: used as given and left running. Workers must
         import fastline and read the spectrum files named in the table.
@@ -91,6 +93,8 @@ def sweep(
     size = len(cols["load"])
     chunk = default_chunksize(size) if chunksize is None else integer("chunksize", chunksize, 1)
     tasks = plan_tasks(cols, chunk)
+    if executor is None and workers is None and not pool_pays(tasks):
+        executor = "serial"  # a small table: faster here than after starting a pool
     outcomes, description = _run_tasks(tasks, executor, workers, size, progress)
     table, summary = _assemble(cols, outcomes)
     stats = _stats(outcomes, size, len(tasks), chunk, t0, description)

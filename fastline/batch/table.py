@@ -10,6 +10,7 @@ import os
 import warnings
 from collections.abc import Mapping
 from dataclasses import dataclass
+from html import escape
 from typing import TYPE_CHECKING
 
 import numpy as np
@@ -232,6 +233,24 @@ class SweepTable:
             f"SweepTable({len(self)} scenes: {int(self.ok.sum())} converged, {unconverged} not "
             f"converged, {failed} failed; warnings: {[c for c, _ in self.warnings]})"
         )
+
+    #: the columns a notebook shows, at most ``_HTML_ROWS`` rows of them
+    _HTML_COLUMNS = ("label", "geometry", "load", "alpha", "p0", "p0_ratio", "w_over_s",
+                     "converged", "warnings", "error")  # fmt: skip
+    _HTML_ROWS = 20
+
+    def _repr_html_(self) -> str:
+        """A notebook's view: the summary line, then the first rows of the main columns."""
+        names = [c for c in self._HTML_COLUMNS if c in self.columns]
+        head = "".join(f"<th>{escape(n)}</th>" for n in names)
+        rows = []
+        for rec in self.table[: self._HTML_ROWS]:
+            cells = (rec[n] for n in names)
+            text = (f"{v:.5g}" if isinstance(v, float) else str(v) for v in cells)
+            rows.append("<tr>" + "".join(f"<td>{escape(t)}</td>" for t in text) + "</tr>")
+        more = len(self) - self._HTML_ROWS
+        tail = f"<p>... and {more} more rows (in the table attribute)</p>" if more > 0 else ""
+        return f"<p>{escape(repr(self))}</p><table><tr>{head}</tr>{''.join(rows)}</table>{tail}"
 
     def to_csv(self, path: str | os.PathLike, meta: Mapping | None = None) -> None:
         """Write the table as a CSV file (:func:`fastline.io.write_csv`): ``# key: value``
