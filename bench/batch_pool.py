@@ -5,7 +5,9 @@ paper-like scenes, 3 surfaces, n = 1024, loads alpha 1e-2..1e2), once in this pr
 on a fresh pool of spawned workers (each must import fastline and load the compiled kernels
 before its first scene). Prints rows, the serial and pool wall times and their ratio; the
 break-even is where the ratio crosses 1. The pool's start-up is measured alone too (a
-one-scene task per worker). Kernels are compiled before the first timing.
+one-scene task per worker), and a table whose scenes each have their own spectrum (a theory
+build per scene). Kernels are compiled before the first timing. The rule it sizes:
+``fastline.batch.plan.pool_pays``.
 """
 
 from __future__ import annotations
@@ -13,8 +15,6 @@ from __future__ import annotations
 import sys
 import time
 import warnings
-
-import numpy as np
 
 import fastline as fl
 
@@ -52,6 +52,9 @@ def main(workers: int = 2, sizes=SIZES) -> None:
         serial = timed(scenes, executor="serial")
         pool = timed(scenes, workers=workers)
         print(f"{rows:>6}{serial:>10.2f}{pool:>10.2f}{pool / serial:>13.2f}", flush=True)
+    for rows in (12, 48):
+        serial = timed(distinct(rows), executor="serial")
+        print(f"{rows} scenes of {rows} spectra (a theory each), serial: {serial:.2f} s")
 
 
 if __name__ == "__main__":
