@@ -58,14 +58,13 @@ def sweep(
         would (``PointContact`` for a sphere); a bad value fails that scene only.
     executor : None, "serial", str, concurrent.futures.Executor or dask Client
         None (default): a local pool of ``workers`` spawned processes, made and shut down here
-        (a single task or ``workers=1`` runs in this process, and so does a table too small
-        to pay for starting the workers when ``workers`` is not given:
-        :func:`fastline.batch.plan.pool_pays`, docs/sweeps.md). ``"serial"``: in this process,
+        (in this process: one task, ``workers=1``, a table too small to pay for the pool). ``"serial"``: in this process,
         in order. A dask scheduler address (``"tcp://host:8786"``; the ``dask`` extra), an
         executor or a ``distributed.Client``: used as given and left running. Workers must
         import fastline and read the spectrum files named in the table.
     workers : int, optional
-        Processes of the default pool (default: the CPUs this process may use).
+        Processes of the default pool (default: the CPUs this process may use, for a table
+        whose work pays for them: :func:`fastline.batch.plan.pool_pays`).
     chunksize : int, optional
         Scenes per task at most (default :func:`default_chunksize`: ~64 tasks); the results
         depend on it within the solver tolerance, and not at all on the executor.
