@@ -57,8 +57,8 @@ def sweep(
         settings. Each scene is solved as ``LineContact(psd, E_star, radius, ...).solve(load)``
         would (``PointContact`` for a sphere); a bad value fails that scene only.
     executor : None, "serial", str, concurrent.futures.Executor or dask Client
-        None (default): a local pool of ``workers`` spawned processes, made and shut down here
-        (in this process: one task, ``workers=1``, a table too small to pay for the pool). ``"serial"``: in this process,
+        None (default): a pool of ``workers`` spawned processes, made and shut down here (this
+        process for one task, ``workers=1`` or too little work). ``"serial"``: in this process,
         in order. A dask scheduler address (``"tcp://host:8786"``; the ``dask`` extra), an
         executor or a ``distributed.Client``: used as given and left running. Workers must
         import fastline and read the spectrum files named in the table.
@@ -71,9 +71,8 @@ def sweep(
     progress : bool or None
         Show a tqdm progress bar on stderr (None: only when stderr is a terminal).
     warn : bool
-        Emit, once each for the whole sweep, a :class:`~fastline.errors.SceneFailureWarning`,
-        a ``ConvergenceWarning`` and one ``ValidityWarning`` per cause
-        (:func:`fastline.contact.diagnostics.summarise_warnings`); kept in ``.warnings`` anyway.
+        Emit, once each for the sweep, a :class:`~fastline.errors.SceneFailureWarning`, a
+        ``ConvergenceWarning`` and a ``ValidityWarning`` per cause (kept in ``.warnings``).
 
     Returns
     -------
@@ -92,8 +91,6 @@ def sweep(
     size = len(cols["load"])
     chunk = default_chunksize(size) if chunksize is None else integer("chunksize", chunksize, 1)
     tasks = plan_tasks(cols, chunk)
-    if executor is None and workers is None and not pool_pays(tasks):
-        executor = "serial"  # a small table: faster here than after starting a pool
     outcomes, description = _run_tasks(tasks, executor, workers, size, progress)
     table, summary = _assemble(cols, outcomes)
     stats = _stats(outcomes, size, len(tasks), chunk, t0, description)
@@ -111,6 +108,8 @@ def _run_tasks(
 ) -> tuple[list[TaskOutcome], str]:
     """Every task's outcome, in the order completed, and what ran them; the engine (a pool made
     here, a dask client connected here) is closed whatever happens."""
+    if executor is None and workers is None and not pool_pays(tasks):
+        executor = "serial"  # too little work to pay for starting a pool: faster here
     engine = open_engine(executor, workers, len(tasks))
     outcomes = []
     try:

@@ -18,6 +18,8 @@ if TYPE_CHECKING:  # annotations only: matplotlib loads on first use
     from matplotlib.axes import Axes
     from matplotlib.figure import Figure
 
+    from fastline.contact.result import ContactResult
+
 __all__ = ["plot_profile"]
 
 #: inches: one profile panel, its legend above the axes
@@ -52,7 +54,7 @@ def scene_text(result, math: bool = True) -> str:
 
 
 def plot_profile(
-    result, *, hertz: bool = True, label: str | None = None, ax: Axes | None = None
+    result: ContactResult, *, hertz: bool = True, label: str | None = None, ax: Axes | None = None
 ) -> Figure:
     """Pressure profile p(x) of one result, with the smooth (Hertz) profile at the same load.
 

@@ -19,6 +19,7 @@ from fastline.contact.model import DeferredFields, deferrable
 
 if TYPE_CHECKING:
     from matplotlib.axes import Axes
+    from matplotlib.figure import Figure
 
     from fastline.theory.persson import PerssonTheory
 
@@ -98,7 +99,9 @@ class ContactResult(DeferredFields):
             f"converged={self.converged}, convolutions={self.convolutions})"
         )
 
-    def plot(self, *, hertz: bool = True, label: str | None = None, ax: Axes | None = None):
+    def plot(
+        self, *, hertz: bool = True, label: str | None = None, ax: Axes | None = None
+    ) -> Figure:
         """Draw the pressure profile with the Hertz profile at the same load; returns the
         matplotlib Figure (:func:`fastline.plotting.plot_profile`; matplotlib is imported
         now, not with fastline)."""

@@ -117,11 +117,12 @@ _MARKERS = ("o", "s", "^", "D", "v", "P", "X", "*")
 
 
 def _style(k: int, count: int) -> dict:
-    """Line and marker of series ``k`` of ``count``: its colour, its own open marker, larger
-    and its line thinner than the series before, so that coinciding series all show."""
+    """Line and marker of series ``k`` of ``count``: its colour and its own open marker, each
+    series drawn over the next ones with a thinner line and a smaller marker, so that series
+    on the same points all show (nested markers, the lines as stripes)."""
     return dict(
         color=f"C{k % 10}", marker=_MARKERS[k % len(_MARKERS)], ms=3.5 + 1.5 * k, mfc="none",
-        mew=1.0, lw=1.0 + 0.7 * (count - 1 - k),
+        mew=1.0, lw=1.0 + 0.9 * k, zorder=2.5 + count - k,
     )  # fmt: skip
 
 
