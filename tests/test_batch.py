@@ -785,7 +785,7 @@ def test_cli_batch(tmp_path):
     assert outs[0].read_bytes() == outs[1].read_bytes()
     meta, cols = read_csv(outs[0])
     assert meta["failed"] == "1" and list(cols["label"][:2]) == ["s0", "s1"]
-    assert cols["error"][11].startswith("ValueError: hurst must lie in (0; 1]")
+    assert cols["error"][11].startswith("ValueError: hurst must lie in (0, 1]")  # quoted
     assert np.all(cols["converged"][:11] == 1)
 
 

@@ -273,7 +273,10 @@ def plot_p0_ratio(
         yy = asymptote(aa, gu)
         seen = (yy >= lo) & (yy <= hi)
         if seen.any():  # an asymptote off the axes is neither drawn nor listed
-            xx = aa if x == "alpha" else np.interp(np.log(aa), np.log(a), _x_values(rs, x))
+            law = _alpha_law(rs) if x == "load" else (1.0, 1.0)  # alpha = c load^k
+            if law is None:  # one load: no line to draw
+                continue
+            xx = (aa / law[0]) ** (1.0 / law[1])
             text = f"{name}, $\\gamma_u$ = {gu:.3f}"
             ax.semilogx(xx[seen], yy[seen], "--", color=style["color"], lw=0.9, label=text)
     ax.axhline(1.0, color="k", lw=0.6, label="Hertz")
