@@ -24,6 +24,7 @@ from .errors import AccuracyWarning as AccuracyWarning
 from .errors import ConvergenceWarning as ConvergenceWarning
 from .errors import LeakageWarning as LeakageWarning
 from .errors import NarrowContactWarning as NarrowContactWarning
+from .errors import UnitWarning as UnitWarning
 from .errors import ValidityWarning as ValidityWarning
 from .leakage import LeakResult as LeakResult
 from .leakage import leak_rate as leak_rate
@@ -49,6 +50,7 @@ from .theory import SumPSD as SumPSD
 from .theory import TabulatedLaw as TabulatedLaw
 from .theory import TabulatedPSD as TabulatedPSD
 from .theory import alpha as alpha
+from .theory import check_modulus as check_modulus
 from .theory import effective_modulus as effective_modulus
 from .theory import gaussian_line_contact as gaussian_line_contact
 from .theory import gaussian_point_contact as gaussian_point_contact

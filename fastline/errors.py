@@ -17,6 +17,7 @@ __all__ = [
     "TopographyWarning",
     "SceneFailureWarning",
     "SpectrumFileError",
+    "UnitWarning",
 ]
 
 
@@ -49,6 +50,10 @@ class TopographyWarning(UserWarning):
 
 class SceneFailureWarning(UserWarning):
     """Some scenes of a sweep failed (their rows carry the error text)."""
+
+
+class UnitWarning(UserWarning):
+    """An input whose size suggests a unit slip (an effective modulus typed in MPa as Pa)."""
 
 
 class SpectrumFileError(ValueError):

@@ -18,6 +18,7 @@ SI units throughout.
 
 from __future__ import annotations
 
+import csv
 import math
 import os
 from collections.abc import Iterable, Mapping, Sequence
@@ -190,11 +191,19 @@ def scene_metadata(
     return meta
 
 
+def _quoted(text: str) -> str:
+    """A text cell as CSV writes it (RFC 4180): in double quotes, inner quotes doubled, when
+    it holds a comma, a quote, a line break or outer blanks; else as it is."""
+    if any(c in text for c in ',"\r\n') or text != text.strip():
+        return '"' + text.replace('"', '""') + '"'
+    return text
+
+
 def _fmt(v) -> str:
     if isinstance(v, bool | np.bool_):
         return str(int(v))
     if isinstance(v, str):
-        return v
+        return _quoted(v)
     if isinstance(v, int | np.integer):
         return str(int(v))
     return repr(float(v))
@@ -268,13 +277,15 @@ def write_profile_csv(
 ) -> None:
     """Write p(x) of one result: columns ``x_m, p_Pa, u_m``; ``meta`` as the header.
 
-    The load, alpha, p0, widths and convergence of the result are added to the header.
+    The load, alpha, p0, p0 / p0_Hertz, widths and convergence of the result are added to the
+    header.
     """
     info = dict(meta or {})
     info.update(
         load_N_per_m=result.load,
         alpha=result.alpha,
         p0_Pa=result.p0,
+        p0_ratio=result.p0_ratio,
         s_m=result.s,
         w_m=result.fwhm,
         w_over_s=result.w_over_s,
@@ -303,9 +314,9 @@ def write_point_profile_csv(
 ) -> None:
     """Write p(r) of a point contact: columns ``r_m, p_Pa, u_m``; ``meta`` as the header.
 
-    The load F [N], alpha, p0, widths (s, the FWHM along a diameter w), the Hertz radius, the
-    radius holding 99 % of the load and the radius where p falls to 1 % of p0 are added to the
-    header.
+    The load F [N], alpha, p0, p0 / p0_Hertz (the sphere's), widths (s, the FWHM along a
+    diameter w), the Hertz radius, the radius holding 99 % of the load and the radius where p
+    falls to 1 % of p0 are added to the header.
     """
     info = dict(meta or {})
     info.update(
@@ -313,6 +324,7 @@ def write_point_profile_csv(
         load_N=result.load,
         alpha=result.alpha,
         p0_Pa=result.p0,
+        p0_ratio=result.p0_ratio,
         s_m=result.s,
         w_m=result.fwhm,
         w_over_s=result.w_over_s,
@@ -346,15 +358,15 @@ def read_csv(path: str | os.PathLike) -> tuple[dict, dict]:
     """
     meta: dict = {}
     lines = []
-    with open(os.fspath(path), encoding="utf-8") as fh:
+    with open(os.fspath(path), encoding="utf-8", newline="") as fh:
         for line in fh:
             if line.startswith("#"):
                 key, sep, value = line[1:].strip().partition(": ")
                 if sep and key.isidentifier():
                     meta[key] = value
             elif line.strip():
-                lines.append(line.rstrip("\n").split(","))
-    names, body = lines[0], lines[1:]
+                lines.append(line)
+    names, *body = csv.reader(lines)  # quoted text cells may hold commas
     columns = {}
     for j, name in enumerate(names):
         col = [row[j] for row in body]

@@ -533,7 +533,9 @@ def test_csv_round_trip(serial, tmp_path):
         if c.kind == "float":
             assert np.array_equal(cols[col], serial[name], equal_nan=True), name
     assert "load_N_per_m" in cols and "p0_Pa" in cols and "E_star_Pa" in cols
-    assert cols["error"][5] == serial["error"][5].replace(",", ";")  # commas never split cells
+    assert "," in serial["error"][5] and cols["error"][5] == serial["error"][5]  # quoted as CSV
+    again = run(batch.read_scenes(path), chunksize=5)  # result columns skipped on reading
+    assert_same_table(again, serial)
 
 
 def test_read_scenes(tmp_path):
@@ -783,7 +785,7 @@ def test_cli_batch(tmp_path):
     assert outs[0].read_bytes() == outs[1].read_bytes()
     meta, cols = read_csv(outs[0])
     assert meta["failed"] == "1" and list(cols["label"][:2]) == ["s0", "s1"]
-    assert cols["error"][11].startswith("ValueError: hurst must lie in (0; 1]")
+    assert cols["error"][11].startswith("ValueError: hurst must lie in (0, 1]")  # quoted
     assert np.all(cols["converged"][:11] == 1)
 
 
@@ -815,3 +817,30 @@ def test_cli_batch_refuses_bad_tables_before_work(tmp_path, monkeypatch):
     monkeypatch.setitem(__import__("sys").modules, "distributed", None)
     status, _, err = cli([*SWEEP_ARGS, "--scheduler", "tcp://127.0.0.1:1"])
     assert status == 2 and '"fastline-contact[dask]" (the dask extra)' in err
+
+
+# ---- when the default pool starts ---------------------------------------------------------------
+def test_small_table_runs_here_without_a_pool():
+    """A few scenes and no ``workers``: solved in this process (a pool's start-up took 5x the
+    whole serial sweep of 3 scenes); ``workers`` given: the pool as asked."""
+    rows = [scene(1e-6, 0.8, 1e4), scene(10e-6, 0.8, 1e4), scene(10e-6, 0.5, 1e4)]
+    res = run(rows, chunksize=1)  # 3 tasks: before, a pool of one process per CPU
+    assert res.stats.executor.startswith("serial") and res.stats.workers == 1
+
+
+def test_pool_pays_from_the_stated_work():
+    """The rule of docs/sweeps.md: cylinder scenes at n = 1024 weigh 1, each distinct model
+    POOL_THEORY_WORK more; the pool from POOL_MIN_WORK on."""
+    from fastline.batch.plan import POOL_MIN_WORK, POOL_THEORY_WORK, plan_tasks, pool_pays
+    from fastline.batch.scenes import normalise
+
+    def pays(rows, models, n=1024):
+        loads = np.geomspace(1e3, 1e5, rows)
+        table = [{**scene(1e-6 * (1 + i % models), 0.8, f), "n": n} for i, f in enumerate(loads)]
+        return pool_pays(plan_tasks(normalise(table), 64))
+
+    big = int(POOL_MIN_WORK - POOL_THEORY_WORK)
+    assert pays(big, 1) and not pays(big - 1, 1)
+    assert not pays(big, 1, n=512)  # half the work per scene
+    many = int(POOL_MIN_WORK // (POOL_THEORY_WORK + 1)) + 1
+    assert pays(many, many) and not pays(many, 1)

@@ -21,9 +21,8 @@ def sweep():
 
 def texts(fig):
     out = [t.get_text() for ax in fig.axes for t in ax.texts]
-    return out + [
-        t.get_text() for ax in fig.axes if ax.get_legend() for t in ax.get_legend().get_texts()
-    ]
+    legends = [ax.get_legend() for ax in fig.axes if ax.get_legend()] + fig.legends
+    return out + [t.get_text() for legend in legends for t in legend.get_texts()]
 
 
 def test_profile_along_a_diameter(sweep):
@@ -40,7 +39,7 @@ def test_profile_along_a_diameter(sweep):
 
 def test_sphere_references(sweep):
     gu = fl.PerssonTheory(paper.surfaces()[0], paper.E_STAR).exponential_fit().gamma_u
-    fig = plotting.plot_sweep(sweep, gamma_u=gu)
+    fig = plotting.plot_sweep(sweep, gamma_u=gu, x="alpha")
     ax_ws, ax_p0 = fig.axes
     assert fl.WS_HERTZ_SPHERE in [line.get_ydata()[0] for line in ax_ws.get_lines()]
     assert ax_ws.get_ylim()[1] > fl.WS_HERTZ_SPHERE

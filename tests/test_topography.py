@@ -861,7 +861,7 @@ _ROW = np.random.default_rng(0).normal(size=256) * 1e-7
         (dict(window="triangle-ish"), "window must be"),
         (dict(detrend="cubic"), "detrend must be one of"),
         (dict(nan="drop"), "nan must be one of"),
-        (dict(bins_per_decade=1), "bins_per_decade must be an integer >= 2"),
+        (dict(bins_per_decade=1), r"bins_per_decade must be an integer in \[2, 10000\]"),
         (dict(bins_per_decade=2.5), "bins_per_decade must be an integer"),
         (dict(q_range="all"), "q_range must be 'auto'"),
         (dict(q_range=(2e5, 1e5)), "lo < hi"),

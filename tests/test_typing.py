@@ -112,7 +112,7 @@ def test_walker_sees_the_public_api():
         "fastline.leakage.flow.leak_rate",
         "fastline.surfaces.profiles.psd_from_profile",
         "fastline.surfaces.scan.analyse_scan",
-        "fastline.reports.contact_figures.plot_profile",
+        "fastline.contact.figure.plot_profile",
         "fastline.contact.line.profile",
     ):
         assert name in keys, name

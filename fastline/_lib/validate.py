@@ -18,6 +18,11 @@ E_STAR_RANGE = (1.0, 1e13)  # Pa: from soft gels to diamond
 LENGTH_RANGE = (1e-12, 0.1)  # m: rms roughness amplitudes
 WAVENUMBER_RANGE = (1e-3, 1e13)  # 1/m: wavelengths from 6 km down to 0.6 pm
 RADIUS_RANGE = (1e-9, 1e3)  # m
+#: iteration caps a user may set (Newton steps, Picard sweeps, CG iterations): a solve keeps a
+#: history row per step (24 bytes), and 1e6 steps is days of a large solve
+MAX_ITER_RANGE = (1, 1_000_000)
+#: bins per decade of a binned spectrum: 1e4 already resolves a ratio 1.00023 of wavenumbers
+BINS_PER_DECADE_RANGE = (2, 10_000)
 
 
 def _refuse_complex(name: str, value) -> None:
@@ -71,6 +76,16 @@ def real_array(name: str, value) -> np.ndarray:
         raise TypeError(f"{name} must hold real numbers, got {type(value).__name__}") from None
     except ValueError:  # a ragged nesting of sequences
         raise ValueError(f"{name} must be an array of real numbers") from None
+
+
+def boolean(name: str, value) -> bool:
+    """A bool (Python's or NumPy's; 0 and 1 too): a TypeError naming ``name`` otherwise (a
+    string such as "no" would be truthy)."""
+    if isinstance(value, bool | np.bool_):
+        return bool(value)
+    if type(value) is int and value in (0, 1):
+        return bool(value)
+    raise TypeError(f"{name} must be True or False, got {type(value).__name__} ({value!r})")
 
 
 def finite_scalar(name: str, value) -> float:

@@ -16,13 +16,36 @@ import numpy as np
 
 from fastline.batch.scenes import SPECTRUM_PARAMS
 
-__all__ = ["default_chunksize", "DEFAULT_TASKS", "MIN_CHUNK", "MAX_CHUNK"]
+__all__ = ["default_chunksize", "pool_pays", "DEFAULT_TASKS", "MIN_CHUNK", "MAX_CHUNK"]
 
 #: default plan: about this many tasks per table, each of ``[MIN, MAX]`` scenes. Measured with
 #: 2 workers on paper-like scenes at n = 256 (0.4-0.6 ms of CPU per scene; docs/throughput.md):
 #: the engine costs 0.5-1.3 ms per task in a local pool and 4-13 ms on dask; with 157 scenes
 #: per task (10,000 scenes) the workers were 89-94% busy, with 8 per task 80-90% (pool).
 DEFAULT_TASKS, MIN_CHUNK, MAX_CHUNK = 64, 8, 256
+#: when the default local pool pays for its start: each spawned worker imports fastline and
+#: loads the compiled kernels before its first scene (10.6 s for 2 workers on a loaded 2-core
+#: machine, ``python -m bench.batch_pool``), while a cylinder scene at n = 1024 costs ~2 ms in
+#: a continuation sweep (6.6 ms in another run, where a sphere took 10 ms at n = 128 and 30 ms
+#: at n = 256) and each distinct spectrum ~80 ms of theory tables. The table's work in
+#: cylinder scenes at n = 1024: per scene ``w (n / n_ref)^k`` with ``(w, n_ref, k)`` of
+#: ``POOL_WORK`` by geometry, plus ``POOL_THEORY_WORK`` per distinct model; the pool starts
+#: from ``POOL_MIN_WORK`` (about twice the start-up in serial work; docs/sweeps.md).
+POOL_MIN_WORK = 10_000.0
+POOL_THEORY_WORK = 40.0
+POOL_WORK = {"cylinder": (1.0, 1024, 1), "sphere": (20.0, 512, 2)}
+
+
+def pool_pays(tasks: list[tuple[Piece, ...]]) -> bool:
+    """Whether the tasks hold enough work for the default pool to pay for starting its
+    workers (``POOL_MIN_WORK``; a smaller table runs faster in this process)."""
+    work, models = 0.0, set()
+    for task in tasks:
+        for piece in task:
+            weight, n_ref, power = POOL_WORK.get(piece.spec.geometry, (1.0, 1024, 1))
+            work += len(piece.rows) * weight * (piece.spec.n / n_ref) ** power
+            models.add(piece.spec)
+    return work + POOL_THEORY_WORK * len(models) >= POOL_MIN_WORK
 
 
 # ----------------------------------------------------------------------------------------------

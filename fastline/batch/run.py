@@ -15,7 +15,7 @@ from tqdm import tqdm
 
 from fastline._lib.executors import close_engine, open_engine
 from fastline._lib.validate import integer
-from fastline.batch.plan import Piece, default_chunksize, plan_tasks
+from fastline.batch.plan import Piece, default_chunksize, plan_tasks, pool_pays
 from fastline.batch.scenes import normalise
 from fastline.batch.table import (
     SweepStats,
@@ -57,22 +57,22 @@ def sweep(
         settings. Each scene is solved as ``LineContact(psd, E_star, radius, ...).solve(load)``
         would (``PointContact`` for a sphere); a bad value fails that scene only.
     executor : None, "serial", str, concurrent.futures.Executor or dask Client
-        None (default): a local pool of ``workers`` spawned processes, made and shut down here
-        (a single task or ``workers=1`` runs in this process). ``"serial"``: in this process,
+        None (default): a pool of ``workers`` spawned processes, made and shut down here (this
+        process for one task, ``workers=1`` or too little work). ``"serial"``: in this process,
         in order. A dask scheduler address (``"tcp://host:8786"``; the ``dask`` extra), an
         executor or a ``distributed.Client``: used as given and left running. Workers must
         import fastline and read the spectrum files named in the table.
     workers : int, optional
-        Processes of the default pool (default: the CPUs this process may use).
+        Processes of the default pool (default: the CPUs this process may use, for a table
+        whose work pays for them: :func:`fastline.batch.plan.pool_pays`).
     chunksize : int, optional
         Scenes per task at most (default :func:`default_chunksize`: ~64 tasks); the results
         depend on it within the solver tolerance, and not at all on the executor.
     progress : bool or None
         Show a tqdm progress bar on stderr (None: only when stderr is a terminal).
     warn : bool
-        Emit, once each for the whole sweep, a :class:`~fastline.errors.SceneFailureWarning`,
-        a ``ConvergenceWarning`` and one ``ValidityWarning`` per cause
-        (:func:`fastline.contact.diagnostics.summarise_warnings`); kept in ``.warnings`` anyway.
+        Emit, once each for the sweep, a :class:`~fastline.errors.SceneFailureWarning`, a
+        ``ConvergenceWarning`` and a ``ValidityWarning`` per cause (kept in ``.warnings``).
 
     Returns
     -------
@@ -108,6 +108,8 @@ def _run_tasks(
 ) -> tuple[list[TaskOutcome], str]:
     """Every task's outcome, in the order completed, and what ran them; the engine (a pool made
     here, a dask client connected here) is closed whatever happens."""
+    if executor is None and workers is None and not pool_pays(tasks):
+        executor = "serial"  # too little work to pay for starting a pool: faster here
     engine = open_engine(executor, workers, len(tasks))
     outcomes = []
     try:

@@ -345,7 +345,9 @@ def read_scenes(path: str | os.PathLike) -> dict[str, list]:
     The file has a header row of column names (:data:`SCENE_COLUMNS`, or the same names with
     their units as :meth:`SweepTable.to_csv` writes them: ``E_star_Pa``, ``load_N_per_m``...)
     and one row per scene, comma-separated (double quotes allowed around a cell); ``#`` lines
-    are comments. An empty cell takes the column's default. Spectrum files in a ``psd`` column
+    are comments. An empty cell takes the column's default. The result columns of a
+    :meth:`SweepTable.to_csv` file (:data:`RESULT_COLUMNS`, ``p0_Pa``...) are recognised and
+    skipped: such a file is read as the campaign it ran. Spectrum files in a ``psd`` column
     are relative to the CSV file's directory; ``none`` there means no spectrum (hertz).
 
     Returns
@@ -363,12 +365,15 @@ def read_scenes(path: str | os.PathLike) -> dict[str, list]:
     header, body = _csv_rows(path)
     aliases = {c.csv_name: c.name for c in INPUTS} | {c.name: c.name for c in INPUTS}
     aliases["load_N"] = "load"  # the load on a sphere (SweepTable.to_csv names it so)
-    unknown = [k for k in header if k not in aliases]
+    results = {c.csv_name for c in OUTPUTS} | set(RESULT_COLUMNS)  # a SweepTable's: skipped
+    unknown = [k for k in header if k not in aliases and k not in results]
     if unknown:
         raise ValueError(f"{path}: unknown columns {unknown}; allowed: {', '.join(SCENE_COLUMNS)}")
     base = os.path.dirname(os.path.abspath(path))
     cols = {}
     for j, key in enumerate(header):
+        if key not in aliases:
+            continue
         col = BY_NAME[aliases[key]]
         cols[col.name] = [_csv_cell(col, row[j].strip(), base) for _line, row in body]
     return cols

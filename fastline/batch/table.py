@@ -10,6 +10,7 @@ import os
 import warnings
 from collections.abc import Mapping
 from dataclasses import dataclass
+from html import escape
 from typing import TYPE_CHECKING
 
 import numpy as np
@@ -162,9 +163,10 @@ class SweepStats:
 
 
 def _text_cell(v) -> str:
-    """A text cell for a CSV file: one line, no commas (the files are read by splitting)."""
+    """A text cell for a CSV file, on one line (:func:`fastline.io.write_csv` quotes it when
+    it holds commas or quotes)."""
     text = "none" if v is None else v if isinstance(v, str) else repr(v)
-    return " ".join(text.split()).replace(",", ";")
+    return " ".join(text.split())
 
 
 class SweepTable:
@@ -232,15 +234,34 @@ class SweepTable:
             f"converged, {failed} failed; warnings: {[c for c, _ in self.warnings]})"
         )
 
+    #: the columns a notebook shows, at most ``_HTML_ROWS`` rows of them
+    _HTML_COLUMNS = ("label", "geometry", "load", "alpha", "p0", "p0_ratio", "w_over_s",
+                     "converged", "warnings", "error")  # fmt: skip
+    _HTML_ROWS = 20
+
+    def _repr_html_(self) -> str:
+        """A notebook's view: the summary line, then the first rows of the main columns."""
+        names = [c for c in self._HTML_COLUMNS if c in self.columns]
+        head = "".join(f"<th>{escape(n)}</th>" for n in names)
+        rows = []
+        for rec in self.table[: self._HTML_ROWS]:
+            cells = (rec[n] for n in names)
+            text = (f"{v:.5g}" if isinstance(v, float) else str(v) for v in cells)
+            rows.append("<tr>" + "".join(f"<td>{escape(t)}</td>" for t in text) + "</tr>")
+        more = len(self) - self._HTML_ROWS
+        tail = f"<p>... and {more} more rows (in the table attribute)</p>" if more > 0 else ""
+        return f"<p>{escape(repr(self))}</p><table><tr>{head}</tr>{''.join(rows)}</table>{tail}"
+
     def to_csv(self, path: str | os.PathLike, meta: Mapping | None = None) -> None:
         """Write the table as a CSV file (:func:`fastline.io.write_csv`): ``# key: value``
         header lines, then columns named with their units (``load_N_per_m``, ``p0_Pa``...;
         the load is ``load_N`` when every scene is a sphere, ``load`` when the table mixes
         geometries, and the header's ``load_unit`` line says which unit each geometry's has).
 
-        Text cells are written on one line with commas replaced by ``;``; ``psd`` cells as the
-        file path or the spectrum's repr. :func:`fastline.io.read_csv` reads the file back,
-        :func:`read_scenes` reads its scene columns.
+        Text cells are written on one line, in double quotes when they hold a comma or a quote
+        (as CSV quotes them); ``psd`` cells as the file path or the spectrum's repr.
+        :func:`fastline.io.read_csv` reads the file back, :func:`read_scenes` reads its scene
+        columns (and skips the result columns), so a table's file is a campaign to run again.
         """
         path = check_output_file(path)
         header = {"fastline_version": __version__, "scenes": len(self)}

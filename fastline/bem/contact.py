@@ -32,7 +32,7 @@ import numpy as np
 from numpy.typing import ArrayLike
 
 from fastline._lib.jit import JIT
-from fastline._lib.validate import finite_array, finite_scalar, integer, positive
+from fastline._lib.validate import MAX_ITER_RANGE, finite_array, finite_scalar, integer, positive
 from fastline.bem.halfspace import ElasticHalfSpace
 from fastline.bem.surface import Grid
 
@@ -338,7 +338,7 @@ def _checked(g0, grid, E_star, load, tol, max_iter):
     tol = positive("tol", tol)
     if tol >= 0.1:
         raise ValueError(f"tol must lie in (0, 0.1), got {tol!r}")
-    return g0, E_star, load, tol, integer("max_iter", max_iter, 1)
+    return g0, E_star, load, tol, integer("max_iter", max_iter, *MAX_ITER_RANGE)
 
 
 def _start_pressure(p_init, grid, load) -> np.ndarray:

@@ -24,7 +24,7 @@ from dataclasses import dataclass, replace
 import numpy as np
 import scipy.fft
 
-from fastline._lib.validate import finite_scalar, integer, positive
+from fastline._lib.validate import MAX_ITER_RANGE, finite_scalar, integer, positive
 from fastline.bem.contact import DEFAULT_TOL
 from fastline.bem.surface import Amplitudes, Grid, spectral_grid
 from fastline.theory.spectra import PSD
@@ -145,7 +145,7 @@ def _check_settings(grid, amplitudes, tol, max_iter):
     tol = positive("tol", tol)
     if tol >= 0.1:
         raise ValueError(f"tol must lie in (0, 0.1), got {tol!r}")
-    return tol, integer("max_iter", max_iter, 1)
+    return tol, integer("max_iter", max_iter, *MAX_ITER_RANGE)
 
 
 def _width_scale(psd, radius, a_hertz):

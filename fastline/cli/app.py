@@ -21,9 +21,11 @@ moduli in Pa, loads per unit cylinder length in N/m.
 from __future__ import annotations
 
 import argparse
+import os
 import re
 import sys
 import time
+import warnings
 
 import fastline as fl
 from fastline import batch, theory
@@ -442,11 +444,28 @@ def main(argv: list[str] | None = None) -> int:
             args.variant = theory.DEFAULT_VARIANT
         if getattr(args, "gamma", 0.0) is None:  # the variant's own gamma
             args.gamma = theory.get_variant(args.variant).default_gamma
-        return COMMANDS[args.command](args)
+        with warnings.catch_warnings():  # the scene's check printed them once
+            warnings.filterwarnings("ignore", category=fl.UnitWarning)
+            status = COMMANDS[args.command](args)
+        sys.stdout.flush()  # a reader that left shows here, not in the interpreter's exit
+        return status
     except (CLIError, ValueError) as e:
         msg = " ".join(str(e).split())
         print(f"fastline: error: {msg}", file=sys.stderr)
         return 2
+    except BrokenPipeError:  # `fastline paper | head -1`: the reader left, stop quietly
+        return _closed_pipe()
+
+
+def _closed_pipe() -> int:
+    """The exit status of a Unix tool whose reader closed the pipe (128 + SIGPIPE), with
+    stdout pointed at the null device so that the interpreter's final flush stays silent."""
+    try:
+        devnull = os.open(os.devnull, os.O_WRONLY)
+        os.dup2(devnull, sys.stdout.fileno())
+    except (OSError, ValueError, AttributeError):  # stdout is not a file (captured)
+        pass
+    return 128 + 13
 
 
 if __name__ == "__main__":  # pragma: no cover

@@ -388,6 +388,8 @@ def check_outputs(args: argparse.Namespace) -> None:
             fl.io.check_output_file(path)
     if getattr(args, "plot", None) is not None or getattr(args, "out", None) is not None:
         require_matplotlib()
+    if getattr(args, "plot", None) is not None:  # a .jpg refused before any solve
+        fl.plotting.figure_format(args.plot, getattr(args, "format", None))
     if getattr(args, "out", None) is not None:
         fl.io.check_output_dir(args.out)
 

@@ -286,6 +286,7 @@ def _print_warnings(caught, unit_warning) -> None:
     seen = set()
     for w in caught:
         text = str(w.message)
+        text = text.removeprefix("fastline: ")
         if issubclass(w.category, unit_warning) and "wrong unit" in text:
             text += " (--units gives the unit of the file's heights; --dx is in m)"
         if text not in seen:
@@ -348,6 +349,15 @@ def _scan_scene(args):
     return scan.psd, source
 
 
+def checked_modulus(E_star: float, name: str) -> float:
+    """E* checked by :func:`fastline.check_modulus`; its unit-slip warning printed once."""
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        E_star = fl.check_modulus(E_star, name)
+    _print_warnings(caught, fl.UnitWarning)
+    return E_star
+
+
 def scene(args: argparse.Namespace) -> tuple[PSD, float, str | None]:
     """(psd, E_star, source file or None) from the scene options."""
     elastic = [args.E1, args.nu1, args.E2, args.nu2]
@@ -356,9 +366,10 @@ def scene(args: argparse.Namespace) -> tuple[PSD, float, str | None]:
             raise CLIError("give either --E-star or --E1/--nu1/--E2/--nu2, not both")
         if any(v is None for v in elastic):
             raise CLIError("--E1, --nu1, --E2 and --nu2 must be given together")
-        E_star = fl.effective_modulus(args.E1, args.nu1, args.E2, args.nu2)
+        E_star = checked_modulus(fl.effective_modulus(args.E1, args.nu1, args.E2, args.nu2),
+                                 "E* of --E1/--nu1/--E2/--nu2")  # fmt: skip
     else:
-        E_star = 1.33e9 if args.E_star is None else args.E_star
+        E_star = 1.33e9 if args.E_star is None else checked_modulus(args.E_star, "--E-star")
     if scan_checks(args):
         psd, source = _scan_scene(args)
         return psd, E_star, source

@@ -4,7 +4,8 @@
 :mod:`~fastline.contact.hard`), the line and point contacts (:mod:`~fastline.contact.line`,
 :mod:`~fastline.contact.point`), their result base (:mod:`~fastline.contact.result`), validity
 diagnostics and the grid's error estimate (:mod:`~fastline.contact.diagnostics`,
-:mod:`~fastline.contact.resolution`).
+:mod:`~fastline.contact.resolution`), and a result's profile figure
+(:mod:`~fastline.contact.figure`).
 """
 
 from __future__ import annotations
@@ -27,6 +28,7 @@ __getattr__, __dir__, __all__ = _lazy.attach(
             "RESOLUTION_CELLS",
             "EDGE_LIMIT",
         ],
+        "figure": ["plot_profile"],
         "line": [
             "ConvergenceWarning",
             "LineContact",

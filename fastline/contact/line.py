@@ -20,6 +20,7 @@ from __future__ import annotations
 
 import copy
 import math
+import os
 from collections.abc import Callable, Iterable
 from dataclasses import KW_ONLY, dataclass, field
 from typing import Any, ClassVar, NamedTuple
@@ -106,6 +107,9 @@ NESTED_FACTOR = 8
 MAX_N = 2**22
 #: loads per unit length accepted, in units of E* R
 LOAD_RANGE = (1e-12, 1e4)
+
+#: what a solve accepts as its spectrum: a PSD, a spectrum file's path, or None (hertz)
+Spectrum = PSD | str | os.PathLike | None
 
 
 @dataclass
@@ -227,9 +231,11 @@ class LineContact(ContactModel):
 
     Parameters
     ----------
-    psd : PSD or None
-        Combined roughness spectrum (m^4 vs 1/m). None only with ``model="hertz"`` or a user
-        law (then alpha is not defined and reported as NaN).
+    psd : PSD, str, path-like or None
+        Combined roughness spectrum (m^4 vs 1/m), or the path of a spectrum file (read by
+        ``fastline.io.read_spectrum``, as :func:`fastline.sweep` reads one; read the file once
+        yourself for many models). None only with ``model="hertz"`` or a user law (then alpha
+        is not defined and reported as NaN).
     E_star : float
         Effective modulus in Pa (paper eq. 1), in [1, 1e13].
     radius : float
@@ -290,7 +296,7 @@ class LineContact(ContactModel):
 
     def __init__(
         self,
-        psd: PSD | None,
+        psd: Spectrum,
         E_star: float,
         radius: float,
         *,
@@ -574,7 +580,7 @@ class LineContact(ContactModel):
 # one-call functions
 # ----------------------------------------------------------------------------------------------
 def solve_line_contact(
-    psd: PSD | None, E_star: float, radius: float, load: float, **options: Any
+    psd: Spectrum, E_star: float, radius: float, load: float, **options: Any
 ) -> LineContactResult:
     """Solve for the nominal pressure under a rigid cylinder on a rough elastic half-space.
 
@@ -585,8 +591,9 @@ def solve_line_contact(
 
     Parameters
     ----------
-    psd : PSD or None
-        Combined roughness spectrum; None only with ``model="hertz"``.
+    psd : PSD, str, path-like or None
+        Combined roughness spectrum or a spectrum file's path (:class:`LineContact`); None only
+        with ``model="hertz"``.
     E_star : float
         Effective modulus in Pa (paper eq. 1).
     radius : float
@@ -605,7 +612,7 @@ def solve_line_contact(
 
 
 def profile(
-    psd: PSD | None, E_star: float, radius: float, load: float, **options: Any
+    psd: Spectrum, E_star: float, radius: float, load: float, **options: Any
 ) -> tuple[np.ndarray, np.ndarray]:
     """Pressure profile ``(x [m], p [Pa])`` of one scene (see :func:`solve_line_contact`)."""
     res = solve_line_contact(psd, E_star, radius, load, **options)
@@ -613,7 +620,7 @@ def profile(
 
 
 def _per_load(
-    attr: str, psd: PSD | None, E_star: float, radius: float, load: ArrayLike, options: dict
+    attr: str, psd: Spectrum, E_star: float, radius: float, load: ArrayLike, options: dict
 ) -> float | np.ndarray:
     loads = real_array("load", load)  # bools and strings refused, as solve refuses them
     lc = LineContact(psd, E_star, radius, **options)
@@ -624,14 +631,14 @@ def _per_load(
 
 
 def w_over_s(
-    psd: PSD | None, E_star: float, radius: float, load: ArrayLike, **options: Any
+    psd: Spectrum, E_star: float, radius: float, load: ArrayLike, **options: Any
 ) -> float | np.ndarray:
     """FWHM-to-standard-deviation ratio w/s; a float, or an array for an array of loads."""
     return _per_load("w_over_s", psd, E_star, radius, load, options)
 
 
 def p0_ratio(
-    psd: PSD | None, E_star: float, radius: float, load: ArrayLike, **options: Any
+    psd: Spectrum, E_star: float, radius: float, load: ArrayLike, **options: Any
 ) -> float | np.ndarray:
     """Peak-pressure ratio p0(rough)/p0(Hertz); a float, or an array for an array of loads."""
     return _per_load("p0_ratio", psd, E_star, radius, load, options)

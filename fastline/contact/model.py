@@ -23,6 +23,7 @@ SI units throughout: m, Pa, N/m (line) or N (point).
 from __future__ import annotations
 
 import math
+import os
 import threading
 import warnings
 from collections.abc import Callable, Iterable
@@ -32,8 +33,9 @@ from typing import NamedTuple
 import numpy as np
 
 from fastline._lib.validate import (
-    E_STAR_RANGE,
+    MAX_ITER_RANGE,
     RADIUS_RANGE,
+    boolean,
     finite_scalar,
     in_span,
     integer,
@@ -46,9 +48,10 @@ from fastline.contact.core import ConvergenceWarning, dot, normalise
 from fastline.contact.diagnostics import assess, outside_stacklevel, warn_once
 from fastline.contact.hard import hard_contact
 from fastline.contact.kernels import cold_start_into, cold_start_normalised, hermite_accumulate
+from fastline.theory.files import read_spectrum
 from fastline.theory.laws import ExponentialLaw, PerssonLaw, PressureLaw, TabulatedLaw, check_law
 from fastline.theory.persson import PerssonTheory
-from fastline.theory.spectra import PSD
+from fastline.theory.spectra import PSD, check_modulus, modulus_slip
 from fastline.theory.variants import DEFAULT_VARIANT, VARIANTS, get_variant
 
 MODELS = ("persson", "exponential", "hertz")
@@ -338,7 +341,7 @@ class ContactModel:
     # -- construction stages ----------------------------------------------------------------
     def _check_settings(self, E_star, radius, method, n) -> None:
         """E_star, radius, method and n (the first checks of every geometry's __init__)."""
-        self.E_star = in_span("E_star", E_star, E_STAR_RANGE, "Pa")
+        self.E_star = check_modulus(E_star, stacklevel=outside_stacklevel())
         self.radius = in_span("radius", radius, RADIUS_RANGE, "m")
         if method not in METHODS:
             raise ValueError(f"method must be one of {METHODS}, got {method!r}")
@@ -358,11 +361,18 @@ class ContactModel:
         self.tol = finite_scalar("tol", tol)
         if not 0.0 < self.tol <= 1e-2:
             raise ValueError(f"tol must lie in (0, 1e-2], got {tol!r}")
-        self.max_iter = None if max_iter is None else integer("max_iter", max_iter, 1)
+        if max_iter is not None:
+            max_iter = integer("max_iter", max_iter, *MAX_ITER_RANGE)
+        self.max_iter = max_iter
         self.hardness = None if hardness is None else positive("hardness", hardness, "Pa")
-        self.warn = bool(warn)
+        self.warn = boolean("warn", warn)
+        if isinstance(psd, str | os.PathLike):  # a spectrum file, read as fastline.sweep does
+            psd = read_spectrum(psd)
         if psd is not None and not isinstance(psd, PSD):
-            raise TypeError(f"psd must be a fastline PSD or None, got {type(psd).__name__}")
+            raise TypeError(
+                f"psd must be a fastline PSD, a spectrum file's path or None, got "
+                f"{type(psd).__name__}"
+            )
         if theory is not None and not isinstance(theory, PerssonTheory):
             raise TypeError(f"theory must be a PerssonTheory or None, got {type(theory).__name__}")
         self.psd = psd
@@ -522,7 +532,16 @@ class ContactModel:
         if type(load) in _FLOATS and lo * scale <= load <= hi * scale:  # in_span's answer, faster
             return float(load)
         unit = f"{self.LOAD_UNIT} ([{lo:g}, {hi:g}] {self.LOAD_SCALE_TEXT})"
-        return in_span(name, load, (lo * scale, hi * scale), unit)
+        slip = modulus_slip(self.E_star)
+        if slip is None:
+            return in_span(name, load, (lo * scale, hi * scale), unit)
+        try:  # the load range scales with E*: an implausible E* is the likelier culprit
+            return in_span(name, load, (lo * scale, hi * scale), unit)
+        except ValueError as e:
+            raise ValueError(
+                f"E_star = {self.E_star:g} Pa looks like a unit slip (E* is in Pa; the "
+                f"UnitWarning names the likely unit), and with it {e}"
+            ) from None
 
     def _check_loads(self, loads) -> np.ndarray:
         if isinstance(loads, Iterable) and not isinstance(

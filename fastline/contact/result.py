@@ -9,16 +9,26 @@ and the Hertz radius. Units: m, Pa, and N/m (line) or N (point) for loads.
 from __future__ import annotations
 
 from dataclasses import dataclass, field
+from html import escape
 from typing import TYPE_CHECKING
 
 import numpy as np
 
+from fastline.contact.figure import plot_profile, scene_text
 from fastline.contact.model import DeferredFields, deferrable
 
 if TYPE_CHECKING:
+    from matplotlib.axes import Axes
+    from matplotlib.figure import Figure
+
     from fastline.theory.persson import PerssonTheory
 
 __all__ = ["ContactResult"]
+
+
+def _cell(text: str) -> str:
+    """A table cell's text, HTML-escaped (the bold of 'not converged' kept)."""
+    return escape(text).replace("&lt;b&gt;", "<b>").replace("&lt;/b&gt;", "</b>")
 
 
 @deferrable("real_area", "diagnostics")
@@ -88,3 +98,29 @@ class ContactResult(DeferredFields):
             f"p0={self.p0:.6g} Pa, w_over_s={self.w_over_s:.5g}, p0_ratio={self.p0_ratio:.5g}, "
             f"converged={self.converged}, convolutions={self.convolutions})"
         )
+
+    def plot(
+        self, *, hertz: bool = True, label: str | None = None, ax: Axes | None = None
+    ) -> Figure:
+        """Draw the pressure profile with the Hertz profile at the same load; returns the
+        matplotlib Figure (:func:`fastline.plotting.plot_profile`; matplotlib is imported
+        now, not with fastline)."""
+        return plot_profile(self, hertz=hertz, label=label, ax=ax)
+
+    def _repr_html_(self) -> str:
+        """A notebook's view: the scene, the measures of the profile and how the solve went."""
+        ok = "converged" if self.converged else "<b>not converged</b>"
+        rows = (
+            ("scene", f"{self.model}, E* {self.E_star:.4g} Pa, R {self.radius:.4g} m"),
+            ("load, alpha", scene_text(self, math=False)),
+            ("p0", f"{self.p0:.6g} Pa ({self.p0_ratio:.4g} of Hertz's)"),
+            ("s, FWHM w", f"{self.s:.4g} m, {self.fwhm:.4g} m (w/s {self.w_over_s:.4g})"),
+            ("solve", f"{ok}: {self.iterations} steps, {self.convolutions} convolutions, "
+                      f"residual {self.residual:.3g}"),
+        )  # fmt: skip
+        body = "".join(
+            f"<tr><th style='text-align:left'>{k}</th><td style='text-align:left'>{_cell(v)}</td>"
+            "</tr>"
+            for k, v in rows
+        )
+        return f"<table><caption>{type(self).__name__}</caption>{body}</table>"

@@ -8,24 +8,23 @@ from __future__ import annotations
 
 import math
 from collections.abc import Mapping, Sequence
-from typing import TYPE_CHECKING, TypeAlias
+from typing import TYPE_CHECKING, Literal, TypeAlias
 
 import numpy as np
 from numpy.typing import ArrayLike
 
 from fastline._lib.validate import real_array
+from fastline.contact import plot_profile
 from fastline.reports.figures import (
     figure_and_axes,
+    legend_above,
     log_axis,
     no_outside_legend,
-    outside_legend,
 )
 from fastline.theory.limits import (
     WS_GAUSSIAN,
     WS_HERTZ,
     WS_HERTZ_SPHERE,
-    hertz_line_contact,
-    hertz_point_contact,
     p0_ratio_gaussian,
     p0_ratio_gaussian_sphere,
 )
@@ -99,70 +98,9 @@ def plot_psd(
     return fig
 
 
-def plot_profile(
-    result: ContactResult,
-    *,
-    hertz: bool = True,
-    label: str | None = None,
-    ax: Axes | None = None,
-) -> Figure:
-    """Pressure profile p(x) of one result, with the smooth (Hertz) profile at the same load.
-
-    A point contact's profile is drawn along a diameter, with the Hertz sphere.
-
-    Parameters
-    ----------
-    result : LineContactResult or PointContactResult
-    hertz : bool
-        Also draw the Hertz profile (paper eq. 6) at the same E*, R and load.
-    label : str, optional
-        Legend entry of the rough profile (default: its model and alpha).
-    ax : matplotlib Axes, optional
-    """
-    if _is_point(result):
-        return _plot_point_profile(result, hertz, label, ax)
-    fig, ax, _ = figure_and_axes(ax)
-    x_mm = result.x * 1e3
-    if label is None:
-        label = f"{result.model}, $\\alpha$ = {result.alpha:.3g}"
-    ax.plot(x_mm, result.pressure / 1e6, "-", color="C0", label=label)
-    hz = hertz_line_contact(result.E_star, result.radius, result.load)
-    if hertz:
-        ax.plot(x_mm, hz.pressure(result.x) / 1e6, "--", color="k", lw=1, label="Hertz (smooth)")
-    half = 1.3 * max(hz.a if hertz else 0.0, 2.5 * result.s)
-    ax.set_xlim(-half * 1e3, half * 1e3)
-    ax.set_ylim(0.0, None)
-    ax.set_xlabel(r"$x$ (mm)")
-    ax.set_ylabel(r"nominal pressure $p$ (MPa)")
-    outside_legend(ax)
-    return fig
-
-
 def _is_point(result) -> bool:
     """A point-contact result (it knows its Hertz radius)."""
     return hasattr(result, "hertz_radius")
-
-
-def _plot_point_profile(result, hertz, label, ax):
-    """:func:`plot_profile` of a point contact: p along a diameter, the Hertz sphere dashed."""
-    from matplotlib.ticker import MaxNLocator  # optional: the plot extra
-
-    fig, ax, _ = figure_and_axes(ax)
-    x, p = result.diameter_profile()
-    if label is None:
-        label = f"{result.model}, $\\alpha$ = {result.alpha:.3g}"
-    ax.plot(x * 1e3, p / 1e6, "-", color="C0", label=label)
-    hz = hertz_point_contact(result.E_star, result.radius, result.load)
-    if hertz:
-        ax.plot(x * 1e3, hz.pressure(x) / 1e6, "--", color="k", lw=1, label="Hertz (smooth)")
-    half = 1.3 * max(hz.a if hertz else 0.0, 2.5 * result.s)
-    ax.set_xlim(-half * 1e3, half * 1e3)
-    ax.xaxis.set_major_locator(MaxNLocator(nbins=6, symmetric=True))
-    ax.set_ylim(0.0, None)
-    ax.set_xlabel(r"position along a diameter $x$ (mm)")
-    ax.set_ylabel(r"nominal pressure $p$ (MPa)")
-    outside_legend(ax)
-    return fig
 
 
 def _ws_limits(values, hertz: float | None = None) -> tuple[float, float]:
@@ -170,18 +108,84 @@ def _ws_limits(values, hertz: float | None = None) -> tuple[float, float]:
     hertz = WS_HERTZ if hertz is None else hertz
     v = np.asarray([x for x in values if math.isfinite(x)] or [WS_GAUSSIAN])
     lo, hi = min(v.min(), WS_GAUSSIAN), max(v.max(), hertz)
-    pad = 0.07 * (hi - lo)  # room for the reference lines' labels
+    pad = 0.1 * (hi - lo)  # room for the reference lines' labels
     return lo - pad, hi + pad
 
 
-def plot_w_over_s(results: Sweeps, *, ax: Axes | None = None) -> Figure:
-    """w/s against alpha (log axis) with the Hertz and Gaussian values labelled.
+#: a marker per series, open (a series never hides another drawn after it)
+_MARKERS = ("o", "s", "^", "D", "v", "P", "X", "*")
+
+
+def _style(k: int, count: int) -> dict:
+    """Line and marker of series ``k`` of ``count``: its colour and its own open marker, each
+    series drawn over the next ones with a thinner line and a smaller marker, so that series
+    on the same points all show (nested markers, the lines as stripes)."""
+    return dict(
+        color=f"C{k % 10}", marker=_MARKERS[k % len(_MARKERS)], ms=3.5 + 1.5 * k, mfc="none",
+        mew=1.0, lw=1.0 + 0.9 * k, zorder=2.5 + count - k,
+    )  # fmt: skip
+
+
+def _data_label(label, rs) -> str:
+    """A series' legend entry: its label, or for an unnamed sweep its model."""
+    return label if label is not None else f"rough ({rs[0].model})"
+
+
+def _x_values(rs, x: str) -> np.ndarray:
+    if x not in ("alpha", "load"):
+        raise ValueError(f"x must be 'alpha' or 'load', got {x!r}")
+    return np.array([getattr(r, x) for r in rs])
+
+
+def _x_axis(ax, series: dict, x: str) -> None:
+    """Label the x axis (log); against the load, alpha on a secondary axis on top when every
+    series has the same alpha(load) (a power law: alpha ~ 1/f_N for a cylinder, F^(-2/3) for a
+    sphere)."""
+    log_axis(ax.xaxis)
+    if x == "alpha":
+        ax.set_xlabel(_ALPHA_LABEL)
+        return
+    first = next(iter(series.values()))[0]
+    unit = getattr(first, "LOAD_UNIT", "N/m")
+    symbol = "F" if unit == "N" else r"f_\mathrm{N}"
+    ax.set_xlabel(f"load ${symbol}$ ({unit})")
+    fits = {_alpha_law(rs) for rs in series.values()}
+    if len(fits) != 1 or None in fits:
+        return
+    c, k = fits.pop()
+
+    def power(c, k):  # matplotlib also maps 0 and negative view limits: keep them finite
+        return lambda v: c * np.clip(np.abs(v), 1e-30, 1e30) ** k
+
+    top = ax.secondary_xaxis("top", functions=(power(c, k), power(c ** (-1.0 / k), 1.0 / k)))
+    top.set_xlabel(_ALPHA_LABEL, fontsize=9)
+    top.tick_params(labelsize=8)
+
+
+def _alpha_law(rs) -> tuple[float, float] | None:
+    """``(c, k)`` of ``alpha = c load^k`` through a sweep's results (rounded to 9 digits, so
+    that sweeps of one scene compare equal); None without two distinct loads."""
+    f = np.array([r.load for r in rs])
+    a = np.array([r.alpha for r in rs])
+    ok = np.isfinite(a) & (a > 0) & (f > 0)
+    if len(np.unique(f[ok])) < 2:
+        return None
+    k, lnc = np.polyfit(np.log(f[ok]), np.log(a[ok]), 1)
+    return float(f"{math.exp(lnc):.9g}"), float(f"{k:.9g}")
+
+
+def plot_w_over_s(
+    results: Sweeps, *, x: Literal["alpha", "load"] = "alpha", ax: Axes | None = None
+) -> Figure:
+    """w/s against alpha (or the load) on a log axis, with the Hertz and Gaussian values.
 
     Parameters
     ----------
     results : sequence of LineContactResult, or mapping of label -> sequence
         One or several load sweeps (paper Fig. 4); point-contact results (the sphere's
         version, with its Hertz value sqrt(15)).
+    x : {"alpha", "load"}
+        The x axis: alpha (the paper's), or the load (N/m, N) with alpha on a secondary axis.
     ax : matplotlib Axes, optional
     """
     series = _series(results)
@@ -191,29 +195,28 @@ def plot_w_over_s(results: Sweeps, *, ax: Axes | None = None) -> Figure:
         hertz, hertz_text = WS_HERTZ_SPHERE, r"Hertz sphere: $\sqrt{15}$ = 3.873"
     fig, ax, own = figure_and_axes(ax)
     allv = []
-    for label, rs in series.items():
+    for k, (label, rs) in enumerate(series.items()):
         rs = _sorted(rs)
-        a = [r.alpha for r in rs]
         ws = [r.w_over_s for r in rs]
         allv += ws
-        ax.semilogx(a, ws, "o-", ms=3, lw=1.2, label=label)
+        ax.semilogx(_x_values(rs, x), ws, **_style(k, len(series)), label=_data_label(label, rs))
     ax.set_ylim(*_ws_limits(allv, hertz))
-    log_axis(ax.xaxis)
     # reference lines labelled outside the band between them, where w/s usually lies: Hertz
     # above its line on the right (large alpha), Gaussian below its line on the left
-    for y, ls, text, x, ha, dy, va in (
-        (hertz, "--", hertz_text, 0.98, "right", 2, "bottom"),
-        (WS_GAUSSIAN, ":", r"Gaussian: $2\sqrt{2\ln 2}$ = 2.355", 0.02, "left", -2, "top"),
+    right, left = (0.98, 0.02) if x == "alpha" else (0.02, 0.98)  # the load runs the other way
+    for y, ls, text, xt, dy, va in (
+        (hertz, "--", hertz_text, right, 2, "bottom"),
+        (WS_GAUSSIAN, ":", r"Gaussian: $2\sqrt{2\ln 2}$ = 2.355", left, -2, "top"),
     ):
         ax.axhline(y, ls=ls, color="k", lw=0.8)
         ax.annotate(
-            text, (x, y), xycoords=("axes fraction", "data"), xytext=(0, dy),
-            textcoords="offset points", ha=ha, va=va, fontsize=8,
+            text, (xt, y), xycoords=("axes fraction", "data"), xytext=(0, dy),
+            textcoords="offset points", ha="right" if xt > 0.5 else "left", va=va, fontsize=8,
         )  # fmt: skip
-    ax.set_xlabel(_ALPHA_LABEL)
+    _x_axis(ax, series, x)
     ax.set_ylabel(_WS_LABEL)
     if any(k is not None for k in series):
-        outside_legend(ax)
+        legend_above(ax, own)
     else:
         no_outside_legend(fig, ax, own)
     return fig
@@ -229,9 +232,10 @@ def plot_p0_ratio(
     results: Sweeps,
     *,
     gamma_u: float | Mapping[str, float] | None = None,
+    x: Literal["alpha", "load"] = "alpha",
     ax: Axes | None = None,
 ) -> Figure:
-    """p0/p0_Hertz against alpha (log axis), with the Gaussian asymptote (paper eq. 14).
+    """p0/p0_Hertz against alpha (or the load), with the Gaussian asymptote (paper eq. 14).
 
     Parameters
     ----------
@@ -241,69 +245,86 @@ def plot_p0_ratio(
     gamma_u : float or mapping of label -> float, optional
         ``u0 / h_rms`` of each series; when given, eq. 14 ``(pi / (8 gamma_u alpha))^(1/2)`` is
         drawn (dashed, in the series' colour; for a sphere its analogue ``1 / (3 gamma_u
-        alpha)``, :func:`fastline.theory.limits.p0_ratio_gaussian_sphere`). The y range follows the
-        data, not the asymptote (which grows without bound at small alpha).
+        alpha)``, :func:`fastline.theory.limits.p0_ratio_gaussian_sphere`) where it lies within
+        the axes, and listed in the legend only then. The y range follows the data, not the
+        asymptote (which grows without bound at small alpha).
+    x : {"alpha", "load"}
+        The x axis: alpha (the paper's), or the load (N/m, N) with alpha on a secondary axis.
     ax : matplotlib Axes, optional
     """
-    series = _series(results)
+    series = {k: _sorted(v) for k, v in _series(results).items()}
     asymptote, name = p0_ratio_gaussian, "eq. 14"
     point = all(_is_point(r) for rs in series.values() for r in rs)
     if point:
         asymptote, name = p0_ratio_gaussian_sphere, r"$1/(3\gamma_u\alpha)$"
-    fig, ax, _ = figure_and_axes(ax)
-    top, bottom = 1.0, 1.0
+    fig, ax, own = figure_and_axes(ax)
+    ratios = np.array([r.p0_ratio for rs in series.values() for r in rs], dtype=float)
+    top, bottom = max(1.0, float(np.nanmax(ratios))), min(1.0, float(np.nanmin(ratios)))
+    lo, hi = (0.5 * bottom, 2.0 * top) if point else (0.0, 1.15 * top)
     for k, (label, rs) in enumerate(series.items()):
-        rs = _sorted(rs)
-        a = np.array([r.alpha for r in rs])
-        pr = np.array([r.p0_ratio for r in rs])
-        top = max(top, float(np.nanmax(pr)))
-        bottom = min(bottom, float(np.nanmin(pr)))
-        color = f"C{k % 10}"
-        ax.semilogx(a, pr, "o-", ms=3, lw=1.2, color=color, label=label)
+        style = _style(k, len(series))
+        pr = [r.p0_ratio for r in rs]
+        ax.semilogx(_x_values(rs, x), pr, **style, label=_data_label(label, rs))
         gu = _gamma_u_for(gamma_u, label)
-        if gu is not None and np.all(a > 0):
-            aa = np.geomspace(a.min(), a.max(), 200)
-            ax.semilogx(
-                aa,
-                asymptote(aa, gu),
-                "--",
-                color=color,
-                lw=0.9,
-                label=f"{name}, $\\gamma_u$ = {gu:.3f}",
-            )
+        a = np.array([r.alpha for r in rs])
+        if gu is None or not np.all(a > 0):
+            continue
+        aa = np.geomspace(a.min(), a.max(), 200)
+        yy = asymptote(aa, gu)
+        seen = (yy >= lo) & (yy <= hi)
+        if seen.any():  # an asymptote off the axes is neither drawn nor listed
+            law = _alpha_law(rs) if x == "load" else (1.0, 1.0)  # alpha = c load^k
+            if law is None:  # one load: no line to draw
+                continue
+            xx = (aa / law[0]) ** (1.0 / law[1])
+            text = f"{name}, $\\gamma_u$ = {gu:.3f}"
+            ax.semilogx(xx[seen], yy[seen], "--", color=style["color"], lw=0.9, label=text)
     ax.axhline(1.0, color="k", lw=0.6, label="Hertz")
     if point:  # p0 falls like 1/alpha: a log axis, on which the asymptote is a straight line
         ax.set_yscale("log")
-        ax.set_ylim(0.5 * bottom, 2.0 * top)
         log_axis(ax.yaxis)
-    else:
-        ax.set_ylim(0.0, 1.15 * top)
-    log_axis(ax.xaxis)
-    ax.set_xlabel(_ALPHA_LABEL)
+    ax.set_ylim(lo, hi)
+    _x_axis(ax, series, x)
     ax.set_ylabel(_P0_LABEL)
-    outside_legend(ax)
+    legend_above(ax, own)
     return fig
 
 
-def plot_sweep(results: Sweeps, *, gamma_u: float | Mapping[str, float] | None = None) -> Figure:
-    """Two panels of a load sweep: w/s and p0/p0_Hertz against alpha.
+def plot_sweep(
+    results: Sweeps,
+    *,
+    gamma_u: float | Mapping[str, float] | None = None,
+    x: Literal["alpha", "load"] = "load",
+) -> Figure:
+    """Two panels of a load sweep: w/s and p0/p0_Hertz against the load (alpha on a secondary
+    axis on top) or against alpha; one legend below both.
 
     Parameters
     ----------
     results : sequence of LineContactResult, or mapping of label -> sequence
     gamma_u : float or mapping, optional
         For the eq. 14 curve (see :func:`plot_p0_ratio`).
+    x : {"load", "alpha"}
+        The x axis of both panels (see :func:`plot_w_over_s`).
 
     Returns
     -------
     matplotlib.figure.Figure
     """
-    fig, _, _ = figure_and_axes(None, size=(10.0, 3.8))
+    fig, _, _ = figure_and_axes(None, size=(10.0, 4.3))
     fig.clear()
-    fig.subplots_adjust(left=0.07, right=0.83, bottom=0.15, top=0.96, wspace=0.28)
+    fig.subplots_adjust(left=0.07, right=0.98, bottom=0.2, top=0.86, wspace=0.25)
     ax1, ax2 = fig.subplots(1, 2)
-    plot_w_over_s(results, ax=ax1)
-    plot_p0_ratio(results, gamma_u=gamma_u, ax=ax2)
-    if ax1.get_legend() is not None:  # one legend (the right panel's) is enough
-        ax1.get_legend().remove()
+    plot_w_over_s(results, x=x, ax=ax1)
+    plot_p0_ratio(results, gamma_u=gamma_u, x=x, ax=ax2)
+    entries: dict = {}
+    for ax in (ax1, ax2):
+        if ax.get_legend() is not None:
+            ax.get_legend().remove()
+        for h, label in zip(*ax.get_legend_handles_labels(), strict=True):
+            entries.setdefault(label, h)
+    fig.legend(
+        list(entries.values()), list(entries), loc="lower center", ncol=min(4, len(entries)),
+        fontsize=8, frameon=False, bbox_to_anchor=(0.5, 0.0),
+    )  # fmt: skip
     return fig

@@ -14,13 +14,14 @@ from typing import TYPE_CHECKING, Literal
 if TYPE_CHECKING:  # annotations only: matplotlib loads on first use
     from matplotlib.figure import Figure
 
-__all__ = ["FORMATS", "DEFAULT_DPI", "save_figure"]
+__all__ = ["FORMATS", "DEFAULT_DPI", "figure_format", "save_figure"]
 
 #: file formats :func:`save_figure` writes
 FORMATS = ("png", "pdf", "svg")
 #: resolution of raster (PNG) figures in dots per inch
 DEFAULT_DPI = 150
 _PANEL = (5.6, 3.8)  # inches: one panel with a legend on its right
+_ABOVE_WIDTH = 5.0  # inches: one panel with its legend above
 
 
 def figure_and_axes(ax, size=_PANEL):
@@ -75,11 +76,49 @@ def outside_legend(ax) -> None:
     ax.legend(loc="upper left", bbox_to_anchor=(1.02, 1.0), fontsize=8, frameon=False)
 
 
+def legend_above(ax, own: bool, ncol: int = 2) -> None:
+    """Legend in ``ncol`` columns above the axes, as wide as they are (never over the data, no
+    empty margin beside them); a figure made here (``own``) gets the axes the full width and
+    the legend's rows their height on top."""
+    handles, labels = ax.get_legend_handles_labels()
+    if not handles:
+        return
+    ncol = min(ncol, len(handles))
+    ax.legend(
+        loc="lower left", bbox_to_anchor=(0.0, 1.02, 1.0, 0.1), mode="expand", ncol=ncol,
+        fontsize=8, frameon=False, borderaxespad=0.0,
+    )  # fmt: skip
+    fig = ax.figure
+    if own and len(fig.axes) == 1:
+        rows = math.ceil(len(handles) / ncol)
+        height = _PANEL[1] + 0.18 * rows
+        fig.set_size_inches(_ABOVE_WIDTH, height)
+        fig.subplots_adjust(left=0.14, right=0.96, top=1.0 - (0.12 + 0.19 * rows) / height)
+
+
 def no_outside_legend(fig, ax, own: bool) -> None:
     """Give the right margin back to the axes of a figure made here without an outer legend."""
     if own and len(fig.axes) == 1:
         fig.subplots_adjust(left=0.19, right=0.96)
         fig.set_size_inches(4.6, fig.get_size_inches()[1])
+
+
+def figure_format(path: str | os.PathLike, format: str | None = None) -> str:
+    """The format :func:`save_figure` writes to ``path``: ``format``, else the extension's,
+    else PNG (no extension). A ValueError naming the file when its extension is not one of
+    :data:`FORMATS` (``out.jpg`` would hold PNG bytes) or contradicts ``format``."""
+    path = os.fspath(path)
+    if format is not None and format not in FORMATS:
+        raise ValueError(f"format must be one of {FORMATS}, got {format!r}")
+    ext = os.path.splitext(path)[1].lower().lstrip(".")
+    if ext and ext not in FORMATS:
+        raise ValueError(
+            f"cannot write {path}: figures are written as {', '.join(FORMATS)}, not .{ext} "
+            f"(name the file .png, .pdf or .svg)"
+        )
+    if ext and format is not None and ext != format:
+        raise ValueError(f"cannot write {path}: its extension .{ext} contradicts format {format}")
+    return format or ext or "png"
 
 
 def save_figure(
@@ -96,16 +135,13 @@ def save_figure(
     fig : matplotlib Figure
     path : str or path-like
     format : {"png", "pdf", "svg"}, optional
-        Default: from the file extension, else PNG.
+        Default: from the file extension (PNG without one). A path whose extension names
+        another format (``.jpg``) is refused (:func:`figure_format`).
     dpi : float, optional
         Resolution of PNG output (default 150).
     """
     path = os.fspath(path)
-    if format is None:
-        ext = os.path.splitext(path)[1].lower().lstrip(".")
-        format = ext if ext in FORMATS else "png"
-    if format not in FORMATS:
-        raise ValueError(f"format must be one of {FORMATS}, got {format!r}")
+    format = figure_format(path, format)
     if dpi is not None and not (isinstance(dpi, int | float) and 10 <= dpi <= 2400):
         raise ValueError(f"dpi must be a number in [10, 2400], got {dpi!r}")
     meta = {"png": {"Software": "fastline"}, "pdf": {"Creator": "fastline"}}

@@ -30,7 +30,7 @@ from fastline.reports.contact_figures import (
     plot_w_over_s,
 )
 from fastline.reports.figures import DEFAULT_DPI as DEFAULT_DPI
-from fastline.reports.figures import FORMATS, save_figure
+from fastline.reports.figures import FORMATS, figure_format, save_figure
 from fastline.reports.leak_figures import GAP_FLOOR as GAP_FLOOR
 from fastline.reports.leak_figures import plot_leak, plot_leak_sweep
 from fastline.reports.scan_figures import plot_measured_psd
@@ -38,6 +38,7 @@ from fastline.reports.validation_figures import plot_flat_validation, plot_valid
 
 __all__ = [
     "FORMATS",
+    "figure_format",
     "plot_psd",
     "plot_profile",
     "plot_w_over_s",

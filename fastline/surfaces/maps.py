@@ -13,7 +13,7 @@ from typing import Literal
 import numpy as np
 from numpy.typing import ArrayLike
 
-from fastline._lib.validate import integer, positive
+from fastline._lib.validate import BINS_PER_DECADE_RANGE, integer, positive
 from fastline.surfaces.heights import (
     MIN_POINTS,
     check_plausible,
@@ -178,7 +178,7 @@ def psd_from_map(
     stack, dx, dy = _map_stack(h, dx, dy)
     detrend = choice("detrend", detrend, ("plane", "mean"))
     nan = choice("nan", nan, ("raise", "interpolate"))
-    bins_per_decade = integer("bins_per_decade", bins_per_decade, 2)
+    bins_per_decade = integer("bins_per_decade", bins_per_decade, *BINS_PER_DECADE_RANGE)
     rules = range_rules(q_range, tip_radius, noise)
     w = _map_window(window, *stack.shape[1:])
     maps, h_rms, slope = _detrended(stack, dx, dy, detrend, nan)

@@ -20,7 +20,7 @@ from typing import Any, Literal, NamedTuple
 import numpy as np
 from numpy.typing import ArrayLike
 
-from fastline._lib.validate import finite_scalar, integer, positive
+from fastline._lib.validate import BINS_PER_DECADE_RANGE, finite_scalar, integer, positive
 from fastline.surfaces.abel import inverse_abel
 from fastline.surfaces.heights import (
     MIN_POINTS,
@@ -253,7 +253,7 @@ def psd_from_profile(
     detrend = choice("detrend", detrend, _DETRENDS)
     nan = choice("nan", nan, ("raise", "interpolate"))
     if bins_per_decade is not None:
-        bins_per_decade = integer("bins_per_decade", bins_per_decade, 2)
+        bins_per_decade = integer("bins_per_decade", bins_per_decade, *BINS_PER_DECADE_RANGE)
     rules = range_rules(q_range, tip_radius, noise)
     w = normalised_window(window, rows.shape[-1])  # checks the name before any work
     form = _detrended(rows, dx, detrend, nan)

@@ -7,7 +7,8 @@ The bottom layer of the physics: it imports nothing of fastline but :mod:`fastli
 :mod:`~fastline.theory.persson`, :mod:`~fastline.theory.variants`,
 :mod:`~fastline.theory.laws`, :mod:`~fastline.theory.asperity`,
 :mod:`~fastline.theory.limits`, :mod:`~fastline.theory.interface`,
-:mod:`~fastline.theory.special` (the universal functions F), :mod:`~fastline.theory.tables`
+:mod:`~fastline.theory.special` (the universal functions F), :mod:`~fastline.theory.files`
+(spectrum files and the tolerant table reader), :mod:`~fastline.theory.tables`
 (the compiled u(p) and p(u) tables), :mod:`~fastline.theory.quadrature`
 (quadrature over tabulated spectra).
 """
@@ -20,7 +21,17 @@ import lazy_loader as _lazy
 __getattr__, __dir__, __all__ = _lazy.attach(
     __name__,
     submod_attrs={
-        "spectra": ["PSD", "SelfAffinePSD", "TabulatedPSD", "SumPSD", "effective_modulus"],
+        "spectra": [
+            "PSD",
+            "SelfAffinePSD",
+            "TabulatedPSD",
+            "SumPSD",
+            "effective_modulus",
+            "check_modulus",
+            "modulus_slip",
+            "E_STAR_PLAUSIBLE",
+        ],
+        "files": ["read_spectrum", "read_table"],
         "quadrature": ["EtaRule", "interval_moments", "tabulated_quadrature"],
         "special": [
             "universal_F",

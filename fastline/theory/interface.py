@@ -67,20 +67,9 @@ from fastline.theory.special import _F, JIT, f_coefficients
 if TYPE_CHECKING:  # annotations only: persson imports this module
     from fastline.theory.persson import PerssonTheory
 
-__all__ = [
-    "CriticalGap",
-    "apparent_area",
-    "mean_separation",
-    "edge_separation",
-    "critical_gap",
-    "THRESHOLD_PERSSON",
-    "THRESHOLD_NUMERICAL",
-    "THRESHOLD_BRUGGEMAN",
-    "check_threshold",
-    "gap_table",
-    "interface_cache",
-    "sealing_argument",
-]
+__all__ = ["CriticalGap", "apparent_area", "mean_separation", "edge_separation", "critical_gap",
+           "THRESHOLD_PERSSON", "THRESHOLD_NUMERICAL", "THRESHOLD_BRUGGEMAN", "check_threshold",
+           "gap_table", "interface_cache", "sealing_argument"]  # fmt: skip
 
 #: percolation threshold of the apparent contact area: Persson & Yang 2008 ("about 0.4"),
 #: Dapp et al., PRL 108, 244301 (2012) (0.42)
@@ -100,6 +89,9 @@ _X_CUT = 27.3
 #: the gap table stops where u_c falls below this (m): further down the quadrature sums nearly
 #: subnormal terms and loses digits
 _GAP_FLOOR = 1e-280
+#: the critical gap's moment m = B(zeta_c q0) solved directly down to this; below (p < ~1e-100
+#: E*, where m underflows) u_c continues linearly in ln p: the exponential law u0 ln(p_ref / p)
+_M_LOW = 1e-200
 #: Q table: first node at q0 (1 + _Q0_GAP); below it Q = q0 + B/B'(q0) (error ~1.5 _Q0_GAP^2)
 _Q0_GAP = 1e-7
 
@@ -605,7 +597,15 @@ def critical_gap(
     sealed = np.empty(x1.shape, dtype=np.bool_)
     X_t = _erfinv(threshold)
     _critical_vec(x1, X_t, threshold, sp.kernel_args(), gap, qc, sealed)
-    qc = _polish_root(theory.psd, qc, sp.table.B1 * (x1 / X_t) ** 2, ~sealed)
+    with np.errstate(over="ignore", under="ignore"):  # m of sealed or vanishing pressures
+        m = sp.table.B1 * (x1 / X_t) ** 2
+    low = ~sealed & (m < _M_LOW)
+    if low.any():  # the line through u_c at m = _M_LOW and e^4 _M_LOW, in ln x1 (ln p)
+        x_ref = X_t * math.sqrt(_M_LOW / sp.table.B1) * np.array([1.0, math.e**2])
+        ref, q_ref = np.empty(2), np.empty(2)
+        _critical_vec(x_ref, X_t, threshold, sp.kernel_args(), ref, q_ref, np.zeros(2, np.bool_))
+        gap[low] = ref[0] + 0.5 * (ref[0] - ref[1]) * np.log(x_ref[0] / x1[low])
+    qc = _polish_root(theory.psd, qc, m, ~sealed)
     shape = p.shape
     return CriticalGap(
         u_c=gap.reshape(shape),

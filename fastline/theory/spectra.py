@@ -21,11 +21,13 @@ Spectra add (``psd1 + psd2``), the combined roughness of two uncorrelated surfac
 from __future__ import annotations
 
 import math
+import warnings
 
 import numpy as np
 from numpy.typing import ArrayLike
 
 from fastline._lib.validate import (
+    E_STAR_RANGE,
     LENGTH_RANGE,
     WAVENUMBER_RANGE,
     finite_array,
@@ -34,9 +36,22 @@ from fastline._lib.validate import (
     positive,
     real_array,
 )
+from fastline.errors import UnitWarning
 from fastline.theory.quadrature import interval_moments
 
-__all__ = ["PSD", "SelfAffinePSD", "TabulatedPSD", "SumPSD", "effective_modulus"]
+__all__ = [
+    "PSD",
+    "SelfAffinePSD",
+    "TabulatedPSD",
+    "SumPSD",
+    "effective_modulus",
+    "check_modulus",
+    "E_STAR_PLAUSIBLE",
+]
+
+#: effective moduli (Pa) of real solid pairs: soft gels and foams ~1e4, seal elastomers 1e6-1e8,
+#: polymers ~1e9, metals ~1e11, diamond on diamond ~6e11. Outside, a unit slip is likely.
+E_STAR_PLAUSIBLE = (1e4, 1.2e12)
 
 
 def _power_integral(t, e):
@@ -313,3 +328,49 @@ def effective_modulus(E1: float, nu1: float, E2: float, nu2: float) -> float:
     nu1 = in_range("nu1", nu1, -1.0, 0.5)
     nu2 = in_range("nu2", nu2, -1.0, 0.5)
     return 1.0 / ((1.0 - nu1**2) / E1 + (1.0 - nu2**2) / E2)
+
+
+def check_modulus(E_star: float, name: str = "E_star", *, stacklevel: int = 1) -> float:
+    """An effective modulus E* in Pa, checked: a ValueError outside ``[1, 1e13]`` Pa, one
+    :class:`~fastline.errors.UnitWarning` naming the likely unit slip outside the plausible
+    ``E_STAR_PLAUSIBLE`` = [1e4, 1.2e12] Pa (``E_star = 5`` is 5 Pa, softer than any seal
+    material: 5 MPa is ``5e6``).
+
+    Parameters
+    ----------
+    E_star : float
+        Effective (plane-strain) modulus in Pa.
+    name : str
+        How messages name it.
+    stacklevel : int
+        Where the warning points: 1 the caller of ``check_modulus``, 2 its caller, and so on.
+
+    Returns
+    -------
+    float
+        ``E_star`` as a float.
+    """
+    E = in_span(name, E_star, E_STAR_RANGE, "Pa")
+    hint = modulus_slip(E)
+    if hint is not None:
+        warnings.warn(f"fastline: {name} = {E:g} Pa {hint}", UnitWarning, stacklevel=stacklevel + 1)
+    return E
+
+
+def modulus_slip(E_star: float) -> str | None:
+    """Why an effective modulus in Pa is implausible and the units it was likely typed in, or
+    None inside ``E_STAR_PLAUSIBLE``."""
+    lo, hi = E_STAR_PLAUSIBLE
+    if E_star < lo:
+        units = (("kPa", 1e3), ("MPa", 1e6)) if E_star >= 1e3 else (("MPa", 1e6), ("GPa", 1e9))
+        guesses = " or ".join(f"{E_star:g} {u} = {E_star * f:g} Pa" for u, f in units)
+        return (
+            f"is softer than any solid seal material (plausible E* {lo:g} to {hi:g} Pa): a "
+            f"unit slip? E* is in Pa ({guesses})"
+        )
+    if E_star > hi:
+        return (
+            f"is stiffer than diamond on diamond (plausible E* {lo:g} to {hi:g} Pa): a unit "
+            f"slip? E* is in Pa ({E_star:g} Pa = {E_star * 1e-9:g} GPa)"
+        )
+    return None
