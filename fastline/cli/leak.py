@@ -16,6 +16,7 @@ sphere).
 from __future__ import annotations
 
 import argparse
+import inspect
 
 import fastline as fl
 from fastline import theory
@@ -30,6 +31,7 @@ from fastline.cli.common import (
     geometry_defaults,
     material_options,
     metadata,
+    number,
     numerics_options,
     persson_theory,
     positive,
@@ -56,6 +58,8 @@ LEAK_SWEEP_DEFAULTS = {
 }
 #: seal length [m] of a cylinder when --length is not given
 _DEFAULT_LENGTH = 1.0
+#: the molecular floor of the gap [m] when --gap-floor is not given: fl.leak_rate's default
+GAP_FLOOR = inspect.signature(fl.leak_rate).parameters["gap_floor"].default
 
 
 def leak_parser(sub: argparse._SubParsersAction, fmt: type[argparse.HelpFormatter]) -> None:
@@ -99,6 +103,14 @@ def leak_parser(sub: argparse._SubParsersAction, fmt: type[argparse.HelpFormatte
     figure_options(p)
 
 
+def non_negative(text: str) -> float:
+    """A finite number >= 0."""
+    v = number(text)
+    if v < 0.0:
+        raise argparse.ArgumentTypeError(f"must be >= 0, got {text!r}")
+    return v
+
+
 def _fluid_options(p: argparse.ArgumentParser, threshold: float) -> None:
     g = p.add_argument_group("fluid and seal")
     g.add_argument(
@@ -134,10 +146,10 @@ def _fluid_options(p: argparse.ArgumentParser, threshold: float) -> None:
     g.add_argument(
         "--threshold",
         type=fraction,
-        default=threshold,
         metavar="A",
-        help="percolation threshold of the apparent contact area [-], in (0, 1) (default "
-        f"{threshold:g}, Persson; 0.415 numerical studies; 0.5 Bruggeman)",
+        help="percolation threshold of the real contact area [-], in (0, 1) (default "
+        f"{threshold:g}, Persson, for the critical junction; 0.5, Bruggeman, for the effective "
+        "medium; 0.415 numerical studies)",
     )
     g.add_argument(
         "--mean-free-path",
@@ -145,6 +157,26 @@ def _fluid_options(p: argparse.ArgumentParser, threshold: float) -> None:
         metavar="M",
         help="mean free path of a gas [m] (about 70e-9 for air at 1 bar): warns when the flow "
         "is not viscous; omit for liquids",
+    )
+    _method_options(g)
+
+
+def _method_options(g) -> None:
+    """The local gap measure of the leak rate and its molecular floor."""
+    g.add_argument(
+        "--method",
+        choices=("critical-junction", "effective-medium"),
+        default="critical-junction",
+        help="local gap of a strip: the critical junction u_c (default) or the effective-medium "
+        "gap of Bruggeman's equation over the theory's gap distribution",
+    )
+    g.add_argument(
+        "--gap-floor",
+        type=non_negative,
+        default=GAP_FLOOR,
+        metavar="M",
+        help=f"molecular floor of the gap [m] (default {GAP_FLOOR:g}): a strip with a smaller "
+        "gap is sealed; 0 switches it off",
     )
 
 
@@ -180,7 +212,11 @@ def _sweep_options(p: argparse.ArgumentParser) -> None:
 
 def _leak_checks(args) -> str:
     """Reject what cannot give a leak rate, before any work; fill in the defaults that depend
-    on the geometry (load, loads, n, the cylinder's seal length). Returns the geometry."""
+    on the geometry (load, loads, n, the cylinder's seal length) and the method (the
+    threshold). Returns the geometry."""
+    if args.threshold is None:
+        bruggeman = args.method == "effective-medium"
+        args.threshold = theory.THRESHOLD_BRUGGEMAN if bruggeman else theory.THRESHOLD_PERSSON
     if theory.get_variant(args.variant).area_correction:
         raise CLIError(
             f"--variant {args.variant} corrects the contact area, which the critical-junction "
@@ -257,7 +293,9 @@ def _leak_of(r, th, args):
         inner_radius=args.inner_radius,
         theory=th,
         threshold=args.threshold,
+        method=args.method,
         mean_free_path=args.mean_free_path,
+        gap_floor=args.gap_floor,
         warn=False,
     )
 
@@ -276,8 +314,8 @@ def _fluid_line(args) -> str:
         path = f"radial flow from r = inner radius {args.inner_radius:.6g} m outwards"
     return (
         f"fluid, seal      pressure drop {args.pressure_drop:.6g} Pa, viscosity "
-        f"{args.viscosity:.6g} Pa s, {path}, threshold {args.threshold:g} (critical-junction "
-        "theory)"
+        f"{args.viscosity:.6g} Pa s, {path}, threshold {args.threshold:g} ({args.method} "
+        f"theory), gap floor {args.gap_floor:g} m"
     )
 
 
@@ -285,7 +323,16 @@ def _leak_lines(leak) -> list[str]:
     d, t = leak.diagnostics, leak.threshold
     radial = leak.inner_radius is not None
     strip, strips = ("ring", "rings") if radial else ("strip", "strips")
-    if leak.sealed:
+    if leak.sealed_by == "gap floor":
+        lines = [
+            "leak rate Q      0 m^3/s (sealed)",
+            f"sealed           yes: {d['n_below_floor']} of {d['n_strips']} {strips} have a gap "
+            f"below the molecular floor {leak.gap_floor:g} m (no channel percolates at "
+            f"P(q1, p) >= {t:g} in any {strip})",
+            f"resistance       infinite in the sealed {strips}, {leak.resistance_width:.4g} m "
+            "of the contact",
+        ]
+    elif leak.sealed:
         lines = [
             "leak rate Q      0 m^3/s (sealed)",
             f"sealed           yes: {d['n_sealed']} of {d['n_strips']} {strips} have a real "

@@ -55,6 +55,8 @@ def _leak_band(leak) -> tuple[float, float, str]:
     if leak.sealed:
         k = np.flatnonzero(leak.sealed_strips)
         label = f"sealed: $P(q_1, p) \\geq {leak.threshold:g}$"
+        if getattr(leak, "sealed_by", None) == "gap floor":
+            label = f"sealed: gap below the molecular floor {leak.gap_floor:g} m"
         return edges[k[0]], edges[k[-1] + 1], label
     cum = np.concatenate([[0.0], leak.cumulative_share])
     lo, hi = np.interp([0.05, 0.95], cum, edges)
@@ -88,7 +90,11 @@ def plot_leak(leak: LeakResult, *, axes: Sequence[Axes] | None = None) -> Figure
     # 0 in sealed strips, inf where p = 0: gaps in the line, not a segment across them
     shown = np.isfinite(leak.u_c) & (leak.u_c > 0.0)
     bottom.semilogy(x_mm, np.where(shown, leak.u_c, np.nan), "-", color="C3")
-    bottom.set_ylabel(r"critical gap $u_c$ (m)")
+    medium = leak.method == "effective-medium"
+    bottom.set_ylabel(r"effective gap $u_{eff}$ (m)" if medium else r"critical gap $u_c$ (m)")
+    floor = getattr(leak, "gap_floor", 0.0)
+    if floor > 0.0 and shown.any() and leak.u_c[shown].min() < 10.0 * floor:
+        bottom.axhline(floor, ls="--", color="0.4", lw=0.8, label="molecular floor of the gap")
     radial = leak.inner_radius is not None
     bottom.set_xlabel(r"$r$ (mm)" if radial else r"$x$ (mm)")
     _mark_leak(top, bottom, leak)
@@ -123,7 +129,9 @@ def _mark_leak(top: Axes, bottom: Axes, leak: LeakResult) -> None:
     lo, hi, text = _leak_band(leak)
     half = leak.x[leak.pressure >= 0.5 * leak.pressure.max()]
     width = "half width at half maximum" if radial else "FWHM"
-    fwhm = f"{width} of $p$ ({leak.share_in_fwhm:.1%} of the resistance inside)"
+    fwhm = f"{width} of $p$"
+    if not leak.sealed:  # a sealed contact's resistance is infinite: no share to state
+        fwhm += f" ({leak.share_in_fwhm:.1%} of the resistance inside)"
     marks = (half[-1],) if radial else (half[0], half[-1])  # radial: the half width only
     for k, ax in enumerate((top, bottom)):
         color = "C3" if leak.sealed else "C2"
