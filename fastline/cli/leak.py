@@ -58,6 +58,8 @@ LEAK_SWEEP_DEFAULTS = {
 }
 #: seal length [m] of a cylinder when --length is not given
 _DEFAULT_LENGTH = 1.0
+#: cells of a cylinder's contact with --coupled when --n is not given (a dense Newton system)
+COUPLED_N = 256
 #: the molecular floor of the gap [m] when --gap-floor is not given: fl.leak_rate's default
 GAP_FLOOR = inspect.signature(fl.leak_rate).parameters["gap_floor"].default
 
@@ -116,9 +118,18 @@ def _fluid_options(p: argparse.ArgumentParser, threshold: float) -> None:
     g.add_argument(
         "--pressure-drop",
         type=positive,
+        nargs="+",
         required=True,
         metavar="PA",
-        help="fluid pressure difference across the seal dP [Pa] (required)",
+        help="fluid pressure difference across the seal dP [Pa] (required; several with "
+        "--coupled: the leak rate against dP)",
+    )
+    g.add_argument(
+        "--coupled",
+        action="store_true",
+        help="a cylinder's seal under pressure: the fluid pressure in the interface coupled to "
+        "the contact (it lifts the walls), Q against each --pressure-drop and the lift-off "
+        f"pressure (default --n {COUPLED_N}; docs/leakage.md)",
     )
     g.add_argument(
         "--viscosity",
@@ -214,6 +225,7 @@ def _leak_checks(args) -> str:
     """Reject what cannot give a leak rate, before any work; fill in the defaults that depend
     on the geometry (load, loads, n, the cylinder's seal length) and the method (the
     threshold). Returns the geometry."""
+    _coupled_checks(args)
     if args.threshold is None:
         bruggeman = args.method == "effective-medium"
         args.threshold = theory.THRESHOLD_BRUGGEMAN if bruggeman else theory.THRESHOLD_PERSSON
@@ -239,6 +251,24 @@ def _leak_checks(args) -> str:
     if args.sweep and args.loads_to < args.loads_from:
         raise CLIError("--loads-to must be >= --loads-from")
     return geometry
+
+
+def _coupled_checks(args) -> None:
+    """--coupled: a cylinder, one load, any number of pressure drops; without it, one."""
+    drops = args.pressure_drop
+    if not args.coupled:
+        if len(drops) > 1:
+            raise CLIError("several --pressure-drop values need --coupled (Q against dP)")
+        args.pressure_drop = drops[0]
+        return
+    if args.geometry == "sphere" or args.sweep:
+        raise CLIError(
+            "--coupled is for one cylinder scene (not with --geometry sphere or --sweep): the "
+            "coupled seal of a point contact is not available"
+        )
+    if args.n is None:
+        args.n = COUPLED_N
+    args.pressure_drops, args.pressure_drop = sorted(drops), min(drops)
 
 
 def _flow_path_checks(args) -> None:
@@ -490,4 +520,38 @@ def cmd_leak(args: argparse.Namespace) -> int:
     th = persson_theory(psd, E, args)
     if args.sweep:
         return _leak_sweep(args, geometry, psd, E, source, th)
+    if args.coupled:
+        return _leak_coupled(args, psd, E, source, th)
     return _leak_one(args, geometry, psd, E, source, th)
+
+
+def _leak_coupled(args, psd, E, source, th) -> int:
+    """One cylinder scene, the seal under each pressure drop (fl.seal_leak)."""
+    r = fl.solve_line_contact(psd, E, args.radius, args.load, model=args.model,
+                              **solve_kwargs(args, th))  # fmt: skip
+    sweep = fl.seal_leak(
+        r, args.pressure_drops, args.viscosity, args.length, theory=th,
+        threshold=args.threshold, method=args.method, gap_floor=args.gap_floor,
+    )  # fmt: skip
+    print(spectrum_line(psd, source))
+    print("\n".join(result_lines(r, r.diagnostics)))
+    print(_fluid_line(args).replace(f"pressure drop {args.pressure_drop:.6g} Pa", "coupled"))
+    print(f"{'dP [Pa]':>12}{'Q [m^3/s]':>13}{'uncoupled Q':>13}{'peak p_c':>12}"
+          f"{'load on p_c':>13}{'state':>12}")  # fmt: skip
+    for k, q_dry in zip(sweep.results, sweep.uncoupled_Q, strict=True):
+        state = "lifted off" if k.lifted_off else ("sealed" if k.sealed else "leaks")
+        peak = k.diagnostics.get("peak_contact_pressure", 0.0)
+        share = k.diagnostics.get("contact_load_share", 0.0)
+        print(f"{k.pressure_drop:>12.4g}{k.Q:>13.4e}{q_dry:>13.4e}{peak:>12.4g}{share:>13.3f}"
+              f"{state:>12}")  # fmt: skip
+    lift = sweep.lift_off_pressure
+    print(
+        "lift-off         none up to the largest pressure drop"
+        if lift is None
+        else f"lift-off         dP = {lift:.4g} Pa (the contact carries < 1% of the load)"
+    )
+    report_warnings([r])
+    if args.plot:
+        save(fl.plotting.plot_seal(sweep), args.plot, args)
+    bad = [k for k in sweep.results if not (k.converged or k.lifted_off)]
+    return max(convergence_status([r]), 1 if bad else 0)

@@ -525,6 +525,12 @@ def _leak(x, p, theory, flow: _Flow, warn: bool, converged: bool) -> LeakResult:
     )
 
 
+def _flow_table(theory, leak: LeakResult):
+    """The local-gap table a leak rate used (for the coupled seal)."""
+    return _gap_table(theory, _Flow(leak.pressure_drop, leak.viscosity, leak.length, None,
+                                    leak.threshold, leak.method, None, leak.gap_floor))  # fmt: skip
+
+
 def _summary(table) -> dict:
     """z range and step of the gap table (``diagnostics['gap_table']``)."""
     if isinstance(table, _MediumTable):
