@@ -69,8 +69,8 @@ class SealResult:
     pressure_drop : float
         dP in Pa.
     Q : float
-        Leak rate in m^3/s over the seal length (0 when sealed; beyond lift-off the flow under
-        a floating body, ``inf`` where the continuation did not reach).
+        Leak rate in m^3/s over the seal length (0 when sealed; ``inf`` at and beyond
+        lift-off, where the static seal is open and no profile is computed).
     x, contact_pressure, fluid_pressure, gap, local_gap : ndarray
         Cell centres (m), p_c and p_f (Pa), the mean gap u (m) and the local gap g(p_c) of the
         leak rate (m, before the clamp).
@@ -78,10 +78,12 @@ class SealResult:
         d_delta in m (positive: the body moves towards the counter-face).
     sealed, lifted_off, converged : bool
         Some strip is sealed (its gap below the floor, or no percolation); the dP is at or
-        beyond lift-off (the contact carries less than ``LIFT`` of the load); Newton converged.
+        beyond lift-off (the arrays are then zeros); Newton converged.
     diagnostics : dict
         ``iterations``, ``residual`` (relative), ``force_error`` (relative to the load),
-        ``mass_error`` (largest relative departure of a face's flux from Q).
+        ``mass_error`` (largest relative departure of a face's flux from Q, over the faces
+        that hold at least 1e-4 of the resistance), ``peak_contact_pressure`` (Pa),
+        ``contact_load_share`` (the share of the load the contact carries).
     """
 
     pressure_drop: float
@@ -282,26 +284,20 @@ def seal_leak(
     SealSweep
     """
     dPs = _pressure_drops(pressure_drops)
-    dry = [leak_rate(result, float(d), viscosity, length, theory=theory, threshold=threshold,
-                     method=method, gap_floor=gap_floor, warn=False) for d in dPs]  # fmt: skip
+    if not hasattr(result, "x"):
+        raise TypeError(
+            f"the coupled seal is for a line contact (LineContactResult), got "
+            f"{type(result).__name__}: the point contact's coupled seal is not available"
+        )
     if support not in SUPPORTS:
         raise ValueError(f"support must be one of {SUPPORTS}, got {support!r}")
+    dry = [leak_rate(result, float(d), viscosity, length, theory=theory, threshold=threshold,
+                     method=method, gap_floor=gap_floor, warn=False) for d in dPs]  # fmt: skip
     sys = _system(result, dry[0], theory, rigid, support)
-    r0 = float(np.sum(0.5 * sys.dx * (_inverse_cube(sys, sys.u0)[2][:-1] +
-                                       _inverse_cube(sys, sys.u0)[2][1:])))  # fmt: skip
-    y, last, results, counts = _start(sys, dPs[0], r0), 0.0, [], [0, 0, 0]
-    lift, held = None, (None, 0.0)  # the last state that holds the load, and its dP
-    for dP in dPs:
-        y, last, ok = _continue(sys, y, last, float(dP), r0, counts)
-        if not ok:  # no solution found: report the rest as beyond the last dP reached
-            lift = last if lift is None else lift
-            results += [_beyond(sys, float(d)) for d in dPs[len(results) :]]
-            break
-        if lift is None and _lifted(sys, y):
-            lift = _lift_off(sys, held, float(dP), r0, counts) if held[0] is not None else dP
-        elif lift is None:
-            held = (y, float(dP))
-        results.append(_result(sys, y, float(dP), r0, lifted=lift is not None))
+    inv = _inverse_cube(sys, sys.u0)[2]
+    r0 = float(np.sum(0.5 * sys.dx * (inv[:-1] + inv[1:])))
+    counts = [0, 0, 0]
+    results, lift = _sweep(sys, dPs, r0, counts)
     return SealSweep(
         pressure_drops=dPs,
         Q=np.array([r.Q for r in results]),
@@ -311,6 +307,26 @@ def seal_leak(
         diagnostics={"newton_steps": counts[0], "continuation_steps": counts[1],
                      "halvings": counts[2]},
     )  # fmt: skip
+
+
+def _sweep(sys: _System, dPs: np.ndarray, r0: float, counts: list) -> tuple[list, float | None]:
+    """The results at each dP by continuation, and the lift-off pressure (or None)."""
+    y, last, results = _start(sys, dPs[0], r0), 0.0, []
+    lift, held = None, (None, 0.0)  # the last state that holds the load, and its dP
+    for dP in dPs:
+        if lift is not None:  # the static seal is open: nothing to solve
+            results.append(_beyond(sys, float(dP)))
+            continue
+        y, last, ok = _continue(sys, y, last, float(dP), r0, counts)
+        if ok and not _lifted(sys, y):
+            held = (y, last)
+            results.append(_result(sys, y, float(dP), r0, lifted=False))
+            continue
+        # lifted off on the way to dP (or no solution beyond ``last``): bracket and bisect
+        top = last if (ok or last > held[1]) else float(dP)
+        lift = _lift_off(sys, held, max(top, held[1] * (1 + MIN_STEP)), r0, counts)
+        results.append(_beyond(sys, float(dP)))
+    return results, lift
 
 
 def _pressure_drops(pressure_drops) -> np.ndarray:
@@ -368,11 +384,13 @@ def _start(sys: _System, dP: float, r0: float) -> np.ndarray:
 
 
 def _continue(sys, y, last, dP, r0, counts) -> tuple[np.ndarray, float, bool]:
-    """Continuation from the solution at ``last`` (0: none yet) to dP, halving the step on a
-    failure; (solution, dP reached, whether dP was reached)."""
+    """Continuation from the solution at ``last`` (0: none yet) to dP: the step halved on a
+    failure and doubled after a success, stopping where the body lifts off; returns (solution,
+    dP reached, whether that solution holds the load at dP)."""
     n = sys.x.size
-    target = dP
+    step = dP - last
     while True:
+        target = min(dP, last + step)
         trial = y.copy()
         if last > 0.0:
             trial[n : 2 * n] *= target / last
@@ -382,16 +400,16 @@ def _continue(sys, y, last, dP, r0, counts) -> tuple[np.ndarray, float, bool]:
         counts[1] += 1
         if ok:
             y, last = sol, target
+            if _lifted(sys, y):
+                return y, last, False
             if target >= dP:
                 return y, last, True
-            target = dP
+            step *= 2.0
             continue
         counts[2] += 1
-        if last > 0.0 and target - last <= MIN_STEP * last:
+        step *= 0.5
+        if step <= MIN_STEP * max(last, MIN_STEP * dP):
             return y, last, False
-        if last == 0.0 and counts[2] > 30:
-            return y, last, False
-        target = 0.5 * (last + target) if last > 0.0 else 0.5 * target
 
 
 def _lifted(sys: _System, y: np.ndarray) -> bool:
@@ -403,14 +421,17 @@ def _lifted(sys: _System, y: np.ndarray) -> bool:
 def _lift_off(sys, held, dP, r0, counts) -> float:
     """The lift-off pressure drop between the last dP that held and dP, by bisection (each
     trial continued from the state that held), to ``MIN_STEP`` relative."""
-    (y_lo, lo), hi = held, dP
-    while hi - lo > MIN_STEP * lo:
+    y_lo, lo = held
+    if y_lo is None:  # lifted off at the first pressure drop
+        y_lo, lo = _start(sys, MIN_STEP * dP, r0), 0.0
+    hi = dP
+    while hi - lo > MIN_STEP * hi:
         mid = 0.5 * (lo + hi)
         y, reached, ok = _continue(sys, y_lo, lo, mid, r0, counts)
-        if ok and not _lifted(sys, y):
+        if ok:
             y_lo, lo = y, mid
         else:
-            hi = mid
+            hi = min(hi, reached) if reached > lo else mid
     return 0.5 * (lo + hi)
 
 
@@ -418,7 +439,7 @@ def _beyond(sys: _System, dP: float) -> SealResult:
     """A pressure drop the continuation did not reach (flagged, no numbers)."""
     empty = np.zeros(sys.x.size)
     return SealResult(dP, math.inf, sys.x, empty, empty, empty, empty, 0.0, False, True, False,
-                      {"message": "not reached by the continuation (beyond lift-off)"})  # fmt: skip
+                      {"message": "at or beyond lift-off: the static seal is open"})  # fmt: skip
 
 
 def _result(sys, y, dP, r0, lifted: bool) -> SealResult:
@@ -431,7 +452,7 @@ def _result(sys, y, dP, r0, lifted: bool) -> SealResult:
     F, _ = _equations(sys, y, dP, r0, jac=False)
     r = 0.5 * sys.dx * (inv[:-1] + inv[1:])
     q_hat = phi / r0
-    carries = r >= 1e-9 * r.sum()  # the faces that hold a share of the resistance
+    carries = r >= 1e-4 * r.sum()  # the faces that hold a share of the resistance
     flux = (pf[:-1] - pf[1:])[carries] / r[carries]
     Q = 0.0 if sealed else sys.length * q_hat / (12.0 * sys.viscosity)
     with np.errstate(over="ignore"):

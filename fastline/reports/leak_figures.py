@@ -269,13 +269,7 @@ def plot_seal(sweep: SealSweep, *, shown: Sequence[int] | None = None) -> Figure
     fig.subplots_adjust(left=0.08, right=0.98, bottom=0.13, top=0.80, wspace=0.28)
     dP = sweep.pressure_drops
     ok = np.isfinite(sweep.Q) & (sweep.Q > 0.0)
-    off = np.array([r.lifted_off for r in sweep.results]) & ok
-    left.loglog(dP[ok], sweep.Q[ok], "-", color="C0", lw=1.2)
-    left.loglog(dP[ok & ~off], sweep.Q[ok & ~off], "o", color="C0", ms=4,
-                label="coupled (fluid pressure)")  # fmt: skip
-    if off.any():
-        left.loglog(dP[off], sweep.Q[off], "o", mfc="none", color="C0", ms=6,
-                    label="beyond lift-off (floating body)")  # fmt: skip
+    left.loglog(dP[ok], sweep.Q[ok], "o-", color="C0", ms=4, label="coupled (fluid pressure)")
     unc = sweep.uncoupled_Q > 0.0
     left.loglog(dP[unc], sweep.uncoupled_Q[unc], "s--", color="0.5", ms=3,
                 label="uncoupled (dry contact)")  # fmt: skip
