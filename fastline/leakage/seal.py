@@ -270,11 +270,9 @@ def seal_leak(
     viscosity, length, theory, threshold, method, gap_floor
         As in :func:`fastline.leak_rate` (Pa s, m, -, -, str, m).
     support : {"edge", "axis"}
-        Where the fluid's load on the body starts to count (the step of ``dP H``): at the
-        upstream edge of the dry contact (``"edge"``: a body pressed by a fixed force, the
-        interface's fluid lifts it, up to lift-off) or at the body's axis (``"axis"``: an
-        O-ring in its groove, whose upstream half carries dP into the support; the contact
-        pressure rises with dP).
+        Where the fluid's load on the body starts to count (the step of ``dP H``): the
+        upstream edge of the dry contact (a body held by a force: the fluid lifts it) or the
+        body's axis (an O-ring in its groove: the contact pressure rises with dP).
     rigid : bool
         Hold the mean gap at the dry contact's (a rigid body): the uncoupled leak rate, for
         comparison.
@@ -285,10 +283,8 @@ def seal_leak(
     """
     dPs = _pressure_drops(pressure_drops)
     if not hasattr(result, "x"):
-        raise TypeError(
-            f"the coupled seal is for a line contact (LineContactResult), got "
-            f"{type(result).__name__}: the point contact's coupled seal is not available"
-        )
+        name = type(result).__name__
+        raise TypeError(f"the coupled seal is for a line contact, got a {name} (not available)")
     if support not in SUPPORTS:
         raise ValueError(f"support must be one of {SUPPORTS}, got {support!r}")
     dry = [leak_rate(result, float(d), viscosity, length, theory=theory, threshold=threshold,
