@@ -57,7 +57,7 @@ def main():
     ax.text(
         math.sqrt(f_seal * LOADS[-1]),
         1e-15,
-        "sealed: $P(q_1, p_0) \\geq 0.42$",
+        "sealed: $u_c < 1$ nm or $P(q_1, p) \\geq 0.42$",
         fontsize=9,
         ha="center",
         va="center",

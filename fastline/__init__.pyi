@@ -27,8 +27,12 @@ from .errors import NarrowContactWarning as NarrowContactWarning
 from .errors import UnitWarning as UnitWarning
 from .errors import ValidityWarning as ValidityWarning
 from .leakage import LeakResult as LeakResult
+from .leakage import SealResult as SealResult
+from .leakage import SealSweep as SealSweep
+from .leakage import effective_gap as effective_gap
 from .leakage import leak_rate as leak_rate
 from .leakage import leak_rate_profile as leak_rate_profile
+from .leakage import seal_leak as seal_leak
 from .reports import paper as paper
 from .reports import plotting as plotting
 from .surfaces import topography as topography

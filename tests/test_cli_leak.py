@@ -164,10 +164,13 @@ def test_leak_scales_with_inputs(one_scene, capsys):
 
 def test_sealed_scene(theory, tmp_path, capsys):
     path = tmp_path / "sealed.csv"
-    status, out, _ = run(["leak", *SCENE, "--load", 6000, *FLUID, "--csv", path], capsys)
+    # the percolation criterion alone (no molecular floor)
+    argv = ["leak", *SCENE, "--load", 6000, *FLUID, "--gap-floor", 0, "--csv", path]
+    status, out, _ = run(argv, capsys)
     assert status == 0
     r = fl.solve_line_contact(PSD, E_STAR, RADIUS, 6000.0, n=N, theory=theory, warn=False)
-    leak = fl.leak_rate(r, DP, ETA, LENGTH, warn=False)
+    leak = fl.leak_rate(r, DP, ETA, LENGTH, gap_floor=0.0, warn=False)
+    assert leak.sealed_by == "percolation"
     assert leak.sealed
     assert "leak rate Q      0 m^3/s (sealed)" in out
     n_sealed = int(leak.sealed_strips.sum())
@@ -412,13 +415,15 @@ def test_plot_leak_panels(one_scene):
 
 def test_plot_leak_sealed_leaves_a_gap(theory):
     r = fl.solve_line_contact(PSD, E_STAR, RADIUS, 6000.0, n=N, theory=theory, warn=False)
-    leak = fl.leak_rate(r, DP, ETA, LENGTH, warn=False)
+    leak = fl.leak_rate(r, DP, ETA, LENGTH, gap_floor=0.0, warn=False)
     fig = plotting.plot_leak(leak)
     (line,) = fig.axes[1].get_lines()[:1]
     y = np.asarray(line.get_ydata(), dtype=float)
     assert np.all(np.isnan(y[leak.sealed_strips]))  # no segment drawn across u_c = 0
     labels = [t.get_text() for t in fig.axes[0].get_legend().get_texts()]
     assert any(t.startswith("sealed") for t in labels)
+    # the resistance of a sealed contact is infinite: no share of it is stated
+    assert not any("resistance inside" in t for t in labels)
 
 
 def test_plot_leak_sweep_marks_sealed_loads(swept):

@@ -196,7 +196,9 @@ def test_sealed_exactly_when_real_area_reaches_threshold(threshold):
     assert expect.any() and not expect.all()
     assert np.array_equal(th.critical_gap(p, threshold).sealed, expect)
     x = np.arange(p.size) * 1e-5
-    res = fl.leak_rate_profile(x, p, th, DP, ETA, threshold=threshold, warn=False)
+    res = fl.leak_rate_profile(
+        x, p, th, DP, ETA, threshold=threshold, gap_floor=0.0, warn=False
+    )  # the percolation criterion alone
     assert np.array_equal(res.sealed_strips, expect) and res.sealed and res.Q == 0.0
 
 
@@ -505,7 +507,8 @@ def test_one_warning_per_cause(kwargs, key):
         ({"threshold": 0.0}, "threshold"),
         ({"threshold": 1.0}, "threshold"),
         ({"threshold": 1.5}, "threshold"),
-        ({"method": "effective-medium"}, "method"),
+        ({"method": "effective medium"}, "method"),
+        ({"gap_floor": -1e-9}, "gap_floor"),
         ({"mean_free_path": 0.0}, "mean_free_path"),
     ],
 )

@@ -16,6 +16,7 @@ sphere).
 from __future__ import annotations
 
 import argparse
+import inspect
 
 import fastline as fl
 from fastline import theory
@@ -30,6 +31,7 @@ from fastline.cli.common import (
     geometry_defaults,
     material_options,
     metadata,
+    number,
     numerics_options,
     persson_theory,
     positive,
@@ -56,6 +58,10 @@ LEAK_SWEEP_DEFAULTS = {
 }
 #: seal length [m] of a cylinder when --length is not given
 _DEFAULT_LENGTH = 1.0
+#: cells of a cylinder's contact with --coupled when --n is not given (a dense Newton system)
+COUPLED_N = 256
+#: the molecular floor of the gap [m] when --gap-floor is not given: fl.leak_rate's default
+GAP_FLOOR = inspect.signature(fl.leak_rate).parameters["gap_floor"].default
 
 
 def leak_parser(sub: argparse._SubParsersAction, fmt: type[argparse.HelpFormatter]) -> None:
@@ -99,14 +105,31 @@ def leak_parser(sub: argparse._SubParsersAction, fmt: type[argparse.HelpFormatte
     figure_options(p)
 
 
+def non_negative(text: str) -> float:
+    """A finite number >= 0."""
+    v = number(text)
+    if v < 0.0:
+        raise argparse.ArgumentTypeError(f"must be >= 0, got {text!r}")
+    return v
+
+
 def _fluid_options(p: argparse.ArgumentParser, threshold: float) -> None:
     g = p.add_argument_group("fluid and seal")
     g.add_argument(
         "--pressure-drop",
         type=positive,
+        nargs="+",
         required=True,
         metavar="PA",
-        help="fluid pressure difference across the seal dP [Pa] (required)",
+        help="fluid pressure difference across the seal dP [Pa] (required; several with "
+        "--coupled: the leak rate against dP)",
+    )
+    g.add_argument(
+        "--coupled",
+        action="store_true",
+        help="a cylinder's seal under pressure: the fluid pressure in the interface coupled to "
+        "the contact (it lifts the walls), Q against each --pressure-drop and the lift-off "
+        f"pressure (default --n {COUPLED_N}; docs/leakage.md)",
     )
     g.add_argument(
         "--viscosity",
@@ -134,10 +157,10 @@ def _fluid_options(p: argparse.ArgumentParser, threshold: float) -> None:
     g.add_argument(
         "--threshold",
         type=fraction,
-        default=threshold,
         metavar="A",
-        help="percolation threshold of the apparent contact area [-], in (0, 1) (default "
-        f"{threshold:g}, Persson; 0.415 numerical studies; 0.5 Bruggeman)",
+        help="percolation threshold of the real contact area [-], in (0, 1) (default "
+        f"{threshold:g}, Persson, for the critical junction; 0.5, Bruggeman, for the effective "
+        "medium; 0.415 numerical studies)",
     )
     g.add_argument(
         "--mean-free-path",
@@ -145,6 +168,26 @@ def _fluid_options(p: argparse.ArgumentParser, threshold: float) -> None:
         metavar="M",
         help="mean free path of a gas [m] (about 70e-9 for air at 1 bar): warns when the flow "
         "is not viscous; omit for liquids",
+    )
+    _method_options(g)
+
+
+def _method_options(g) -> None:
+    """The local gap measure of the leak rate and its molecular floor."""
+    g.add_argument(
+        "--method",
+        choices=("critical-junction", "effective-medium"),
+        default="critical-junction",
+        help="local gap of a strip: the critical junction u_c (default) or the effective-medium "
+        "gap of Bruggeman's equation over the theory's gap distribution",
+    )
+    g.add_argument(
+        "--gap-floor",
+        type=non_negative,
+        default=GAP_FLOOR,
+        metavar="M",
+        help=f"molecular floor of the gap [m] (default {GAP_FLOOR:g}): a strip with a smaller "
+        "gap is sealed; 0 switches it off",
     )
 
 
@@ -180,7 +223,12 @@ def _sweep_options(p: argparse.ArgumentParser) -> None:
 
 def _leak_checks(args) -> str:
     """Reject what cannot give a leak rate, before any work; fill in the defaults that depend
-    on the geometry (load, loads, n, the cylinder's seal length). Returns the geometry."""
+    on the geometry (load, loads, n, the cylinder's seal length) and the method (the
+    threshold). Returns the geometry."""
+    _coupled_checks(args)
+    if args.threshold is None:
+        bruggeman = args.method == "effective-medium"
+        args.threshold = theory.THRESHOLD_BRUGGEMAN if bruggeman else theory.THRESHOLD_PERSSON
     if theory.get_variant(args.variant).area_correction:
         raise CLIError(
             f"--variant {args.variant} corrects the contact area, which the critical-junction "
@@ -203,6 +251,24 @@ def _leak_checks(args) -> str:
     if args.sweep and args.loads_to < args.loads_from:
         raise CLIError("--loads-to must be >= --loads-from")
     return geometry
+
+
+def _coupled_checks(args) -> None:
+    """--coupled: a cylinder, one load, any number of pressure drops; without it, one."""
+    drops = args.pressure_drop
+    if not args.coupled:
+        if len(drops) > 1:
+            raise CLIError("several --pressure-drop values need --coupled (Q against dP)")
+        args.pressure_drop = drops[0]
+        return
+    if args.geometry == "sphere" or args.sweep:
+        raise CLIError(
+            "--coupled is for one cylinder scene (not with --geometry sphere or --sweep): the "
+            "coupled seal of a point contact is not available"
+        )
+    if args.n is None:
+        args.n = COUPLED_N
+    args.pressure_drops, args.pressure_drop = sorted(drops), min(drops)
 
 
 def _flow_path_checks(args) -> None:
@@ -257,7 +323,9 @@ def _leak_of(r, th, args):
         inner_radius=args.inner_radius,
         theory=th,
         threshold=args.threshold,
+        method=args.method,
         mean_free_path=args.mean_free_path,
+        gap_floor=args.gap_floor,
         warn=False,
     )
 
@@ -276,8 +344,8 @@ def _fluid_line(args) -> str:
         path = f"radial flow from r = inner radius {args.inner_radius:.6g} m outwards"
     return (
         f"fluid, seal      pressure drop {args.pressure_drop:.6g} Pa, viscosity "
-        f"{args.viscosity:.6g} Pa s, {path}, threshold {args.threshold:g} (critical-junction "
-        "theory)"
+        f"{args.viscosity:.6g} Pa s, {path}, threshold {args.threshold:g} ({args.method} "
+        f"theory), gap floor {args.gap_floor:g} m"
     )
 
 
@@ -285,7 +353,16 @@ def _leak_lines(leak) -> list[str]:
     d, t = leak.diagnostics, leak.threshold
     radial = leak.inner_radius is not None
     strip, strips = ("ring", "rings") if radial else ("strip", "strips")
-    if leak.sealed:
+    if leak.sealed_by == "gap floor":
+        lines = [
+            "leak rate Q      0 m^3/s (sealed)",
+            f"sealed           yes: {d['n_below_floor']} of {d['n_strips']} {strips} have a gap "
+            f"below the molecular floor {leak.gap_floor:g} m (no channel percolates at "
+            f"P(q1, p) >= {t:g} in any {strip})",
+            f"resistance       infinite in the sealed {strips}, {leak.resistance_width:.4g} m "
+            "of the contact",
+        ]
+    elif leak.sealed:
         lines = [
             "leak rate Q      0 m^3/s (sealed)",
             f"sealed           yes: {d['n_sealed']} of {d['n_strips']} {strips} have a real "
@@ -443,4 +520,38 @@ def cmd_leak(args: argparse.Namespace) -> int:
     th = persson_theory(psd, E, args)
     if args.sweep:
         return _leak_sweep(args, geometry, psd, E, source, th)
+    if args.coupled:
+        return _leak_coupled(args, psd, E, source, th)
     return _leak_one(args, geometry, psd, E, source, th)
+
+
+def _leak_coupled(args, psd, E, source, th) -> int:
+    """One cylinder scene, the seal under each pressure drop (fl.seal_leak)."""
+    r = fl.solve_line_contact(psd, E, args.radius, args.load, model=args.model,
+                              **solve_kwargs(args, th))  # fmt: skip
+    sweep = fl.seal_leak(
+        r, args.pressure_drops, args.viscosity, args.length, theory=th,
+        threshold=args.threshold, method=args.method, gap_floor=args.gap_floor,
+    )  # fmt: skip
+    print(spectrum_line(psd, source))
+    print("\n".join(result_lines(r, r.diagnostics)))
+    print(_fluid_line(args).replace(f"pressure drop {args.pressure_drop:.6g} Pa", "coupled"))
+    print(f"{'dP [Pa]':>12}{'Q [m^3/s]':>13}{'uncoupled Q':>13}{'peak p_c':>12}"
+          f"{'load on p_c':>13}{'state':>12}")  # fmt: skip
+    for k, q_dry in zip(sweep.results, sweep.uncoupled_Q, strict=True):
+        state = "lifted off" if k.lifted_off else ("sealed" if k.sealed else "leaks")
+        peak = k.diagnostics.get("peak_contact_pressure", 0.0)
+        share = k.diagnostics.get("contact_load_share", 0.0)
+        print(f"{k.pressure_drop:>12.4g}{k.Q:>13.4e}{q_dry:>13.4e}{peak:>12.4g}{share:>13.3f}"
+              f"{state:>12}")  # fmt: skip
+    lift = sweep.lift_off_pressure
+    print(
+        "lift-off         none up to the largest pressure drop"
+        if lift is None
+        else f"lift-off         dP = {lift:.4g} Pa (the contact carries < 1% of the load)"
+    )
+    report_warnings([r])
+    if args.plot:
+        save(fl.plotting.plot_seal(sweep), args.plot, args)
+    bad = [k for k in sweep.results if not (k.converged or k.lifted_off)]
+    return max(convergence_status([r]), 1 if bad else 0)

@@ -1,5 +1,7 @@
 """Seal leakage: the leak rate of a contact's pressure profile through Persson's critical
-junctions (:mod:`~fastline.leakage.flow`), on the interface statistics of
+junctions or the effective medium (:mod:`~fastline.leakage.flow`,
+:mod:`~fastline.leakage.medium`), the seal under pressure with the fluid in the interface
+coupled to the contact (:mod:`~fastline.leakage.seal`), on the interface statistics of
 :mod:`fastline.theory.interface` (re-exported here).
 """
 
@@ -23,7 +25,9 @@ from fastline.theory.interface import (
 __getattr__, __dir__, __all__ = _lazy.attach(
     __name__,
     submod_attrs={
-        "flow": ["LeakResult", "leak_rate", "leak_rate_profile"],
+        "flow": ["GAP_FLOOR", "LeakResult", "leak_rate", "leak_rate_profile"],
+        "medium": ["effective_gap", "effective_gap_of"],
+        "seal": ["SealResult", "SealSweep", "seal_leak"],
     },
 )
 __all__ += [

@@ -34,9 +34,11 @@ from typing import TYPE_CHECKING, Literal
 import numpy as np
 from numpy.typing import ArrayLike
 
-from fastline._lib.validate import finite_array, positive
+from fastline._lib.validate import finite_array, finite_scalar, positive
 from fastline.errors import LeakageWarning
+from fastline.leakage.medium import _MediumTable, medium_table
 from fastline.theory.interface import (
+    THRESHOLD_BRUGGEMAN,
     THRESHOLD_PERSSON,
     check_threshold,
     gap_table,
@@ -54,7 +56,7 @@ __all__ = ["LeakResult", "LeakageWarning", "leak_rate", "leak_rate_profile"]
 # ----------------------------------------------------------------------------------------------
 # leak rate of a pressure profile: strips in series (docs/leakage.md §4)
 # ----------------------------------------------------------------------------------------------
-METHODS = ("critical-junction",)
+METHODS = ("critical-junction", "effective-medium")
 #: warn when fewer roll-off wavelengths 2 pi/qr than this fit across the region holding 90 % of
 #: the flow resistance (the theory averages over many junctions in series)
 MIN_JUNCTIONS = 5.0
@@ -63,6 +65,10 @@ MIN_JUNCTIONS = 5.0
 MAX_KNUDSEN = 0.1
 #: warn when the fluid pressure drop exceeds this fraction of the peak contact pressure
 MAX_FLUID_PRESSURE_RATIO = 0.1
+#: default molecular floor of the gap (m): a strip whose gap is below it is sealed (docs/leakage.md,
+#: "A floor for sealing"): a few molecular diameters (water 0.28 nm), below which a continuum
+#: Poiseuille flow is not defined
+GAP_FLOOR = 1e-9
 #: radial flow (point contacts): an orifice wider than this share of the pressure's half width at
 #: half maximum changes the contact pressure, which is taken from the solid (unperforated) contact
 MAX_ORIFICE_SHARE = 0.1
@@ -95,7 +101,8 @@ class LeakResult:
         flow: of the whole contact, ``1 / int_{r_in} dr 12 eta / (2 pi r u_c^3)`` in
         m^3/(Pa s).
     sealed : bool
-        Some strip has ``P(q1, p) >= threshold``: no channel percolates there, no leak.
+        Some strip the flow crosses is sealed: its real contact area ``P(q1, p) >= threshold``
+        (no channel percolates), or its gap is below ``gap_floor`` (``sealed_by`` says which).
     x, pressure : ndarray
         Strip centres in m (radii of the ring cells for radial flow) and the nominal pressure
         in Pa.
@@ -104,7 +111,7 @@ class LeakResult:
     sigma : ndarray
         Local conductance ``u_c^3 / (12 eta)`` in m^3/(Pa s).
     sealed_strips : ndarray of bool
-        The strips with ``P(q1, p) >= threshold`` (radial flow: only those the flow crosses,
+        The sealed strips, by either criterion (radial flow: only those the flow crosses,
         outside ``inner_radius``).
     resistance_share, cumulative_share : ndarray
         Each strip's share of the flow resistance ``int dx / sigma`` and its running sum from
@@ -130,6 +137,12 @@ class LeakResult:
     inner_radius : float or None
         Radial flow: the radius in m where the fluid enters (the orifice of a seat); None for
         flow across a line contact.
+    sealed_by : str or None
+        Why the seal is sealed: ``"percolation"`` (some strip has ``P(q1, p) >= threshold``;
+        it wins when both criteria hold), ``"gap floor"`` (no strip percolates, but the gap
+        of some strip is below ``gap_floor``), None when it leaks.
+    gap_floor : float
+        The molecular floor of the gap in m (0: none).
     """
 
     Q: float
@@ -152,11 +165,14 @@ class LeakResult:
     converged: bool
     diagnostics: dict
     inner_radius: float | None = None
+    sealed_by: str | None = None
+    gap_floor: float = 0.0
 
     def __repr__(self):
         radial = "" if self.inner_radius is None else f", inner_radius={self.inner_radius:.4g} m"
         return (
-            f"LeakResult(Q={self.Q:.4g} m^3/s{radial}, sealed={self.sealed}, "
+            f"LeakResult(Q={self.Q:.4g} m^3/s{radial}, sealed={self.sealed}"
+            f"{'' if self.sealed_by is None else f' ({self.sealed_by})'}, "
             f"share_in_fwhm={self.share_in_fwhm:.3g}, resistance_width={self.resistance_width:.4g}"
             f" m, converged={self.converged})"
         )
@@ -216,16 +232,28 @@ def _scalars(pressure_drop, viscosity, length, threshold, method, mean_free_path
     pressure_drop = positive("pressure_drop", pressure_drop, "Pa")
     viscosity = positive("viscosity", viscosity, "Pa s")
     length = None if length is None else positive("length", length, "m")
+    method = _method(method)
+    if threshold is None:  # each method's own threshold
+        threshold = THRESHOLD_BRUGGEMAN if method == "effective-medium" else THRESHOLD_PERSSON
     threshold = check_threshold(threshold)
-    if method not in METHODS:
-        raise ValueError(
-            f"method must be one of {METHODS}, got {method!r} (the effective-medium method is "
-            "not implemented: the theory's gap distribution P(u) could not be sourced; see "
-            "docs/leakage.md, 'The effective-medium method: not included, and why')"
-        )
     if mean_free_path is not None:
         mean_free_path = positive("mean_free_path", mean_free_path, "m")
     return pressure_drop, viscosity, length, threshold, mean_free_path
+
+
+def _method(method) -> str:
+    """The method's name (``_`` read as ``-``), checked."""
+    name = method.replace("_", "-") if isinstance(method, str) else method
+    if name not in METHODS:
+        raise ValueError(f"method must be one of {METHODS}, got {method!r}")
+    return name
+
+
+def _gap_floor(gap_floor) -> float:
+    out = finite_scalar("gap_floor", gap_floor)
+    if out < 0.0:
+        raise ValueError(f"gap_floor must be >= 0 m (allowed range [0, inf)), got {out!r}")
+    return out
 
 
 def _profile(x, p, inner_radius=None):
@@ -345,9 +373,10 @@ def leak_rate_profile(
     length: float | None = None,
     *,
     inner_radius: float | None = None,
-    threshold: float = THRESHOLD_PERSSON,
-    method: Literal["critical-junction"] = "critical-junction",
+    threshold: float | None = None,
+    method: Literal["critical-junction", "effective-medium"] = "critical-junction",
     mean_free_path: float | None = None,
+    gap_floor: float = GAP_FLOOR,
     warn: bool = True,
 ) -> LeakResult:
     """Leak rate of a seal with a nominal pressure profile p(x): strips (or rings) in series,
@@ -355,32 +384,31 @@ def leak_rate_profile(
 
     Parameters
     ----------
-    x : array_like
-        Strip (cell) centres in m, strictly increasing, at least 2; strip edges lie halfway
-        between centres. Radial flow: radii >= 0 of ring cells (a first cell centred on the
-        axis is a disc).
-    p : array_like
-        Nominal contact pressure at x in Pa (>= 0; p = 0 is out of contact and adds no
-        resistance).
+    x, p : array_like
+        Strip (cell) centres in m, strictly increasing, at least 2, edges halfway between
+        (radial flow: radii >= 0 of rings), and the nominal pressure there in Pa (>= 0).
     theory : PerssonTheory
         The theory of the interface (spectrum, E*, gamma).
     pressure_drop, viscosity : float
-        Fluid pressure difference across the seal in Pa and its dynamic viscosity in Pa s
-        (both > 0; 1e-3 Pa s for water at 20 C).
+        Pressure difference across the seal in Pa and dynamic viscosity in Pa s (> 0).
     length : float, optional
-        Seal length L_y in m (> 0), perpendicular to the flow (the circumference of an O-ring);
-        default 1 m. Not for radial flow (the rings' circumferences are the length).
+        Seal length L_y in m (> 0) across the flow (an O-ring's circumference); default 1 m;
+        not for radial flow.
     inner_radius : float, optional
         Radial flow (a point contact): the radius in m where the fluid enters, in (0, outer
-        edge of the profile); p is that of the solid contact (a warning says when the orifice
-        is wider than ``MAX_ORIFICE_SHARE`` of p's half width). None: across a line contact.
-    threshold : float
-        Percolation threshold of the apparent contact area, in (0, 1) (see :func:`critical_gap`).
-    method : {"critical-junction"}
-        The only method implemented (docs/leakage.md).
+        edge of the profile); warns above ``MAX_ORIFICE_SHARE`` of p's half width.
+    threshold : float, optional
+        Percolation threshold of the real contact area, in (0, 1) (see :func:`critical_gap`);
+        default the method's: 0.42 for the critical junction, 0.5 (Bruggeman) for the
+        effective medium.
+    method : {"critical-junction", "effective-medium"}
+        The local gap: the critical junction's ``u_c`` or the effective-medium gap
+        ``(12 eta s_eff)^(1/3)`` (docs/leakage.md; ``_`` may stand for ``-``).
     mean_free_path : float, optional
-        Mean free path of a gas in m (about 70e-9 for air at 1 bar): warns when the flow is not
-        viscous. None for liquids.
+        Mean free path of a gas in m (70e-9 for air at 1 bar): warns if not viscous flow.
+    gap_floor : float
+        Molecular floor of the gap in m, >= 0 (default :data:`GAP_FLOOR`, 1 nm; 0 switches it
+        off): a strip whose gap is below it is sealed (``sealed_by = "gap floor"``).
     warn : bool
         Emit the :class:`LeakageWarning` s (listed in ``diagnostics['warnings']`` either way).
 
@@ -388,13 +416,12 @@ def leak_rate_profile(
     -------
     LeakResult
     """
-    length = _length(length, inner_radius)
-    pressure_drop, viscosity, length, threshold, mean_free_path = _scalars(
-        pressure_drop, viscosity, length, threshold, method, mean_free_path
-    )
+    flow = _flow(
+        pressure_drop, viscosity, length, inner_radius, threshold, method, mean_free_path,
+        gap_floor,
+    )  # fmt: skip
     interface_cache(theory)
     x, p, inner_radius = _profile(x, p, inner_radius)
-    flow = _Flow(pressure_drop, viscosity, length, inner_radius, threshold, method, mean_free_path)
     return _leak(x, p, theory, flow, warn, converged=True)
 
 
@@ -421,16 +448,37 @@ class _Flow:
     threshold: float
     method: str
     mean_free_path: float | None
+    gap_floor: float = GAP_FLOOR
+
+
+def _flow(
+    pressure_drop, viscosity, length, inner_radius, threshold, method, mean_free_path, gap_floor
+) -> _Flow:
+    """The validated fluid and flow path of a call (``inner_radius`` is checked against the
+    profile by :func:`_profile`)."""
+    length = _length(length, inner_radius)
+    pressure_drop, viscosity, length, threshold, mean_free_path = _scalars(
+        pressure_drop, viscosity, length, threshold, method, mean_free_path
+    )
+    return _Flow(
+        pressure_drop, viscosity, length,
+        None if inner_radius is None else positive("inner_radius", inner_radius, "m"),
+        threshold, _method(method), mean_free_path, _gap_floor(gap_floor),
+    )  # fmt: skip
 
 
 def _leak(x, p, theory, flow: _Flow, warn: bool, converged: bool) -> LeakResult:
     radial = flow.inner_radius is not None
-    table = gap_table(theory, flow.threshold)
+    table = _gap_table(theory, flow)
     log_gap, sealed_strips = table.log_gap(sealing_argument(theory, p))
     lo, hi = _cell_edges(x, flow.inner_radius)
     log_geometry = _log_geometry(lo, hi, radial)
-    sealed_strips &= ~np.isneginf(log_geometry)  # only the cells the flow crosses
-    sealed = bool(sealed_strips.any())
+    crossed = ~np.isneginf(log_geometry)  # only the cells the flow crosses
+    sealed_strips &= crossed
+    below = crossed & ~sealed_strips & _below_floor(log_gap, flow.gap_floor)
+    sealed_by = "percolation" if sealed_strips.any() else ("gap floor" if below.any() else None)
+    sealed_strips |= below
+    sealed = sealed_by is not None
     log_total, share = _resistance(log_geometry, log_gap, sealed_strips, flow.viscosity)
     conductance = 0.0 if sealed else math.exp(-log_total)
     cum, in_fwhm, width90 = _where(lo, hi, p, share)
@@ -445,12 +493,8 @@ def _leak(x, p, theory, flow: _Flow, warn: bool, converged: bool) -> LeakResult:
         more, more_msgs = _orifice(hi, p, flow.inner_radius)
         diag.update(more)
         msgs += more_msgs
-    diag.update(
-        n_strips=int(x.size),
-        n_sealed=int(sealed_strips.sum()),
-        gap_table={"z0": table.z0, "h": table.h, "cells": int(table.cf.shape[0])},
-        warnings=msgs,
-    )
+    diag.update(n_strips=int(x.size), n_sealed=int(sealed_strips.sum()))
+    diag.update(n_below_floor=int(below.sum()), gap_table=_summary(table), warnings=msgs)
     for msg in msgs if warn else ():
         warnings.warn(f"fastline.leak_rate: {msg}", LeakageWarning, stacklevel=3)
     if warn and not converged:  # not in diagnostics: the solve's own diagnostics say it
@@ -476,7 +520,36 @@ def _leak(x, p, theory, flow: _Flow, warn: bool, converged: bool) -> LeakResult:
         converged=converged,
         diagnostics=diag,
         inner_radius=flow.inner_radius,
+        sealed_by=sealed_by,
+        gap_floor=flow.gap_floor,
     )
+
+
+def _flow_table(theory, leak: LeakResult):
+    """The local-gap table a leak rate used (for the coupled seal)."""
+    return _gap_table(theory, _Flow(leak.pressure_drop, leak.viscosity, leak.length, None,
+                                    leak.threshold, leak.method, None, leak.gap_floor))  # fmt: skip
+
+
+def _summary(table) -> dict:
+    """z range and step of the gap table (``diagnostics['gap_table']``)."""
+    if isinstance(table, _MediumTable):
+        return table.summary()
+    return {"z0": table.z0, "h": table.h, "cells": int(table.cf.shape[0])}
+
+
+def _below_floor(log_gap: np.ndarray, gap_floor: float) -> np.ndarray:
+    """The strips whose gap is below the molecular floor (none for a floor of 0)."""
+    if gap_floor <= 0.0:
+        return np.zeros(log_gap.shape, dtype=bool)
+    return log_gap < math.log(gap_floor)
+
+
+def _gap_table(theory, flow: _Flow):
+    """The table of the local gap of the flow's method: ``log_gap(x1) -> (ln gap, sealed)``."""
+    if flow.method == "effective-medium":
+        return medium_table(theory, flow.threshold)
+    return gap_table(theory, flow.threshold)
 
 
 def leak_rate(
@@ -487,9 +560,10 @@ def leak_rate(
     *,
     inner_radius: float | None = None,
     theory: PerssonTheory | None = None,
-    threshold: float = THRESHOLD_PERSSON,
-    method: Literal["critical-junction"] = "critical-junction",
+    threshold: float | None = None,
+    method: Literal["critical-junction", "effective-medium"] = "critical-junction",
     mean_free_path: float | None = None,
+    gap_floor: float = GAP_FLOOR,
     warn: bool = True,
 ) -> LeakResult:
     """Leak rate of a solved contact: across a line contact (along x), or radially out of the
@@ -504,10 +578,9 @@ def leak_rate(
     ----------
     result : LineContactResult or PointContactResult
         A solved contact (``model="persson"`` or ``"exponential"``).
-    pressure_drop, viscosity, threshold, method, mean_free_path, warn
-        As in :func:`leak_rate_profile` (Pa, Pa s, -, str, m, bool). With ``warn``, a result
-        that did not converge also gets a :class:`LeakageWarning` (one text for every scene:
-        a loop shows it once); ``LeakResult.converged`` says so either way.
+    pressure_drop, viscosity, threshold, method, mean_free_path, gap_floor, warn
+        As in :func:`leak_rate_profile` (Pa, Pa s, -, str, m, m, bool); with ``warn`` an
+        unconverged result warns too (one text: a loop shows it once).
     length : float, optional
         Line contact: the seal length in m (default 1 m). Not for a point contact.
     inner_radius : float, optional
@@ -526,18 +599,17 @@ def leak_rate(
     TypeError
         For anything but a line- or point-contact result.
     ValueError
-        For a Hertz result (no spectrum), a result without a theory when none is given, a
-        theory of another E*, spectrum, gamma or variant, ``inner_radius`` missing for a point
-        contact or given for a line contact, or an input outside its range.
+        For a Hertz result, no theory, a theory of another interface (E*, spectrum, gamma,
+        variant), ``inner_radius`` missing for a point contact or given for a line contact,
+        or an input outside its range.
     """
     coords = _coordinates(result, inner_radius)
-    length = _length(length, inner_radius)
-    pressure_drop, viscosity, length, threshold, mean_free_path = _scalars(
-        pressure_drop, viscosity, length, threshold, method, mean_free_path
-    )
+    flow = _flow(
+        pressure_drop, viscosity, length, inner_radius, threshold, method, mean_free_path,
+        gap_floor,
+    )  # fmt: skip
     theory = _result_theory(result, theory)
-    x, p, inner_radius = _profile(coords, result.pressure, inner_radius)
-    flow = _Flow(pressure_drop, viscosity, length, inner_radius, threshold, method, mean_free_path)
+    x, p, _ = _profile(coords, result.pressure, inner_radius)
     return _leak(x, p, theory, flow, warn, converged=bool(result.converged))
 
 

@@ -25,8 +25,9 @@ if TYPE_CHECKING:  # annotations only: matplotlib and the solvers load on first 
     from matplotlib.figure import Figure
 
     from fastline.leakage.flow import LeakResult
+    from fastline.leakage.seal import SealSweep
 
-__all__ = ["GAP_FLOOR", "plot_leak", "plot_leak_sweep"]
+__all__ = ["GAP_FLOOR", "plot_leak", "plot_leak_sweep", "plot_seal"]
 
 #: lower end of the critical-gap axis of :func:`plot_leak` (m): narrower gaps (below an atom's
 #: size, a closed seal for any practical purpose; they reach 1e-60 m near sealing) run off it
@@ -55,6 +56,8 @@ def _leak_band(leak) -> tuple[float, float, str]:
     if leak.sealed:
         k = np.flatnonzero(leak.sealed_strips)
         label = f"sealed: $P(q_1, p) \\geq {leak.threshold:g}$"
+        if getattr(leak, "sealed_by", None) == "gap floor":
+            label = f"sealed: gap below the molecular floor {leak.gap_floor:g} m"
         return edges[k[0]], edges[k[-1] + 1], label
     cum = np.concatenate([[0.0], leak.cumulative_share])
     lo, hi = np.interp([0.05, 0.95], cum, edges)
@@ -88,7 +91,11 @@ def plot_leak(leak: LeakResult, *, axes: Sequence[Axes] | None = None) -> Figure
     # 0 in sealed strips, inf where p = 0: gaps in the line, not a segment across them
     shown = np.isfinite(leak.u_c) & (leak.u_c > 0.0)
     bottom.semilogy(x_mm, np.where(shown, leak.u_c, np.nan), "-", color="C3")
-    bottom.set_ylabel(r"critical gap $u_c$ (m)")
+    medium = leak.method == "effective-medium"
+    bottom.set_ylabel(r"effective gap $u_{eff}$ (m)" if medium else r"critical gap $u_c$ (m)")
+    floor = getattr(leak, "gap_floor", 0.0)
+    if floor > 0.0 and shown.any() and leak.u_c[shown].min() < 10.0 * floor:
+        bottom.axhline(floor, ls="--", color="0.4", lw=0.8, label="molecular floor of the gap")
     radial = leak.inner_radius is not None
     bottom.set_xlabel(r"$r$ (mm)" if radial else r"$x$ (mm)")
     _mark_leak(top, bottom, leak)
@@ -123,7 +130,9 @@ def _mark_leak(top: Axes, bottom: Axes, leak: LeakResult) -> None:
     lo, hi, text = _leak_band(leak)
     half = leak.x[leak.pressure >= 0.5 * leak.pressure.max()]
     width = "half width at half maximum" if radial else "FWHM"
-    fwhm = f"{width} of $p$ ({leak.share_in_fwhm:.1%} of the resistance inside)"
+    fwhm = f"{width} of $p$"
+    if not leak.sealed:  # a sealed contact's resistance is infinite: no share to state
+        fwhm += f" ({leak.share_in_fwhm:.1%} of the resistance inside)"
     marks = (half[-1],) if radial else (half[0], half[-1])  # radial: the half width only
     for k, ax in enumerate((top, bottom)):
         color = "C3" if leak.sealed else "C2"
@@ -235,3 +244,60 @@ def _mark_sealed_and_unconverged(ax, f, Q, sealed, bad) -> None:
         label = None if (bad & ~sealed).any() else "not converged"
         ax.plot(f[bad & sealed], np.zeros((bad & sealed).sum()), transform=at_bottom, **circle,
                 label=label)  # fmt: skip
+
+
+def plot_seal(sweep: SealSweep, *, shown: Sequence[int] | None = None) -> Figure:
+    """A seal under pressure: Q against dP (coupled and uncoupled, lift-off marked) on the
+    left; contact pressure p_c(x) and fluid pressure p_f(x) at some pressure drops on the
+    right.
+
+    Parameters
+    ----------
+    sweep : SealSweep
+        From :func:`fastline.seal_leak`.
+    shown : sequence of int, optional
+        Indices of the pressure drops whose profiles are drawn; default the (up to) three
+        largest that hold (not lifted off).
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+    """
+    fig, _, _ = figure_and_axes(None, size=(10.0, 4.2))
+    fig.clear()
+    left, right = fig.subplots(1, 2)
+    fig.subplots_adjust(left=0.08, right=0.98, bottom=0.13, top=0.80, wspace=0.28)
+    dP = sweep.pressure_drops
+    ok = np.isfinite(sweep.Q) & (sweep.Q > 0.0)
+    left.loglog(dP[ok], sweep.Q[ok], "o-", color="C0", ms=4, label="coupled (fluid pressure)")
+    unc = sweep.uncoupled_Q > 0.0
+    left.loglog(dP[unc], sweep.uncoupled_Q[unc], "s--", color="0.5", ms=3,
+                label="uncoupled (dry contact)")  # fmt: skip
+    if sweep.lift_off_pressure is not None:
+        left.axvline(sweep.lift_off_pressure, color="C3", ls=":",
+                     label=f"lift-off {sweep.lift_off_pressure:.3g} Pa")  # fmt: skip
+    left.set_xlabel(r"pressure drop $\Delta P$ (Pa)")
+    left.set_ylabel(r"leak rate $Q$ (m$^3$/s)")
+    left.legend(loc="lower left", bbox_to_anchor=(0.0, 1.01), fontsize=8, frameon=False,
+                borderaxespad=0.0)  # fmt: skip
+    held = [k for k, r in enumerate(sweep.results) if not r.lifted_off]
+    if shown is None:
+        shown = held[-3:]  # the largest pressure drops that hold
+    for j, k in enumerate(shown):
+        r = sweep.results[k]
+        c = f"C{j}"
+        right.plot(r.x * 1e3, r.contact_pressure / 1e6, "-", color=c,
+                   label=f"$p_c$, $\\Delta P$ = {r.pressure_drop:.3g} Pa")  # fmt: skip
+        right.plot(r.x * 1e3, r.fluid_pressure / 1e6, "--", color=c,
+                   label=f"$p_f$, $\\Delta P$ = {r.pressure_drop:.3g} Pa")  # fmt: skip
+    if shown:
+        r = sweep.results[shown[0]]
+        inside = r.x[r.contact_pressure >= 1e-3 * r.contact_pressure.max()]
+        pad = 0.3 * (inside[-1] - inside[0])
+        right.set_xlim((inside[0] - pad) * 1e3, (inside[-1] + pad) * 1e3)
+        right.legend(loc="lower left", bbox_to_anchor=(0.0, 1.01), ncols=2, fontsize=8,
+                     frameon=False, borderaxespad=0.0)  # fmt: skip
+    right.set_xlabel(r"$x$ (mm), flow from left to right")
+    right.set_ylabel("pressure (MPa)")
+    right.set_ylim(bottom=0.0)
+    return fig

@@ -32,7 +32,7 @@ from fastline.reports.contact_figures import (
 from fastline.reports.figures import DEFAULT_DPI as DEFAULT_DPI
 from fastline.reports.figures import FORMATS, figure_format, save_figure
 from fastline.reports.leak_figures import GAP_FLOOR as GAP_FLOOR
-from fastline.reports.leak_figures import plot_leak, plot_leak_sweep
+from fastline.reports.leak_figures import plot_leak, plot_leak_sweep, plot_seal
 from fastline.reports.scan_figures import plot_measured_psd
 from fastline.reports.validation_figures import plot_flat_validation, plot_validation
 
@@ -46,6 +46,7 @@ __all__ = [
     "plot_sweep",
     "plot_leak",
     "plot_leak_sweep",
+    "plot_seal",
     "plot_validation",
     "plot_flat_validation",
     "plot_measured_psd",
