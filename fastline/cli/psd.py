@@ -19,7 +19,7 @@ import argparse
 
 import fastline as fl
 from fastline.cli.common import figure_options, require_matplotlib, save
-from fastline.cli.scene import scan_analysis, scan_checks, scan_lines, scan_options
+from fastline.cli.scene import scan_analysis, scan_checks, scan_options
 
 __all__ = ["psd_parser", "cmd_psd"]
 
@@ -69,7 +69,7 @@ def cmd_psd(args: argparse.Namespace) -> int:
     if args.plot is not None:
         require_matplotlib()
     scan = scan_analysis(args)
-    print("\n".join(scan_lines(scan, table=True)))
+    print(scan.summary(table=True))
     written = []
     if args.out:
         title = (
