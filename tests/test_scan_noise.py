@@ -191,7 +191,9 @@ def test_exports_read_with_their_units(name):
 def test_header_units_and_options(tmp_path):
     x, h = np.arange(40) * 0.5, _fixture_heights()[:40] * 1e9
     named = tmp_path / "named.csv"
-    named.write_text("Position [um],Height [nm]\n" + "".join(f"{a},{b}\n" for a, b in zip(x, h)))
+    named.write_text(
+        "Position [um],Height [nm]\n" + "".join(f"{a},{b}\n" for a, b in zip(x, h, strict=True))
+    )
     agree = tp.read_profile(named, unit="nm", x_unit="um")
     np.testing.assert_allclose(agree.heights, h * 1e-9)
     with pytest.raises(ValueError, match=r"unit='mm' \(--units mm\) contradicts.*nm"):
@@ -199,7 +201,7 @@ def test_header_units_and_options(tmp_path):
     with pytest.raises(ValueError, match=r"x_unit='nm' \(--x-units nm\) contradicts.*um"):
         tp.read_profile(named, x_unit="nm")
     bare = tmp_path / "bare.txt"
-    bare.write_text("".join(f"{a} {b}\n" for a, b in zip(x, h)))
+    bare.write_text("".join(f"{a} {b}\n" for a, b in zip(x, h, strict=True)))
     with pytest.warns(tp.TopographyWarning, match="x column is taken in nm"):
         assert tp.read_profile(bare, unit="nm").dx == pytest.approx(0.5e-9)
     assert tp.read_profile(bare, unit="nm", x_unit="um").dx == pytest.approx(0.5e-6)
