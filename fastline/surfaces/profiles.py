@@ -277,7 +277,11 @@ def psd_from_profile(
         mode LOW_MODE to the lowest of the sampling, tip and noise limits), None the whole
         periodogram, a pair overrides either end (None keeps the rule).
     tip_radius, noise : float, optional
-        Stylus tip radius and rms instrument noise, in m (their limits of ``"auto"``).
+        Stylus tip radius and rms instrument noise, in m (their limits of ``"auto"``). Without
+        ``noise`` the white-noise plateau is sought in the data
+        (:func:`~fastline.surfaces.floor.find_floor`): when found, the range ends where the
+        fitted power law falls to ``NOISE_MARGIN`` times it, and ``noise_floor`` holds its
+        level, which :func:`fit_self_affine` takes off.
 
     Returns
     -------

@@ -138,8 +138,8 @@ class ScanSpectrum:
             return None
         s = self.spectrum
         text = (
-            f"{hi:.4g}-{top:.4g} 1/m ({math.log10(top / hi):.2g} decades up to the Nyquist "
-            f"wavenumber pi / dx) by the {LIMIT_RULES[self.limits['high']]}"
+            f"{hi:.4g}-{top:.4g} 1/m, the {math.log10(top / hi):.2g} decades up to the Nyquist "
+            "wavenumber pi / dx (the high end's rule)"
         )
         if s.noise_floor > 0.0:
             sigma = math.sqrt(s.noise_floor * 2.0 * math.pi / self.dx)
