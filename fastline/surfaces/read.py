@@ -76,7 +76,7 @@ def _decode(data: bytes, path: str, error: type[ValueError]) -> str:
         text = data.decode(codec, errors="replace")
     if text is None:
         text = data.decode("utf-8-sig", errors="replace")
-    if _BINARY.search(text):
+    if "\x00" in text or _BINARY.search(text, 0, 1 << 16):  # the head, and any NUL
         raise error(f"{path}: not a text file")
     return text
 
@@ -128,14 +128,12 @@ def _data_start(lines: list[str]) -> int:
     return first
 
 
-def _fast_rows(lines: list[str], start: int, width: int):
-    """The rows of a clean numeric block (one separator, no comments, no empty fields), parsed
+def _loadtxt(body: str, first: str, width: int):
+    """The rows of a clean numeric block (one separator, no comments, no empty fields) parsed
     by NumPy in one pass; None when the block is not that clean (the line parser then names
-    the line at fault)."""
-    body = "\n".join(lines[start:])
+    the line at fault). ``first``: its first line, which sets the separator."""
     if "#" in body or not body.strip():
         return None
-    first = lines[start]
     if ";" in first or "\t" in first:
         sep = ";" if ";" in first else "\t"
         body = body.replace(",", ".")
@@ -149,9 +147,31 @@ def _fast_rows(lines: list[str], start: int, width: int):
             rows = np.loadtxt(io.StringIO(body), delimiter=sep, ndmin=2, dtype=np.float64)
     except ValueError:
         return None
-    if rows.shape[1] != width:
+    return rows if rows.shape[1] == width else None
+
+
+#: a large text's data start is sought in this many first lines (the rest is not split)
+_HEAD = 4000
+
+
+def _fast_table(text: str):
+    """(rows, line numbers, header, first data line) of a large clean table: the data start
+    found in its first lines, the rest parsed by NumPy in one pass; None when that fails (a
+    blank line, a comment or a bad field in the data: the line parser takes over)."""
+    head = text.split("\n", _HEAD)
+    if len(head) <= _HEAD:
         return None
-    return rows
+    lines = [ln.rstrip("\r") for ln in head[:-1]]
+    start = _data_start(lines)
+    if start >= len(lines) - _RUN:
+        return None
+    body = "\n".join(head[start:]).rstrip()
+    del head
+    rows = _loadtxt(body, lines[start], len(_numbers(lines[start])))
+    if rows is None or rows.shape[0] != body.count("\n") + 1:
+        return None
+    header = [ln.strip() for ln in lines[:start] if ln.strip()]
+    return rows, np.arange(start + 1, start + 1 + rows.shape[0]), header, lines[start]
 
 
 def _slow_rows(lines, start, path, error):
@@ -189,23 +209,21 @@ def parse_table(path: str, *, what: str = "file", error: type[ValueError] = Valu
             data = fh.read()
     except OSError as e:
         raise error(f"cannot read {what} {path}: {e.strerror}") from None
-    lines = _decode(data, path, error).splitlines()
+    text = _decode(data, path, error)
     del data
-    start = _data_start(lines)
-    if start == len(lines):
-        raise error(f"{path}: no numeric data found")
-    header = [ln.strip() for ln in lines[:start] if ln.strip()]
-    width = len(_numbers(lines[start]))
-    rows = _fast_rows(lines, start, width) if len(lines) - start > 1000 else None
-    if rows is not None:
-        numbers = np.arange(start + 1, start + 1 + rows.shape[0])
-        if rows.shape[0] != sum(1 for ln in lines[start:] if ln.strip()):
-            rows = None  # blank lines inside: their numbers come from the line parser
-    if rows is None:
-        rows, numbers = _slow_rows(lines, start, path, error)
+    fast = _fast_table(text)
+    if fast is not None:
+        rows, numbers, header, first = fast
+    else:
+        lines = text.splitlines()
+        start = _data_start(lines)
+        if start == len(lines):
+            raise error(f"{path}: no numeric data found")
+        header = [ln.strip() for ln in lines[:start] if ln.strip()]
+        rows, numbers, first = *_slow_rows(lines, start, path, error), lines[start]
     rows = _drop_empty_columns(rows)
     if rows.shape[1] == 1 and rows.shape[0] > 2 and rows[0, 0] == rows.shape[0] - 1:
-        header.append(lines[start].strip())  # a count line: the number of values that follow
+        header.append(first.strip())  # a count line: the number of values that follow
         rows, numbers = rows[1:], numbers[1:]
     return Table(rows, numbers, header)
 

@@ -53,6 +53,9 @@ LIMIT_RULES = {
 #: a two-column file is taken for a spectrum (q, C) rather than a profile (x, h) when its first
 #: column spans at least this ratio and its second column falls over this many decades
 _SPECTRUM_SPAN, _SPECTRUM_DECADES = 10.0, 3.0
+#: ... and only when it has at most this many rows (a spectrum table is short; a scan of more
+#: points is not read a second time to check)
+_SPECTRUM_ROWS = 100_000
 
 
 @dataclass(frozen=True)
@@ -305,7 +308,7 @@ def _read_file(path: str, dx, dy, as_map: bool, unit: str, x_unit):
         h = data.heights
         return ("profile" if h.shape[0] == 1 else "profiles"), h, data.dx, None
     h = data.heights
-    if np.all(h > 0.0):  # a (q, C) table on a uniform q grid reads as a positive profile
+    if h.size <= _SPECTRUM_ROWS and np.all(h > 0.0):  # a (q, C) table on a uniform q grid
         _refuse_spectrum(path)
     return "profile", h, data.dx, None
 
