@@ -140,7 +140,8 @@ def test_scan_summary_says_what_was_cut(noisy, tmp_path):
     assert str(scan) == text
     assert "q range used" in text and "fit " in text and "C(q) table" in text
     left = [line for line in text.splitlines() if line.startswith("left out")]
-    assert len(left) == 1 and "noise floor found" in left[0] and "rms noise" in left[0]
+    assert scan.limits["high"] == "noise floor found" and "noise floor found" in text
+    assert len(left) == 1 and "rms noise" in left[0] and "Nyquist" in left[0]
     assert scan.metadata()["noise_floor_C1D_m3"] == scan.spectrum.noise_floor
 
 

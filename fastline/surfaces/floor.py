@@ -27,7 +27,7 @@ import numpy as np
 
 from fastline.surfaces.ranges import NOISE_MARGIN, log_bins
 
-__all__ = ["FLOOR_DECADES", "FLOOR_SIGNIFICANCE", "Floor", "find_floor"]
+__all__ = ["FLOOR_DECADES", "FLOOR_SIGNIFICANCE", "Floor", "find_floor", "load_scipy"]
 
 #: the plateau is sought in the top decades of the periodogram (below Nyquist)
 FLOOR_DECADES = 1.5
@@ -89,6 +89,14 @@ def _with_plateau(x, C, n) -> tuple[float, float, float, float]:
     s, t = float(np.clip(res.x[0], *_SLOPES)), float(res.x[1])
     value, lnA = _profile(np.array(s), np.array(t), x, C, n)
     return float(lnA), s, float(lnA + t - s * x[-1]), float(value)
+
+
+def load_scipy() -> None:
+    """Import the SciPy modules the floor and the fit use, before any warning is shown: a first
+    import of SciPy changes the warning filters, which makes Python show a warning already
+    shown once again (the analysis of a scan in a loop would repeat its warnings)."""
+    import scipy.optimize  # noqa: F401
+    import scipy.special  # noqa: F401
 
 
 def find_floor(k: np.ndarray, C: np.ndarray, independent: float, k_low: float) -> Floor:

@@ -50,9 +50,10 @@ def checked_heights(h, ndim_allowed: tuple[int, ...]) -> np.ndarray:
     if arr.ndim not in ndim_allowed:
         dims = " or ".join(f"{d}-dimensional" for d in ndim_allowed)
         raise ValueError(f"h must be {dims}, got shape {arr.shape}")
-    with warnings.catch_warnings():
-        warnings.simplefilter("ignore", RuntimeWarning)  # all NaN: left to fill_dropouts
-        top = max(abs(float(np.nanmax(arr))), abs(float(np.nanmin(arr)))) if arr.size else 0.0
+    flat = arr.ravel()  # fmax/fmin skip NaN (all NaN: NaN, left to fill_dropouts) silently
+    top = (
+        max(abs(float(np.fmax.reduce(flat))), abs(float(np.fmin.reduce(flat)))) if arr.size else 0.0
+    )
     if math.isinf(top):
         raise ValueError("h must not contain inf")
     if math.isfinite(top) and top != 0.0 and not HEIGHT_SPAN[0] <= top <= HEIGHT_SPAN[1]:

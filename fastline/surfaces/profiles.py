@@ -22,7 +22,7 @@ from numpy.typing import ArrayLike
 
 from fastline._lib.validate import finite_scalar, integer, positive
 from fastline.surfaces.abel import inverse_abel
-from fastline.surfaces.floor import find_floor
+from fastline.surfaces.floor import find_floor, load_scipy
 from fastline.surfaces.heights import (
     MIN_POINTS,
     apply_window,
@@ -303,6 +303,7 @@ def spectrum_and_periodogram(h, dx, q_range, tip_radius, noise, *, window, detre
         bins_per_decade = integer("bins_per_decade", bins_per_decade, 2)
     rules = range_rules(q_range, tip_radius, noise)
     factor = window_factor(window, rows.shape[-1])  # checks the name before any work
+    load_scipy()
     form = _detrended(rows, dx, detrend, nan)
     check_plausible(form.h_rms, form.slope, "psd_from_profile")
     k_tip = math.inf if rules.tip is None else tip_cutoff(form.rows, dx, rules.tip)
@@ -384,7 +385,7 @@ def isotropic_from_1d(
         C(q) near the top depends on it; the measured range is what the tail continues.
     q1 : float, optional
         Cut the result at q1, or extend it to q1 by the power law fitted to its top half decade
-        (:func:`extend_psd`), as for a spectrum measured to 1e6 1/m used to q1 = 1e9 1/m.
+        (:func:`extend_psd`).
 
     Returns
     -------
@@ -394,9 +395,8 @@ def isotropic_from_1d(
     Warns
     -----
     TopographyWarning
-        When noise makes C(q) <= 0 at some points: C1D (which falls with k for any surface
-        whose C(q) falls with q) is then replaced by its closest non-increasing sequence in
-        ``ln C1D`` (pool-adjacent-violators), and the table keeps every point, from the first.
+        When noise makes C(q) <= 0 somewhere: C1D is then replaced by its closest
+        non-increasing sequence (:func:`non_increasing`), and the table keeps every point.
     """
     k, C1D = checked_table("k", k, "C1D", C1D, positive_values=True)
     slope = _tail_slope(k, C1D, tail, tail_decades)
@@ -404,13 +404,11 @@ def isotropic_from_1d(
     good = C > 0.0
     if not good.all():  # noise: C1D rises somewhere; its falling envelope keeps C > 0
         pooled = non_increasing(C1D)
-        changed = int((~np.isclose(pooled, C1D, rtol=1e-12, atol=0.0)).sum())
         topography_warning(
-            f"isotropic_from_1d: noise in C1D made C(q) <= 0 at {int((~good).sum())} "
-            f"of {k.size} points; C1D was replaced by its closest non-increasing sequence "
-            f"(least squares in ln C1D; {changed} points changed), whose "
-            "inverse transform is positive at every point. Fewer bins per decade or more "
-            "profiles help.",
+            f"isotropic_from_1d: noise in C1D made C(q) <= 0 at {int((~good).sum())} of "
+            f"{k.size} points; C1D was replaced by its closest non-increasing sequence (least "
+            f"squares in ln C1D; {int(np.sum(pooled != C1D))} points changed), whose inverse "
+            "transform is positive. Fewer bins per decade or more profiles help.",
             stacklevel=2,
         )
         C = inverse_abel(k, pooled, slope)

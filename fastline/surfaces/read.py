@@ -11,7 +11,6 @@ import io
 import math
 import os
 import re
-import warnings
 from typing import NamedTuple
 
 import numpy as np
@@ -142,9 +141,7 @@ def _loadtxt(body: str, first: str, width: int):
     else:
         sep = None
     try:
-        with warnings.catch_warnings():
-            warnings.simplefilter("ignore")
-            rows = np.loadtxt(io.StringIO(body), delimiter=sep, ndmin=2, dtype=np.float64)
+        rows = np.loadtxt(io.StringIO(body), delimiter=sep, ndmin=2, dtype=np.float64)
     except ValueError:
         return None
     return rows if rows.shape[1] == width else None

@@ -486,10 +486,8 @@ def analyse_scan(
     as_map : bool
         A 2D file as a height map (ring-averaged 2D spectrum), not as parallel line scans.
     unit, x_unit : str, optional
-        Units of heights and x (``"m"``, ``"mm"``, ``"um"``, ``"nm"``) of a text or ``.npy``
-        file. Default: those the file's header names, else m for the heights and the heights'
-        unit for x; an option that contradicts the header is refused
-        (:func:`~fastline.surfaces.topography.read_profile`).
+        Units of heights and x of a text or ``.npy`` file (``"m"``, ``"mm"``, ``"um"``,
+        ``"nm"``; default: the header's, as :func:`~fastline.surfaces.topography.read_profile`).
     window, nan, bins_per_decade, q_range, tip_radius, noise
         As :func:`fastline.surfaces.topography.psd_from_profile` (maps: ``psd_from_map``).
     detrend : str, optional
@@ -507,8 +505,7 @@ def analyse_scan(
     ------
     ValueError
         Bad options (before any work), an unreadable or implausible file, an empty usable
-        range, q1 above it without ``extend`` (FileNotFoundError, ImportError: no such file;
-        an instrument format without SurfaceTopography).
+        range, q1 above it without ``extend`` (FileNotFoundError: no such file).
     """
     path = os.fspath(path)
     detrend, q1 = _checked_options(as_map, detrend, q1, extend)
