@@ -81,6 +81,20 @@ def test_floor_is_found_and_cut(noisy):
     assert s.q_range[1] == pytest.approx(expected, rel=0.3)
 
 
+def test_floor_found_through_dropouts(noisy):
+    """Two percent of the points lost in runs of 5 (bridged): the same floor and H."""
+    h, _, truth, _, dx, s = noisy
+    lost = h.copy()
+    starts = np.random.default_rng(3).choice(h.size - 5, size=h.size // 250, replace=False)
+    for j in starts:
+        lost[j : j + 5] = np.nan
+    bridged = _quiet(tp.psd_from_profile, lost, dx, nan="interpolate")
+    assert bridged.limits["high"] == "noise floor found"
+    assert bridged.noise_floor == pytest.approx(s.noise_floor, rel=TOL_LEVEL)
+    fit = _quiet(tp.fit_self_affine, bridged)
+    assert abs(fit.hurst - truth.hurst) < min(TOL_H, TOL_H_ERRORS * fit.hurst_err)
+
+
 def test_no_floor_on_a_noise_free_scan(noisy):
     _, clean, _, _, dx, _ = noisy
     s = _quiet(tp.psd_from_profile, clean, dx)
