@@ -299,3 +299,22 @@ def test_bad_scan_files(tmp_path, content):
         warnings.simplefilter("error")
         with pytest.raises(ValueError, match=match):
             analyse_scan(path, dx=1e-6)
+
+
+def test_long_text_in_one_pass_and_its_errors(tmp_path):
+    """A long export (CRLF, trailing separators, a header) reads as its short form does, through
+    NumPy's reader; a bad line deep inside is still named by its number."""
+    x = np.arange(6000) * 0.5
+    h = np.sin(0.01 * np.arange(6000)) * 100.0
+    text = "Scan Data,,\r\nx [um],h [nm],\r\n" + "".join(
+        f"{a:.1f},{b:.6f},\r\n" for a, b in zip(x, h, strict=True)
+    )
+    good = tmp_path / "long.csv"
+    good.write_bytes(text.encode())
+    profile = tp.read_profile(good)
+    np.testing.assert_allclose(profile.heights, h * 1e-9, atol=1e-15)
+    assert profile.dx == pytest.approx(5e-7)
+    bad = tmp_path / "bad_long.csv"
+    bad.write_bytes(text.replace("2500.0,", "25oo.0,").encode())
+    with pytest.raises(ValueError, match=r"bad_long.csv:5003: not a number"):
+        tp.read_profile(bad)

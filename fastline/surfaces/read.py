@@ -140,11 +140,18 @@ def _loadtxt(body: str, first: str, width: int):
         sep = ","
     else:
         sep = None
+    fields = _fields(first)
+    used = len(fields)
+    while used > 1 and not fields[used - 1]:  # trailing separators: empty columns, not read
+        used -= 1
+    columns = None if used == width else range(used)
     try:
-        rows = np.loadtxt(io.StringIO(body), delimiter=sep, ndmin=2, dtype=np.float64)
+        rows = np.loadtxt(
+            io.StringIO(body), delimiter=sep, ndmin=2, dtype=np.float64, usecols=columns
+        )
     except ValueError:
         return None
-    return rows if rows.shape[1] == width else None
+    return rows if rows.shape[1] == used else None
 
 
 #: a large text's data start is sought in this many first lines (the rest is not split)
@@ -164,6 +171,8 @@ def _fast_table(text: str):
         return None
     body = "\n".join(head[start:]).rstrip()
     del head
+    if "\r" in body:  # Windows line ends
+        body = body.replace("\r", "")
     rows = _loadtxt(body, lines[start], len(_numbers(lines[start])))
     if rows is None or rows.shape[0] != body.count("\n") + 1:
         return None
