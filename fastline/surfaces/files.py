@@ -146,11 +146,16 @@ def _resolve(name: str, given, from_file, line: str, fallback: str) -> str:
 
 def _uniform_spacing(x: np.ndarray, path: str) -> float:
     """dx of positions x that must lie on a uniform grid (to 1 % of dx)."""
-    j = np.arange(x.size)
-    slope, offset = np.polyfit(j, x, 1)
+    n = x.size
+    centre, mean = 0.5 * (n - 1), float(np.mean(x))
+    line = np.arange(n, dtype=np.float64)  # j, then the residual of the straight line
+    slope = (float(np.dot(line, x)) - centre * mean * n) / (n * (n * n - 1.0) / 12.0)
     if slope == 0.0:
         raise ValueError(f"{path}: the x column is constant")
-    worst = float(np.max(np.abs(x - (offset + slope * j)))) / abs(slope)
+    line *= -slope
+    line += x
+    line -= mean - slope * centre
+    worst = max(abs(float(line.max())), abs(float(line.min()))) / abs(slope)
     if worst > 0.01:
         raise ValueError(
             f"{path}: x is not uniformly spaced (a point lies {worst:.2g} spacings off the "
