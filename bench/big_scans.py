@@ -4,7 +4,8 @@ Three files, written once in a temporary folder: a line scan of 10^7 heights as 
 same kind of scan as a ~90 MB two-column text file (x and h in micrometres, a header line), and
 a 4096 x 4096 height map as ``.npy``. Each is analysed at the defaults after a warm-up call on
 a small scan (the compiled kernels loaded); the peak is what ``tracemalloc`` sees NumPy
-allocate during the call, against the size of the file's own float64 array.
+allocate during a second call, against the size of the file's own float64 array (traced apart:
+tracing slows NumPy's text reader many times).
 
 Run: ``python -m bench.big_scans`` (``--skip-map`` to leave the map out).
 """
@@ -45,10 +46,11 @@ def _measure(label: str, path: str, points: int, **options) -> None:
     reference = _reference(points)
     with warnings.catch_warnings():
         warnings.simplefilter("ignore", fl.topography.TopographyWarning)
-        tracemalloc.start()
         start = time.perf_counter()
         scan = analyse_scan(path, **options)
         seconds = time.perf_counter() - start
+        tracemalloc.start()  # a second call: tracing slows NumPy's text reader many times
+        analyse_scan(path, **options)
         peak = tracemalloc.get_traced_memory()[1]
         tracemalloc.stop()
     size = 8 * points
