@@ -345,3 +345,19 @@ def test_fit_held_at_its_bound_is_said(tmp_path, capsys):
     status, out, _ = run(["psd", tmp_path / "steep.txt", "--dx", DX], capsys)
     assert status == 0
     assert "fit              H 1 (held at its bound: C falls faster than self-affine can)" in out
+
+
+def test_psd_units_from_the_header_and_contradicting_options(tmp_path, capsys):
+    """A header naming the units is used; --units that contradicts it is a usage error naming
+    --units; the summary says what was left out above the range."""
+    x = np.arange(512) * 0.5  # um
+    h = np.random.default_rng(4).standard_normal(512).cumsum() * 20.0  # nm
+    path = tmp_path / "named.csv"
+    path.write_text(
+        "Position [um],Height [nm]\n" + "".join(f"{a},{b}\n" for a, b in zip(x, h, strict=True))
+    )
+    status, stdout, err = run(["psd", path], capsys)
+    assert status == 0 and error_lines(err) == []
+    assert "dx 5e-07 m" in stdout and stdout.count("left out ") == 1
+    status, _, err = run(["psd", path, "--units", "mm"], capsys)
+    assert status == 2 and "--units mm" in err and "contradicts" in err

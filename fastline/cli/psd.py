@@ -1,14 +1,14 @@
 """Measured surfaces on the command line: ``fastline psd SCAN``.
 
 ``fastline psd`` reads a line scan, parallel line scans or a height map and prints its
-spectrum C(q) (the data's h_rms and rms slope, the usable wavenumber range and why, the fitted
-self-affine model), writes the table ``--psd`` reads and a figure. ``--scan FILE`` on
-``profile``, ``sweep`` and ``leak`` takes the spectrum of a scene straight from a measurement
-(:mod:`fastline.cli.scene`, which holds the options and the analysis both share). Argument
-parsing and printing only: the analysis is :func:`fastline.surfaces.analyse_scan`
-(docs/topography.md), the table :func:`fastline.io.write_spectrum`, the figure
-:func:`fastline.plotting.plot_measured_psd`. :mod:`fastline.cli.app` wires :func:`psd_parser`
-and :func:`cmd_psd` in.
+spectrum C(q) (the data's h_rms and rms slope, the usable wavenumber range and why, what was
+left out above it, the fitted self-affine model: ``ScanSpectrum.summary``), writes the table
+``--psd`` reads and a figure. ``--scan FILE`` on ``profile``, ``sweep`` and ``leak`` takes the
+spectrum of a scene straight from a measurement (:mod:`fastline.cli.scene`, which holds the
+options and the analysis both share). Argument parsing and printing only: the analysis is
+:func:`fastline.surfaces.analyse_scan` (docs/topography.md), the table
+:func:`fastline.io.write_spectrum`, the figure :func:`fastline.plotting.plot_measured_psd`.
+:mod:`fastline.cli.app` wires :func:`psd_parser` and :func:`cmd_psd` in.
 
 SI units throughout: lengths in m whatever the file's units, wavenumbers in 1/m, C(q) in m^4.
 """
@@ -19,7 +19,7 @@ import argparse
 
 import fastline as fl
 from fastline.cli.common import figure_options, require_matplotlib, save
-from fastline.cli.scene import scan_analysis, scan_checks, scan_lines, scan_options
+from fastline.cli.scene import scan_analysis, scan_checks, scan_options
 
 __all__ = ["psd_parser", "cmd_psd"]
 
@@ -41,9 +41,11 @@ def psd_parser(sub: argparse._SubParsersAction, fmt: type[argparse.HelpFormatter
         "scan",
         metavar="SCAN",
         help="the measurement: text (.txt .csv .dat .tsv .prn; one column of heights with "
-        "--dx, two columns x and h, or one scan per line with --dx; '#' comments and header "
-        "lines skipped), .npy, or an instrument file (X3P, SDF, OPDx, Mitutoyo, Keyence, Zygo, "
-        'Sensofar, ...), which needs pip install "fastline-contact[topography]" to be read',
+        "--dx, two columns x and h, or one scan per line with --dx; header lines, parameter "
+        "blocks, a count line, an index column and trailing separators skipped, UTF-8 or "
+        "UTF-16, units read from the header), .npy, or an instrument file (X3P, SDF, OPDx, "
+        'Mitutoyo, Keyence, Zygo, Sensofar, ...), which needs pip install "fastline-contact'
+        '[topography]" to be read (it also reads text fastline cannot)',
     )
     scan_options(p, standalone=True)
     p.add_argument(
@@ -69,7 +71,7 @@ def cmd_psd(args: argparse.Namespace) -> int:
     if args.plot is not None:
         require_matplotlib()
     scan = scan_analysis(args)
-    print("\n".join(scan_lines(scan, table=True)))
+    print(scan.summary(table=True))
     written = []
     if args.out:
         title = (

@@ -42,6 +42,10 @@ def _c1d_panel(ax, scan) -> None:
     ax.loglog(k[live], C[live], ".", ms=1.5, color="0.6", label="every Fourier mode")
     s = scan.spectrum
     ax.loglog(s.k, s.C1D, "o", ms=3, color="C0", label="averaged, usable range")
+    if s.noise_floor > 0.0:
+        sigma = math.sqrt(s.noise_floor * 2.0 * math.pi / s.dx)
+        ax.axhline(s.noise_floor, ls="--", color="C3", lw=1.0,
+                   label=f"noise floor found: rms {_times_ten(sigma)} m")  # fmt: skip
     _shade_outside(ax, *scan.q_range, (k[0], k[-1]), "outside the usable range")
     ax.set_xlim(k[0] / 1.1, k[-1] * 1.1)
     log_axis(ax.xaxis)
@@ -95,7 +99,8 @@ def plot_measured_psd(scan: ScanSpectrum, *, axes: Axes | Sequence[Axes] | None 
     """The spectrum of a measured surface on log-log axes: what was measured, used and fitted.
 
     Profiles: two panels, the 1D spectrum C1D(k) (every Fourier mode in grey, averaged points
-    over the usable range, the rest shaded) and the isotropic C(q) from the exact inverse Abel
+    over the usable range, the rest shaded, the instrument's white-noise level found in the
+    data dashed) and the isotropic C(q) from the exact inverse Abel
     transform with the fitted self-affine model and, when the table was continued above the
     usable range, the continuation (dashed, shaded). Maps: the C(q) panel, with the ring
     averages over all full rings in grey.

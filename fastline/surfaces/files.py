@@ -9,13 +9,14 @@ from __future__ import annotations
 
 import math
 import os
+import re
 from typing import NamedTuple
 
 import numpy as np
 
 from fastline._lib.validate import positive
-from fastline.surfaces.heights import MIN_POINTS
-from fastline.surfaces.read import read_table
+from fastline.surfaces.heights import MIN_POINTS, topography_warning
+from fastline.surfaces.read import parse_table, split_fields
 
 _INSTALL = 'pip install "fastline-contact[topography]" (the optional SurfaceTopography)'
 
@@ -52,19 +53,109 @@ _TEXT = (".txt", ".csv", ".dat", ".tsv", ".prn")
 _NUMPY = (".npy",)
 
 
+#: unit words of column headers ("Height [um]", "x (mm)", "Lateral um", "Raw Micrometer"), to
+#: the keys of UNITS
+_UNIT_WORDS = {
+    **{u.lower(): u for u in ("m", "mm", "um", "nm", "pm")},
+    **dict.fromkeys(("µm", "μm", "micron", "microns", "micrometer", "micrometers"), "um"),
+    **dict.fromkeys(("micrometre", "micrometres", "mu"), "um"),
+    **dict.fromkeys(("meter", "meters", "metre", "metres"), "m"),
+    **dict.fromkeys(("millimeter", "millimeters", "millimetre", "millimetres"), "mm"),
+    **dict.fromkeys(("nanometer", "nanometers", "nanometre", "nanometres"), "nm"),
+    **dict.fromkeys(("å", "angstrom", "angstroms"), "A"),
+}
+_BRACKETED = re.compile(r"[\[(]\s*([^\[\]()]+?)\s*[\])]")
+
+
 def _unit(name: str, unit) -> float:
     if unit not in UNITS:
         raise ValueError(f"{name} must be one of {', '.join(UNITS)}, got {unit!r}")
     return UNITS[unit]
 
 
+def _field_unit(field: str) -> str | None:
+    """The unit a column header names: in brackets, or as its last word, or None."""
+    found = _BRACKETED.search(field)
+    if found:
+        return _UNIT_WORDS.get(found.group(1).strip().lower())
+    for word in reversed(re.split(r"[\s_/:]+", field.strip())):
+        if word.lower() in _UNIT_WORDS:
+            return _UNIT_WORDS[word.lower()]
+    return None
+
+
+def header_units(header: list[str], columns: int) -> tuple[list[str | None], str]:
+    """The unit of each of ``columns`` columns from the last header lines that name units (a
+    names line "x [um], h [nm]" or a units line "um nm"), and that line; Nones and "" when
+    the header names none."""
+    for line in reversed(header[-3:]):
+        text = line.lstrip("#").strip()
+        fields = split_fields(text)
+        while fields and not fields[-1]:
+            fields.pop()
+        if len(fields) not in (columns, columns + 1):  # names with blanks: "x [um]  h [nm]"
+            found = _BRACKETED.findall(text)
+            fields = [f"[{f}]" for f in found] if found else re.split(r"\s{2,}", text)
+        if len(fields) not in (columns, columns + 1):
+            continue
+        units = [_field_unit(f) for f in fields[-columns:]]
+        if any(units):
+            return units, line
+    return [None] * columns, ""
+
+
+def _index_column(rows: np.ndarray) -> bool:
+    """Whether the first of three or more columns counts the rows (0, 1, 2, ... or 1, 2, ...)."""
+    if rows.shape[1] < 3 or rows.shape[0] < 2:
+        return False
+    first = rows[:, 0]
+    return bool(first[0] in (0.0, 1.0) and np.array_equal(first, first[0] + np.arange(first.size)))
+
+
+class _Columns(NamedTuple):
+    """A text table as a scan: its rows (the index column dropped), the unit of each column
+    from the header (None where it names none) and the header line that named them."""
+
+    rows: np.ndarray
+    units: list
+    named_in: str
+
+
+def _text_columns(path: str) -> _Columns:
+    """The numeric block of a text file, its index column dropped, with the header's units."""
+    table = parse_table(path)
+    rows = table.rows
+    units, line = header_units(table.header, rows.shape[1])
+    if _index_column(rows):
+        rows, units = rows[:, 1:], units[1:]
+    return _Columns(rows, units, line)
+
+
+def _resolve(name: str, given, from_file, line: str, fallback: str) -> str:
+    """A column's unit: the file's header and the option must agree; either alone decides."""
+    if given is not None:
+        _unit(name, given)
+    if given is not None and from_file is not None and UNITS[given] != UNITS[from_file]:
+        flag = {"unit": "--units", "x_unit": "--x-units"}[name]
+        raise ValueError(
+            f"{name}={given!r} ({flag} {given}) contradicts the file, whose header gives that "
+            f"column in {from_file} ({line!r}): leave {name} out, or correct the header"
+        )
+    return from_file or given or fallback
+
+
 def _uniform_spacing(x: np.ndarray, path: str) -> float:
     """dx of positions x that must lie on a uniform grid (to 1 % of dx)."""
-    j = np.arange(x.size)
-    slope, offset = np.polyfit(j, x, 1)
+    n = x.size
+    centre, mean = 0.5 * (n - 1), float(np.mean(x))
+    line = np.arange(n, dtype=np.float64)  # j, then the residual of the straight line
+    slope = (float(np.dot(line, x)) - centre * mean * n) / (n * (n * n - 1.0) / 12.0)
     if slope == 0.0:
         raise ValueError(f"{path}: the x column is constant")
-    worst = float(np.max(np.abs(x - (offset + slope * j)))) / abs(slope)
+    line *= -slope
+    line += x
+    line -= mean - slope * centre
+    worst = max(abs(float(line.max())), abs(float(line.min()))) / abs(slope)
     if worst > 0.01:
         raise ValueError(
             f"{path}: x is not uniformly spaced (a point lies {worst:.2g} spacings off the "
@@ -115,6 +206,77 @@ def _refuse_columns(path: str, columns: int, traces: bool) -> None:
     )
 
 
+#: what fastline's own text reader understands, for the message when a file defeats it
+_LAYOUTS = (
+    "one column of heights, two columns (x, h) or one scan per line; separated by commas, "
+    "semicolons, tabs or blanks, decimal commas with semicolons, tabs or blanks; header lines, "
+    "blocks of parameters, a names or units line and a count line before the data; an index "
+    "column; trailing separators; UTF-8 or UTF-16 with or without a byte-order mark"
+)
+
+
+def _text_or_instrument(path: str) -> _Columns | tuple:
+    """The columns of a text file (fastline's reader), or, when that fails, what
+    SurfaceTopography reads of it (when installed); a ValueError naming the layouts tried."""
+    try:
+        columns = _text_columns(path)
+        if columns.rows.shape[1] <= 2 or columns.rows.shape[1] >= MIN_POINTS:
+            return columns
+        own = (
+            f"expected 1 column (heights, with dx) or 2 columns (x, height), got "
+            f"{columns.rows.shape[1]}; one trace per line needs at least {MIN_POINTS} heights "
+            "per line"
+        )
+    except ValueError as e:
+        own = str(e)
+    try:
+        return _surfacetopography(path)
+    except ImportError:
+        other = f"SurfaceTopography's readers were not tried ({_INSTALL})"
+    except Exception as e:  # noqa: BLE001 - any failure of the optional reader: say it
+        first = str(e).strip().splitlines()[0] if str(e).strip() else ""
+        other = f"SurfaceTopography's readers could not read it either ({type(e).__name__}"
+        other += f": {first[:120]})" if first else ")"
+    raise ValueError(f"{path}: cannot read it as a scan: {own}. Layouts tried: {_LAYOUTS}; {other}")
+
+
+def _scales(path, columns: _Columns, unit, x_unit) -> tuple[float, float]:
+    """Factors to m of the height and x columns: the header's units and the options agree, or
+    one of them decides; x without either follows the heights, said once."""
+    units, line = columns.units, columns.named_in
+    h_unit = _resolve("unit", unit, units[-1], line, "m")
+    if columns.rows.shape[1] != 2:
+        return UNITS[h_unit], UNITS[h_unit]
+    if x_unit is None and units[0] is None and h_unit != "m":
+        topography_warning(
+            f"{path}: the x column is taken in {h_unit}, like the heights: the header names no "
+            "unit for it and x_unit (--x-units) was not given",
+            stacklevel=4,
+        )
+    return UNITS[h_unit], UNITS[_resolve("x_unit", x_unit, units[0], line, h_unit)]
+
+
+def _array(path: str, ext: str, unit, x_unit):
+    """(array, height scale, x scale) of a text or .npy file (a text file that fastline cannot
+    read goes to SurfaceTopography: then a ``(dim, heights, spacings)`` tuple)."""
+    if ext in _NUMPY:
+        data = np.load(path, allow_pickle=False)
+        if data.dtype.kind == "c":
+            raise ValueError(
+                f"{path}: the array holds complex numbers ({data.dtype}): heights are real "
+                "(take the real part or the modulus yourself if that is what was measured)"
+            )
+        if data.dtype.kind not in "fiu":
+            raise ValueError(f"{path}: the array holds {data.dtype} values, not heights")
+        h_unit = "m" if unit is None else unit
+        x_scale = _unit("x_unit", h_unit if x_unit is None else x_unit)
+        return np.asarray(data, dtype=np.float64), _unit("unit", h_unit), x_scale
+    columns = _text_or_instrument(path)
+    if not isinstance(columns, _Columns):
+        return columns, None, None
+    return columns.rows, *_scales(path, columns, unit, x_unit)
+
+
 def _load(path, *, dx, unit, x_unit, kind):
     """(dimension, heights, spacings) from a text, .npy or instrument file (kind: profile,
     map or None for either)."""
@@ -124,10 +286,9 @@ def _load(path, *, dx, unit, x_unit, kind):
         raise FileNotFoundError(f"no such file: {path}")
     if ext not in _TEXT + _NUMPY:
         return _surfacetopography(path)
-    scale = _unit("unit", unit)
-    scale_x = _unit("x_unit", unit if x_unit is None else x_unit)
-    data = np.load(path, allow_pickle=False) if ext in _NUMPY else read_table(path)[0]
-    data = np.asarray(data, dtype=np.float64)
+    data, scale, scale_x = _array(path, ext, unit, x_unit)
+    if scale is None:
+        return data
     columns = 1 if data.ndim == 1 else data.shape[1]
     if kind != "map" and data.ndim == 2 and columns > 2:
         _refuse_columns(path, columns, traces=kind is None)
@@ -136,11 +297,23 @@ def _load(path, *, dx, unit, x_unit, kind):
             raise ValueError(f"{path}: a map needs a 2D array of heights, got shape {data.shape}")
         if dx is None:
             raise ValueError(f"{path}: a height map from a text or .npy file needs dx (m)")
-        return 2, data * scale, (dx, None)
+        return 2, _scaled(data, scale), (dx, None)
     if columns == 1:
         if dx is None:
             raise ValueError(f"{path}: one column of heights: dx (m) is required")
-        return 1, data.ravel() * scale, (dx,)
+        return 1, _scaled(data.ravel(), scale), (dx,)
+    return _xh_profile(path, data, scale, scale_x, dx)
+
+
+def _scaled(h: np.ndarray, scale: float) -> np.ndarray:
+    """Heights times their unit's factor, in place (they are the reader's own array)."""
+    if scale != 1.0:
+        h *= scale
+    return h
+
+
+def _xh_profile(path, data, scale, scale_x, dx):
+    """(1, heights, (dx,)) of a two-column (x, h) table."""
     x, h = data[:, 0] * scale_x, data[:, 1] * scale
     if np.any(np.isnan(x)):
         raise ValueError(f"{path}: the x column has missing values")
@@ -156,7 +329,7 @@ def read_profile(
     path: str | os.PathLike,
     *,
     dx: float | None = None,
-    unit: str = "m",
+    unit: str | None = None,
     x_unit: str | None = None,
 ) -> Profile:
     """Read a line scan (heights converted to m).
@@ -173,9 +346,12 @@ def read_profile(
     path : str or path-like
     dx : float, optional
         Spacing in m (required for a single column of heights).
-    unit, x_unit : str
-        Units of the file's height and x columns (``"m"``, ``"mm"``, ``"um"``, ``"nm"``, ...;
-        x_unit defaults to unit). Ignored for instrument files.
+    unit, x_unit : str, optional
+        Units of the file's height and x columns (``"m"``, ``"mm"``, ``"um"``, ``"nm"``, ...).
+        Default: the units the header names ("Height [um]", "x (mm)", "Lateral um", a units
+        line), else m for the heights and the heights' unit for x (said by a
+        TopographyWarning). An option that contradicts the header is refused by name.
+        Ignored for instrument files, which carry their own.
 
     Returns
     -------
@@ -190,7 +366,11 @@ def read_profile(
 
 
 def read_map(
-    path: str | os.PathLike, *, dx: float | None = None, dy: float | None = None, unit: str = "m"
+    path: str | os.PathLike,
+    *,
+    dx: float | None = None,
+    dy: float | None = None,
+    unit: str | None = None,
 ) -> Map:
     """Read a height map (heights converted to m), rows along x.
 
@@ -215,7 +395,7 @@ def read_topography(
     path: str | os.PathLike,
     *,
     dx: float | None = None,
-    unit: str = "m",
+    unit: str | None = None,
     x_unit: str | None = None,
 ) -> Profile | Map:
     """A :class:`Profile` or a :class:`Map`, whichever the file holds (text or ``.npy`` with

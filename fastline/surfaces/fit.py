@@ -193,7 +193,7 @@ def _whittle(C, n, g):
 def _whittle_optimum(k, C, n, rolloff: bool) -> tuple[float, float, float, float]:
     """(ln C0, H, ln qr, objective) of the best model: a grid over H (and ln qr between the
     lowest and the third-highest point, or ln qr at the lowest point without roll-off), refined
-    by L-BFGS-B."""
+    by Nelder-Mead within the bounds."""
     from scipy.optimize import minimize  # here: scipy.optimize takes ~1 s to import
 
     x = np.log(k)
@@ -205,16 +205,18 @@ def _whittle_optimum(k, C, n, rolloff: bool) -> tuple[float, float, float, float
         res = minimize(
             lambda p: float(_whittle(C, n, _c1d_shape(k, p[0], p[1]))[1]),
             [Hs[i], xrs[j]],
-            method="L-BFGS-B",
+            method="Nelder-Mead",
             bounds=[_HURST_BOUNDS, (x[0], x[-3])],
+            options={"xatol": 1e-5, "fatol": 1e-9},
         )
         H, xr = (float(v) for v in res.x)
     else:
         res = minimize(
             lambda p: float(_whittle(C, n, _c1d_shape(k, p[0], x[0]))[1]),
             [Hs[i]],
-            method="L-BFGS-B",
+            method="Nelder-Mead",
             bounds=[_HURST_BOUNDS],
+            options={"xatol": 1e-5, "fatol": 1e-9},
         )
         H, xr = float(res.x[0]), float(x[0])
     a, objective = _whittle(C, n, _c1d_shape(k, H, xr))
@@ -239,12 +241,14 @@ def _whittle_covariance(k, C, n, p, free) -> tuple[np.ndarray, float, float]:
     dispersion = max(1.0, float(np.sum(n * (ratio - 1.0) ** 2)) / max(k.size - len(free), 1))
     cov = np.zeros((3, 3))
     cov[np.ix_(free, free)] = dispersion * np.linalg.pinv(J.T @ (n[:, None] * J))
-    return cov, float(np.sqrt(np.mean(np.log(ratio) ** 2))), dispersion
+    return cov, float(np.sqrt(np.mean(np.log(np.maximum(ratio, 1e-3)) ** 2))), dispersion
 
 
 def _profile_fit_points(spectrum, q_range):
     """(k, C1D, n) of the measured points (the two end points continue the bins: left out)
-    inside q_range; n the equivalent number of independent periodogram values of each."""
+    inside q_range, less the instrument's white-noise level (``noise_floor``: the mean of a
+    bin less a constant keeps the Whittle score unbiased); n the equivalent number of
+    independent periodogram values of each."""
     lo, hi = (None, None) if q_range is None else range_argument(q_range)
     k, C = spectrum.k, spectrum.C1D
     keep = (spectrum.counts > 0) & (C > 0.0) & (k >= (lo or 0.0)) & (k <= (hi or np.inf))
@@ -253,7 +257,7 @@ def _profile_fit_points(spectrum, q_range):
             f"need at least 4 points with C1D > 0 in the fitted range, got {keep.sum()}"
         )
     n = spectrum.counts[keep] * spectrum.n_profiles / spectrum.window_factor
-    return k[keep], C[keep], n.astype(np.float64)
+    return k[keep], C[keep] - spectrum.noise_floor, n.astype(np.float64)
 
 
 class _Fitted(NamedTuple):

@@ -17,6 +17,7 @@ from typing import TypeVar
 
 import numpy as np
 
+from fastline._lib.validate import in_span, real_array
 from fastline.errors import TopographyWarning
 
 #: fewest points per profile (and per map direction): a usable range of at least a factor 2
@@ -26,6 +27,11 @@ MAX_DROPOUT_FRACTION = 0.2
 #: plausibility of a measured surface (a unit slip by 1e3 or 1e6 falls outside)
 PLAUSIBLE_H_RMS = 1e-3  # m
 PLAUSIBLE_SLOPE = (1e-6, 5.0)
+#: heights (m) a measurement can hold: their largest magnitude lies in this span (a femtometre
+#: is far below any instrument's resolution, a kilometre far above any scan's form)
+HEIGHT_SPAN = (1e-15, 1e3)
+#: spacings dx, dy (m) of a measurement: from a picometre to ten metres
+SPACING_SPAN = (1e-12, 10.0)
 #: a surface is flat when its detrended h_rms is below this fraction of its largest height
 #: (float64 roundoff of the detrending is ~1e-16 of it)
 FLAT_TOLERANCE = 1e-12
@@ -34,18 +40,33 @@ _T = TypeVar("_T")
 
 
 def checked_heights(h, ndim_allowed: tuple[int, ...]) -> np.ndarray:
-    """Heights (m) as a float64 array of one of the allowed dimensions, without inf (NaN, a
-    dropout, is left to :func:`fill_dropouts`)."""
+    """Heights (m) as a float64 array of one of the allowed dimensions, real numbers (not
+    strings, bools or complex values), without inf, their largest magnitude inside
+    HEIGHT_SPAN (NaN, a dropout, is left to :func:`fill_dropouts`); a ValueError naming h."""
     try:
-        arr = np.array(h, dtype=np.float64)
-    except (TypeError, ValueError):
-        raise ValueError("h must be an array of real numbers (heights in m)") from None
+        arr = real_array("h", h)
+    except TypeError as e:
+        raise ValueError(f"{e} (heights in m)") from None
     if arr.ndim not in ndim_allowed:
         dims = " or ".join(f"{d}-dimensional" for d in ndim_allowed)
         raise ValueError(f"h must be {dims}, got shape {arr.shape}")
-    if np.any(np.isinf(arr)):
+    flat = arr.ravel()  # fmax/fmin skip NaN (all NaN: NaN, left to fill_dropouts) silently
+    top = (
+        max(abs(float(np.fmax.reduce(flat))), abs(float(np.fmin.reduce(flat)))) if arr.size else 0.0
+    )
+    if math.isinf(top):
         raise ValueError("h must not contain inf")
+    if math.isfinite(top) and top != 0.0 and not HEIGHT_SPAN[0] <= top <= HEIGHT_SPAN[1]:
+        raise ValueError(
+            f"h: the heights reach {top:.3g} m, outside [{HEIGHT_SPAN[0]:g}, "
+            f"{HEIGHT_SPAN[1]:g}] m: are they in m (unit='um', 'nm', ...)?"
+        )
     return arr
+
+
+def checked_spacing(name: str, value) -> float:
+    """A spacing (m) inside SPACING_SPAN."""
+    return in_span(name, value, SPACING_SPAN, "m")
 
 
 #: set while a caller recomputes what it has already analysed (and warned about) once
@@ -82,9 +103,15 @@ def fill_dropouts(h: np.ndarray, nan: str) -> np.ndarray:
             f"h contains {n} NaN values (dropouts, {frac:.1%} of the points): pass "
             "nan='interpolate' to bridge them linearly, or clean the data"
         )
-    if frac > MAX_DROPOUT_FRACTION or bad.all(axis=-1).any():
+    empty = np.flatnonzero(bad.reshape(-1, h.shape[-1]).all(axis=-1))
+    if empty.size:
         raise ValueError(
-            f"h has {frac:.1%} NaN values (or a row without data): too many dropouts to bridge "
+            f"h: row {int(empty[0])} holds no data (all {h.shape[-1]} values NaN): a row "
+            "without data cannot be bridged along itself; drop it (or crop the scan)"
+        )
+    if frac > MAX_DROPOUT_FRACTION:
+        raise ValueError(
+            f"h has {frac:.1%} NaN values: too many dropouts to bridge "
             f"(at most {MAX_DROPOUT_FRACTION:.0%})"
         )
     out = h.copy()
@@ -95,16 +122,34 @@ def fill_dropouts(h: np.ndarray, nan: str) -> np.ndarray:
     return out
 
 
+def _line_residual(h: np.ndarray, how: str) -> np.ndarray:
+    """Rows minus their mean or least-squares line, in closed form (``t`` centred, so the two
+    coefficients are independent): one work array of a row's size, no design matrix."""
+    n = h.shape[-1]
+    centre = 0.5 * (n - 1)
+    tt = n * (n * n - 1.0) / 12.0  # sum of (j - centre)^2
+    out = []
+    for row in h:
+        mean = float(np.mean(row))
+        res = np.arange(n, dtype=np.float64)  # j, then the residual in place
+        slope = (float(np.dot(row, res)) - centre * mean * n) / tt if how == "linear" else 0.0
+        res *= -slope
+        res += slope * centre - mean
+        res += row
+        out.append(res)
+    return out[0][None, :] if len(out) == 1 else np.array(out)
+
+
 def detrend_rows(h: np.ndarray, dx: float, how: str):
     """Rows minus their mean, line, parabola or circle; and the form's radius (m) or None."""
+    if how in ("mean", "linear"):
+        return _line_residual(h, how), None
     n = h.shape[-1]
     t = (np.arange(n) - 0.5 * (n - 1)) / (0.5 * n)  # in [-1, 1]
     degree = {"mean": 0, "linear": 1, "parabola": 2, "circle": 2}[how]
     V = np.vander(t, degree + 1)
     coef, *_ = np.linalg.lstsq(V, h.T, rcond=None)
     residual = h - (V @ coef).T
-    if how in ("mean", "linear"):
-        return residual, None
     curvature = 2.0 * coef[0] / (0.5 * n * dx) ** 2  # h'' of each row's parabola, 1/m
     radius = float(1.0 / np.mean(np.abs(curvature)))
     if how == "parabola":
@@ -155,6 +200,14 @@ def normalised_window(window, n: int) -> np.ndarray:
     """A window of n points normalised to ``sum w^2 = n`` (power-preserving)."""
     if window is None or (isinstance(window, str) and window.lower() in _RECTANGULAR):
         return np.ones(n)
+    if isinstance(window, str) and window.lower() in ("hann", "hanning"):
+        w = np.arange(n, dtype=np.float64)  # the periodic Hann window, 1 - cos: sum w^2 = 3n/8
+        w *= 2.0 * math.pi / n
+        np.cos(w, out=w)
+        w *= -0.5
+        w += 0.5
+        w *= math.sqrt(8.0 / 3.0)
+        return w
     from scipy.signal import get_window  # here: scipy.signal takes ~1 s to import
 
     try:
@@ -167,12 +220,47 @@ def normalised_window(window, n: int) -> np.ndarray:
 
 
 _RECTANGULAR = ("none", "rect", "rectangular", "boxcar")
+_HANN = ("hann", "hanning")
+#: rows are windowed in pieces of this many points (no window-sized work array)
+_CHUNK = 1 << 20
+
+
+def is_hann(window) -> bool:
+    """Whether ``window`` names the Hann window (computed here, in pieces, without SciPy)."""
+    return isinstance(window, str) and window.lower() in _HANN
+
+
+def apply_window(row: np.ndarray, window) -> None:
+    """Multiply one row in place by the window of :func:`normalised_window`; the Hann window
+    is computed piece by piece (no work array of the row's size)."""
+    n = row.size
+    if not is_hann(window):
+        row *= normalised_window(window, n)
+        return
+    for start in range(0, n, _CHUNK):
+        w = np.arange(start, min(start + _CHUNK, n), dtype=np.float64)
+        w *= 2.0 * math.pi / n
+        np.cos(w, out=w)
+        w *= -0.5 * math.sqrt(8.0 / 3.0)
+        w += 0.5 * math.sqrt(8.0 / 3.0)
+        row[start : start + w.size] *= w
+
+
+def window_factor(window, n: int) -> float:
+    """``N sum w^4 / (sum w^2)^2`` of the window: 1 without one, 35/18 for the periodic Hann
+    window of n >= 5 points (exact), else from the weights."""
+    if window is None or (isinstance(window, str) and window.lower() in _RECTANGULAR):
+        return 1.0
+    if is_hann(window) and n >= 5:
+        return 35.0 / 18.0
+    w2 = normalised_window(window, n) ** 2
+    return float(n * np.dot(w2, w2) / np.sum(w2) ** 2)
 
 
 def refuse_flat(h_rms: float, h: np.ndarray, what: str, detrend: str) -> None:
     """A ValueError when the detrended heights are zero to roundoff (a constant or a plane
     surface has no roughness spectrum), before the plausibility check blames the units."""
-    scale = float(np.nanmax(np.abs(h))) if np.any(np.isfinite(h)) else 0.0
+    scale = float(max(abs(np.nanmax(h)), abs(np.nanmin(h)))) if np.any(np.isfinite(h)) else 0.0
     if h_rms <= FLAT_TOLERANCE * scale or h_rms == 0.0:
         form = "mean" if detrend == "mean" else f"{detrend} form"
         raise ValueError(

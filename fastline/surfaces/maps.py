@@ -13,11 +13,12 @@ from typing import Literal
 import numpy as np
 from numpy.typing import ArrayLike
 
-from fastline._lib.validate import BINS_PER_DECADE_RANGE, integer, positive
+from fastline._lib.validate import BINS_PER_DECADE_RANGE, integer
 from fastline.surfaces.heights import (
     MIN_POINTS,
     check_plausible,
     checked_heights,
+    checked_spacing,
     choice,
     fill_dropouts,
     normalised_window,
@@ -54,8 +55,8 @@ def _map_stack(h, dx, dy) -> tuple[np.ndarray, float, float]:
     dy (m), checked."""
     h = checked_heights(h, (2, 3))
     stack = h if h.ndim == 3 else h[None]
-    dx = positive("dx", dx, "m")
-    dy = dx if dy is None else positive("dy", dy, "m")
+    dx = checked_spacing("dx", dx)
+    dy = dx if dy is None else checked_spacing("dy", dy)
     if min(stack.shape[1:]) < MIN_POINTS:
         raise ValueError(
             f"h must hold at least {MIN_POINTS} points in each direction, got shape {h.shape}"

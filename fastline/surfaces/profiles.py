@@ -22,16 +22,19 @@ from numpy.typing import ArrayLike
 
 from fastline._lib.validate import BINS_PER_DECADE_RANGE, finite_scalar, integer, positive
 from fastline.surfaces.abel import inverse_abel
+from fastline.surfaces.floor import find_floor, load_scipy
 from fastline.surfaces.heights import (
     MIN_POINTS,
+    apply_window,
     check_plausible,
     checked_heights,
+    checked_spacing,
     choice,
     detrend_rows,
     fill_dropouts,
-    normalised_window,
     refuse_flat,
     topography_warning,
+    window_factor,
 )
 from fastline.surfaces.ranges import (
     LOW_MODE,
@@ -75,6 +78,10 @@ class ProfileSpectrum:
         ``N sum w^4 / (sum w^2)^2`` of the window: neighbouring periodogram values of a
         windowed profile are correlated, and a mean of n of them scatters like a mean of
         ``n / window_factor`` independent ones (1 without a window, 35/18 for Hann).
+    noise_floor : float
+        The instrument's white-noise level of C1D in m^3 (``noise^2 dx / (2 pi)``), found in
+        the data (:mod:`~fastline.surfaces.floor`) or from ``noise``; 0 when there is none.
+        C1D includes it; :func:`fit_self_affine` takes it off.
     """
 
     k: np.ndarray
@@ -91,6 +98,7 @@ class ProfileSpectrum:
     detrend: str
     form_radius: float | None = None
     window_factor: float = 1.0
+    noise_floor: float = 0.0
 
     def __iter__(self) -> Iterator[np.ndarray]:
         return iter((self.k, self.C1D))
@@ -106,7 +114,7 @@ _DETRENDS = ("mean", "linear", "parabola", "circle")
 def _profile_rows(h, dx) -> tuple[np.ndarray, float]:
     """The heights as rows of at least MIN_POINTS each, and the spacing dx (m), checked."""
     rows = np.atleast_2d(checked_heights(h, (1, 2)))
-    dx = positive("dx", dx, "m")
+    dx = checked_spacing("dx", dx)
     if rows.shape[-1] < MIN_POINTS:
         raise ValueError(
             f"h must hold at least {MIN_POINTS} points per profile, got {rows.shape[-1]}"
@@ -125,45 +133,71 @@ class _Detrended(NamedTuple):
 
 
 def _detrended(rows: np.ndarray, dx: float, detrend: str, nan: str) -> _Detrended:
-    """The rows with dropouts bridged (or refused) and their form removed; a flat profile is
-    refused."""
+    """The rows with dropouts bridged (or refused) and their form removed (a new array); a
+    flat profile is refused."""
     raw = fill_dropouts(rows, nan)
-    refuse_flat(float(np.std(raw)), raw, "profile", "mean")  # before a form fit divides by 0
+    if detrend in ("parabola", "circle"):  # before a form fit divides by 0
+        refuse_flat(float(np.std(raw)), raw, "profile", "mean")
     rows, radius = detrend_rows(raw, dx, detrend)
-    h_rms = float(np.sqrt(np.mean(rows**2)))
+    flat = rows.ravel()
+    h_rms = math.sqrt(float(np.dot(flat, flat)) / flat.size)
     refuse_flat(h_rms, raw, "profile", detrend)
-    slope = float(np.sqrt(np.mean((np.diff(rows, axis=-1) / dx) ** 2)))
+    squares = 0.0
+    for row in rows:
+        d = np.diff(row)
+        squares += float(np.dot(d, d))
+    slope = math.sqrt(squares / (rows.shape[0] * (rows.shape[1] - 1))) / dx
     return _Detrended(rows, radius, h_rms, slope)
 
 
-def _periodogram(h: np.ndarray, dx: float, w: np.ndarray):
-    """``k_m, C1D(k_m)`` for m = 1 .. N//2, averaged over the rows (module docstring)."""
+def _periodogram(h: np.ndarray, dx: float, window):
+    """``k_m, C1D(k_m)`` for m = 1 .. N//2, averaged over the rows (module docstring). The
+    rows are windowed in place (they are the detrended copy)."""
     n = h.shape[-1]
     L = n * dx
-    F = np.fft.rfft(h * w, axis=-1)
-    C = (dx * dx / (2.0 * math.pi * L)) * np.mean(np.abs(F) ** 2, axis=0)
-    k = 2.0 * math.pi * np.arange(F.shape[-1]) / L
+    C = np.zeros(n // 2 + 1)
+    power = C if h.shape[0] == 1 else np.empty_like(C)
+    for row in h:
+        apply_window(row, window)
+        F = np.fft.rfft(row)
+        np.abs(F, out=power)
+        del F
+        power *= power
+        if power is not C:
+            C += power
+    C *= dx * dx / (2.0 * math.pi * L * h.shape[0])
+    k = np.arange(C.size, dtype=np.float64)
+    k *= 2.0 * math.pi / L
     return k[1:], C[1:]
 
 
-def _profile_range(k, C, rows, dx, rules: RangeRules):
-    """The usable range of a periodogram (k, C) of rows at spacing dx, and its reasons."""
-    given, tip, noise = rules
+def _profile_range(k, C, rows, dx, rules: RangeRules, independent: float, k_tip: float):
+    """The usable range of a periodogram (k, C) of rows at spacing dx, the rule of each end,
+    and the white-noise level of C1D (m^3; given by ``noise`` or found in the data)."""
+    given, _, noise = rules
     measured = (float(k[0]), float(k[-1]))
     if given == "all":
-        return measured, {"low": "all", "high": "all"}
-    k_noise = math.inf
+        return measured, {"low": "all", "high": "all"}, 0.0
+    k_low = LOW_MODE * 2.0 * math.pi / (rows.shape[-1] * dx)
+    k_noise, noise_rule = math.inf, "noise floor"
     if noise is not None:
+        level = noise * noise * dx / (2.0 * math.pi)
         kb, Cb, _ = log_bins(k, C, 20, k[0], k[-1])
-        k_noise = noise_cutoff(kb, Cb, noise * noise * dx / (2.0 * math.pi))
-    return usable_range(
-        LOW_MODE * 2.0 * math.pi / (rows.shape[-1] * dx),
+        k_noise = noise_cutoff(kb, Cb, level)
+    else:
+        level, k_noise, _, _ = find_floor(k, C, independent, k_low)
+        noise_rule = "noise floor found"
+    usable = usable_range(
+        k_low,
         2.0 * math.pi / (POINTS_PER_WAVELENGTH * dx),
-        math.inf if tip is None else tip_cutoff(rows, dx, tip),
+        k_tip,
         k_noise,
         given,
         measured,
     )
+    if usable[1]["high"] == "noise floor":
+        usable[1]["high"] = noise_rule
+    return usable[0], usable[1], level
 
 
 def _profile_points(k, C, q_rng, bins_per_decade):
@@ -180,11 +214,11 @@ def _profile_points(k, C, q_rng, bins_per_decade):
     return k, C, counts
 
 
-def _spectrum(points, usable, form: _Detrended, dx, w, window, detrend) -> ProfileSpectrum:
+def _spectrum(points, usable, form: _Detrended, dx, factor, window, detrend) -> ProfileSpectrum:
     """The ProfileSpectrum of the points ``(k, C1D, counts)`` over the usable range
-    ``(q_range, limits)``, with the data and the analysis they came from."""
+    ``(q_range, limits, noise level)``, with the data and the analysis they came from."""
     k, C, counts = points
-    q_rng, limits = usable
+    q_rng, limits, level = usable
     return ProfileSpectrum(
         k=k,
         C1D=C,
@@ -199,7 +233,8 @@ def _spectrum(points, usable, form: _Detrended, dx, w, window, detrend) -> Profi
         window="none" if window is None else str(window),
         detrend=detrend,
         form_radius=form.radius,
-        window_factor=float(w.size * np.sum(w**4) / np.sum(w * w) ** 2),
+        window_factor=factor,
+        noise_floor=float(level),
     )
 
 
@@ -242,31 +277,64 @@ def psd_from_profile(
         mode LOW_MODE to the lowest of the sampling, tip and noise limits), None the whole
         periodogram, a pair overrides either end (None keeps the rule).
     tip_radius, noise : float, optional
-        Stylus tip radius and rms instrument noise, in m (their limits of ``"auto"``).
+        Stylus tip radius and rms instrument noise, in m (their limits of ``"auto"``). Without
+        ``noise`` the white-noise plateau is sought in the data
+        (:func:`~fastline.surfaces.floor.find_floor`): when found, the range ends where the
+        fitted power law falls to ``NOISE_MARGIN`` times it, and ``noise_floor`` holds its
+        level, which :func:`fit_self_affine` takes off.
 
     Returns
     -------
     ProfileSpectrum
         Unpacks as ``k, C1D``; also the range used, the counts per point and the data's h_rms.
     """
+    options = dict(window=window, detrend=detrend, nan=nan, bins_per_decade=bins_per_decade)
+    return spectrum_and_periodogram(h, dx, q_range, tip_radius, noise, **options)[0]
+
+
+def spectrum_and_periodogram(h, dx, q_range, tip_radius, noise, *, window, detrend, nan,
+                             bins_per_decade) -> tuple[ProfileSpectrum, tuple]:  # fmt: skip
+    """:func:`psd_from_profile` and the raw periodogram ``(k, C1D)`` at every Fourier mode it
+    was cut and binned from (for figures), from one pass over the heights."""
     rows, dx = _profile_rows(h, dx)
     detrend = choice("detrend", detrend, _DETRENDS)
     nan = choice("nan", nan, ("raise", "interpolate"))
     if bins_per_decade is not None:
         bins_per_decade = integer("bins_per_decade", bins_per_decade, *BINS_PER_DECADE_RANGE)
     rules = range_rules(q_range, tip_radius, noise)
-    w = normalised_window(window, rows.shape[-1])  # checks the name before any work
+    factor = window_factor(window, rows.shape[-1])  # checks the name before any work
+    load_scipy()
     form = _detrended(rows, dx, detrend, nan)
     check_plausible(form.h_rms, form.slope, "psd_from_profile")
-    k, C = _periodogram(form.rows, dx, w)
-    usable = _profile_range(k, C, form.rows, dx, rules)
+    k_tip = math.inf if rules.tip is None else tip_cutoff(form.rows, dx, rules.tip)
+    k, C = _periodogram(form.rows, dx, window)  # windows form.rows in place
+    form = form._replace(rows=rows)  # the windowed copy is no longer needed: free it
+    usable = _profile_range(k, C, rows, dx, rules, rows.shape[0] / factor, k_tip)
     points = _profile_points(k, C, usable[0], bins_per_decade)
-    return _spectrum(points, usable, form, dx, w, window, detrend)
+    return _spectrum(points, usable, form, dx, factor, window, detrend), (k, C)
 
 
 # ----------------------------------------------------------------------------------------------
 # 1D -> isotropic 2D
 # ----------------------------------------------------------------------------------------------
+def non_increasing(C1D: np.ndarray) -> np.ndarray:
+    """The non-increasing sequence closest to C1D in least squares of ``ln C1D`` (the
+    pool-adjacent-violators algorithm: rising runs are pooled into their mean).
+
+    ``C1D(k) = 2 int_0^inf C(sqrt(k^2 + s^2)) ds`` falls with k wherever C(q) falls with q, and
+    with ``C1D' <= 0`` the inverse transform ``-(1/pi) int C1D' / sqrt(k^2 - q^2) dk`` is
+    positive: the noise of a periodogram, not the surface, makes a measured C1D rise."""
+    values, sizes = [], []
+    for v in np.log(C1D):
+        values.append(float(v))
+        sizes.append(1)
+        while len(values) > 1 and values[-2] < values[-1]:
+            v2, n2 = values.pop(), sizes.pop()
+            values[-1] = (values[-1] * sizes[-1] + v2 * n2) / (sizes[-1] + n2)
+            sizes[-1] += n2
+    return np.exp(np.repeat(values, sizes))
+
+
 def _tail_slope(k: np.ndarray, C1D: np.ndarray, tail, tail_decades) -> float | None:
     """The exponent of C1D beyond the last point (< -1), or None for no tail: the ``tail`` of
     :func:`isotropic_from_1d`."""
@@ -317,7 +385,7 @@ def isotropic_from_1d(
         C(q) near the top depends on it; the measured range is what the tail continues.
     q1 : float, optional
         Cut the result at q1, or extend it to q1 by the power law fitted to its top half decade
-        (:func:`extend_psd`), as for a spectrum measured to 1e6 1/m used to q1 = 1e9 1/m.
+        (:func:`extend_psd`).
 
     Returns
     -------
@@ -327,17 +395,24 @@ def isotropic_from_1d(
     Warns
     -----
     TopographyWarning
-        When noise makes C(q) <= 0 at some points; they are left out.
+        When noise makes C(q) <= 0 somewhere: C1D is then replaced by its closest
+        non-increasing sequence (:func:`non_increasing`), and the table keeps every point.
     """
     k, C1D = checked_table("k", k, "C1D", C1D, positive_values=True)
-    C = inverse_abel(k, C1D, _tail_slope(k, C1D, tail, tail_decades))
+    slope = _tail_slope(k, C1D, tail, tail_decades)
+    C = inverse_abel(k, C1D, slope)
     good = C > 0.0
-    if not good.all():
+    if not good.all():  # noise: C1D rises somewhere; its falling envelope keeps C > 0
+        pooled = non_increasing(C1D)
         topography_warning(
-            f"isotropic_from_1d: C(q) <= 0 at {int((~good).sum())} of {k.size} points (noise "
-            "in C1D); they are left out. Fewer bins per decade or more profiles help.",
+            f"isotropic_from_1d: noise in C1D made C(q) <= 0 at {int((~good).sum())} of "
+            f"{k.size} points; C1D was replaced by its closest non-increasing sequence (least "
+            f"squares in ln C1D; {int(np.sum(pooled != C1D))} points changed), whose inverse "
+            "transform is positive. Fewer bins per decade or more profiles help.",
             stacklevel=2,
         )
+        C = inverse_abel(k, pooled, slope)
+        good = C > 0.0
     if good.sum() < 2:
         raise ValueError("the inverse transform left fewer than 2 positive values of C(q)")
     psd = TabulatedPSD(k[good], C[good])

@@ -28,6 +28,9 @@ TIP_SAFETY = 0.5
 #: fewest periodogram values (or ring modes) averaged into one point of a binned spectrum
 MIN_PER_BIN = 5
 
+#: log_bins works through long spectra in pieces of this many values
+_CHUNK = 1 << 19
+
 #: a usable range: "auto" (the rules), None (everything), or (lo, hi) in 1/m with None for a rule
 QRange = Literal["auto"] | tuple[float | None, float | None] | None
 
@@ -46,11 +49,17 @@ def log_bins(x: np.ndarray, y: np.ndarray, per_decade: int, lo: float, hi: float
     nb = max(1, math.ceil(per_decade * math.log10(hi / lo) - 1e-9))
     edges = np.geomspace(lo, hi, nb + 1)
     edges[-1] = hi * (1.0 + 1e-12)
-    idx = np.searchsorted(edges, x, side="right") - 1
+    if x.size > 1 and x[0] <= x[1] and bool(np.all(x[1:] >= x[:-1])):  # sorted: views
+        cut = slice(*np.searchsorted(x, [lo, edges[-1]], side="left"))
+        x, y = x[cut], y[cut]
+    idx = np.searchsorted(edges, x, side="right")
+    idx -= 1
     inside = (idx >= 0) & (idx < nb)
-    x, y = x[inside], y[inside]
-    group = _merge_groups(np.bincount(idx[inside], minlength=nb), MIN_PER_BIN)
-    idx = group[idx[inside]]
+    if not inside.all():
+        x, y, idx = x[inside], y[inside], idx[inside]
+    del inside
+    group = _merge_groups(np.bincount(idx, minlength=nb), MIN_PER_BIN)
+    idx = group[idx]
     ng = int(group[-1]) + 1
     counts = np.bincount(idx, minlength=ng)
     ybar = np.bincount(idx, weights=y, minlength=ng) / counts
@@ -58,10 +67,17 @@ def log_bins(x: np.ndarray, y: np.ndarray, per_decade: int, lo: float, hi: float
     if ybar.size < 3 or np.any(ybar <= 0.0):
         return xbar, ybar, counts
     s = np.clip(np.gradient(np.log(ybar), np.log(xbar)), -8.0, 8.0)  # noise: no wild slopes
-    ratio = x / xbar[idx]
     flat = np.abs(s) < 1e-4  # there <x^s>^(1/s) -> the geometric mean exp<ln x>
-    power = np.where(flat[idx], np.log(ratio), ratio ** np.where(flat, 1.0, s)[idx])
-    mean = np.bincount(idx, weights=power, minlength=ng) / counts
+    mean = np.zeros(ng)
+    for start in range(0, x.size, _CHUNK):  # in pieces: no work arrays of the spectrum's size
+        part = slice(start, start + _CHUNK)
+        j = idx[part]
+        power = x[part] / xbar[j]  # the ratio, then its power in place
+        member = flat[j]
+        power[member] = np.log(power[member])
+        power[~member] **= s[j[~member]]
+        mean += np.bincount(j, weights=power, minlength=ng)
+    mean /= counts
     x_eff = np.exp(mean)
     x_eff[~flat] = mean[~flat] ** (1.0 / s[~flat])
     return xbar * x_eff, ybar, counts

@@ -15,7 +15,7 @@ records what was done.
 Conventions and SI units as :mod:`fastline.surfaces.topography`: heights and spacings in m,
 wavenumbers in 1/m, C1D in m^3, C(q) in m^4 with ``h_rms^2 = 2 pi int q C dq``. The analysis
 warns (:class:`~fastline.errors.TopographyWarning`) when h_rms or the slopes suggest a unit slip
-and when C(q) <= 0 points are left out by the inverse transform.
+and when noise in C1D makes the inverse transform smooth it (its falling envelope).
 """
 
 from __future__ import annotations
@@ -31,6 +31,7 @@ import numpy as np
 from fastline._lib.validate import positive
 from fastline.surfaces import topography as tp
 from fastline.surfaces.heights import quiet
+from fastline.surfaces.profiles import spectrum_and_periodogram
 from fastline.surfaces.read import read_spectrum
 from fastline.theory.spectra import TabulatedPSD
 
@@ -43,6 +44,8 @@ LIMIT_RULES = {
     f"2 pi / ({tp.POINTS_PER_WAVELENGTH} dx))",
     "tip radius": f"stylus tip (it cannot follow curvatures beyond {tp.TIP_SAFETY:g} / R_tip)",
     "noise floor": f"noise floor (C below {tp.NOISE_MARGIN:g} x the white-noise level)",
+    "noise floor found": "noise floor found in the data (a white plateau; the fitted power law "
+    f"falls below {tp.NOISE_MARGIN:g} x it)",
     "tip radius or noise floor": "stylus tip or noise floor",
     "given": "given",
     "all": "all measured wavenumbers",
@@ -50,6 +53,9 @@ LIMIT_RULES = {
 #: a two-column file is taken for a spectrum (q, C) rather than a profile (x, h) when its first
 #: column spans at least this ratio and its second column falls over this many decades
 _SPECTRUM_SPAN, _SPECTRUM_DECADES = 10.0, 3.0
+#: ... and only when it has at most this many rows (a spectrum table is short; a scan of more
+#: points is not read a second time to check)
+_SPECTRUM_ROWS = 100_000
 
 
 @dataclass(frozen=True)
@@ -109,7 +115,8 @@ class ScanSpectrum:
         return self.spectrum.n_profiles if self.spectrum is not None else 1
 
     def describe(self) -> str:
-        """One line: what was read and how it was analysed."""
+        """One line: what was read and how it was analysed (:meth:`summary`: the whole
+        analysis, as ``fastline psd`` prints it)."""
         if self.kind == "map":
             ny, nx = self.shape
             what = (
@@ -125,6 +132,34 @@ class ScanSpectrum:
             )
         return f"{what}; {self.window} window, {self.detrend} detrend"
 
+    def cut(self) -> str | None:
+        """What the usable range left out at its top and why, in words (None: nothing)."""
+        if self.spectrum is None:
+            return None
+        top, hi = math.pi / self.dx, self.q_range[1]
+        if hi >= top * (1.0 - 1e-9):
+            return None
+        s = self.spectrum
+        text = (
+            f"{hi:.4g}-{top:.4g} 1/m, the {math.log10(top / hi):.2g} decades up to the Nyquist "
+            "wavenumber pi / dx (the high end's rule)"
+        )
+        if s.noise_floor > 0.0:
+            sigma = math.sqrt(s.noise_floor * 2.0 * math.pi / self.dx)
+            text += (
+                f"; white-noise level C1D {s.noise_floor:.3g} m^3 (rms noise {sigma:.3g} m, "
+                f"{sigma / s.h_rms:.2%} of h_rms), taken off C1D by the fit"
+            )
+        return text
+
+    def summary(self, table: bool = True) -> str:
+        """The full summary ``fastline psd`` prints: what was read, the data, the usable range
+        and the rule of each end, what was cut above it, the fit, the table (``table``)."""
+        return "\n".join(summary_lines(self, table))
+
+    def __str__(self) -> str:
+        return self.summary()
+
     def metadata(self) -> dict:
         """``key: value`` entries for a file header: the source, range, rules, fit, extension."""
         f = self.fit
@@ -135,6 +170,8 @@ class ScanSpectrum:
         if self.spectrum is not None:
             meta["h_rms_data_m"] = self.spectrum.h_rms
             meta["rms_slope_data"] = self.spectrum.rms_slope
+            if self.spectrum.noise_floor > 0.0:
+                meta["noise_floor_C1D_m3"] = self.spectrum.noise_floor
         meta.update(
             q_range_low_1_per_m=self.q_range[0],
             q_range_high_1_per_m=self.q_range[1],
@@ -152,6 +189,56 @@ class ScanSpectrum:
             meta["extended_above_1_per_m"] = self.extended_from
             meta["extension"] = f"power law C ~ q^-2(1+H), H = {f.hurst:.6g} (the fit)"
         return meta
+
+
+def _fit_line(f: tp.SelfAffineFit) -> str:
+    """The fit in one line: H, q_r and h_rms with their errors, or why one is not measured."""
+    hurst = f"H {f.hurst:.3f} ± {f.hurst_err:.2g}"
+    if f.hurst_at_bound:  # held there: no error bar
+        steeper = "faster" if f.hurst >= 1.0 else "slower"
+        hurst = f"H {f.hurst:g} (held at its bound: C falls {steeper} than self-affine can)"
+    qr = f"q_r {f.qr:.4g} ± {f.qr_err:.2g} 1/m"
+    if f.qr_at_bound:
+        qr = f"q_r {f.qr:.4g} 1/m not resolved (the roll-off may lie anywhere below)"
+    return (
+        f"fit              {hurst}, {qr}, h_rms {f.h_rms:.4g} ± {f.h_rms_err:.2g} m "
+        f"(self-affine with roll-off fitted to {f.fitted_to} over {f.q_range[0]:.4g}-"
+        f"{f.q_range[1]:.4g} 1/m; scatter of ln {f.fitted_to.split('(')[0]} "
+        f"{f.rms_residual:.2g} rms, {f.n_points} points)"
+    )
+
+
+def summary_lines(scan: ScanSpectrum, table: bool) -> list[str]:
+    """The lines of :meth:`ScanSpectrum.summary`."""
+    lines = [f"scan             {scan.path}: {scan.describe()}"]
+    if scan.spectrum is not None:
+        s = scan.spectrum
+        lines.append(
+            f"data             h_rms {s.h_rms:.4g} m, rms slope {s.rms_slope:.4g} (detrended "
+            "heights; slope from differences at dx)"
+        )
+    lo, hi = scan.q_range
+    lines.append(
+        f"q range used     {lo:.4g}-{hi:.4g} 1/m; low end: {LIMIT_RULES[scan.limits['low']]}; "
+        f"high end: {LIMIT_RULES[scan.limits['high']]}"
+    )
+    cut = scan.cut()
+    if cut is not None:
+        lines.append(f"left out         {cut}")
+    lines.append(_fit_line(scan.fit))
+    if table:
+        t = scan.psd
+        lines.append(
+            f"C(q) table       {t.q.size} points, q {t.q0:.4g}-{t.q1:.4g} 1/m: h_rms "
+            f"{t.h_rms:.4g} m, rms slope {t.rms_slope:.4g}"
+        )
+    if scan.extended_from is not None:
+        lines.append(
+            f"continued        above {scan.extended_from:.4g} 1/m to q1 = {scan.psd.q1:.4g} 1/m "
+            f"as C ~ q^-{2.0 * (1.0 + scan.fit.hurst):.3g} (the fitted H): an assumption, not a "
+            "measurement"
+        )
+    return lines
 
 
 # ----------------------------------------------------------------------------------------------
@@ -221,7 +308,7 @@ def _read_file(path: str, dx, dy, as_map: bool, unit: str, x_unit):
         h = data.heights
         return ("profile" if h.shape[0] == 1 else "profiles"), h, data.dx, None
     h = data.heights
-    if np.all(h > 0.0):  # a (q, C) table on a uniform q grid reads as a positive profile
+    if h.size <= _SPECTRUM_ROWS and np.all(h > 0.0):  # a (q, C) table on a uniform q grid
         _refuse_spectrum(path)
     return "profile", h, data.dx, None
 
@@ -239,13 +326,11 @@ class _Spectra(NamedTuple):
 
 def _profile_stage(h, dx, options) -> _Spectra:
     """The ProfileSpectrum over the usable range, the raw periodogram, C(q) over the range."""
-    spectrum = tp.psd_from_profile(h, dx, **options)
-    raw_options = {**options, "q_range": None, "bins_per_decade": None}
-    raw_options.pop("tip_radius"), raw_options.pop("noise")
-    with quiet():  # said once, by the call above
-        raw = tp.psd_from_profile(h, dx, **raw_options)
+    rules = {key: options[key] for key in ("q_range", "tip_radius", "noise")}
+    rest = {key: options[key] for key in ("window", "detrend", "nan", "bins_per_decade")}
+    spectrum, raw = spectrum_and_periodogram(h, dx, **rules, **rest)
     measured = spectrum.isotropic()
-    return _Spectra(spectrum, (raw.k, raw.C1D), measured, spectrum.q_range, dict(spectrum.limits))
+    return _Spectra(spectrum, raw, measured, spectrum.q_range, dict(spectrum.limits))
 
 
 def _map_limits(psd: TabulatedPSD, dx, dy, q_range, tip, noise) -> dict:
@@ -377,7 +462,7 @@ def analyse_scan(
     dx: float | None = None,
     dy: float | None = None,
     as_map: bool = False,
-    unit: str = "m",
+    unit: str | None = None,
     x_unit: str | None = None,
     window: str | None = "hann",
     detrend: Literal["linear", "plane", "mean", "parabola", "circle"] | None = None,
@@ -400,8 +485,9 @@ def analyse_scan(
         Spacing in m along the scans and between a map's rows (default: the file's own).
     as_map : bool
         A 2D file as a height map (ring-averaged 2D spectrum), not as parallel line scans.
-    unit, x_unit : str
-        Units of heights and x (``"m"``, ``"mm"``, ``"um"``, ``"nm"``; x_unit defaults to unit).
+    unit, x_unit : str, optional
+        Units of heights and x of a text or ``.npy`` file (``"m"``, ``"mm"``, ``"um"``,
+        ``"nm"``; default: the header's, as :func:`~fastline.surfaces.topography.read_profile`).
     window, nan, bins_per_decade, q_range, tip_radius, noise
         As :func:`fastline.surfaces.topography.psd_from_profile` (maps: ``psd_from_map``).
     detrend : str, optional
@@ -419,8 +505,7 @@ def analyse_scan(
     ------
     ValueError
         Bad options (before any work), an unreadable or implausible file, an empty usable
-        range, q1 above it without ``extend`` (FileNotFoundError, ImportError: no such file;
-        an instrument format without SurfaceTopography).
+        range, q1 above it without ``extend`` (FileNotFoundError: no such file).
     """
     path = os.fspath(path)
     detrend, q1 = _checked_options(as_map, detrend, q1, extend)

@@ -31,7 +31,7 @@ __getattr__, __dir__, __all__ = _lazy.attach(
             "modulus_slip",
             "E_STAR_PLAUSIBLE",
         ],
-        "files": ["read_spectrum", "read_table"],
+        "files": ["Table", "parse_table", "read_spectrum", "read_table", "split_fields"],
         "quadrature": ["EtaRule", "interval_moments", "tabulated_quadrature"],
         "special": [
             "universal_F",
