@@ -16,6 +16,8 @@ __all__ = [
     "TopographyWarning",
     "SceneFailureWarning",
     "SpectrumFileError",
+    "CalibrationWarning",
+    "CalibrationFileError",
 ]
 
 
@@ -46,3 +48,13 @@ class SceneFailureWarning(UserWarning):
 
 class SpectrumFileError(ValueError):
     """A spectrum file that cannot be read or does not look like a spectrum."""
+
+
+class CalibrationWarning(ValidityWarning):
+    """A boundary-element calibration that is under-resolved, did not converge everywhere or
+    left part of its law uncalibrated."""
+
+
+class CalibrationFileError(ValueError):
+    """A calibrated-law file that is corrupt, of another format version, or made for another
+    spectrum or modulus."""

@@ -19,9 +19,12 @@ through rings in series (each ring of width dr is a rectangle of length 2 pi r):
 
     Q = dP / int_{inner_radius} dr / (2 pi r sigma(r)).
 
-u_c comes from a table of the critical gap built once per theory and threshold (relative error
-below the theory's rtol; :func:`fastline.theory.interface.gap_table`). A sealed strip
-(``P(q1, p) >= threshold``) on the flow path seals the contact.
+A law calibrated on boundary-element ensembles (``law=``, :func:`fastline.calibrate`) puts
+its Reynolds effective gap g(p) in place of u_c(p), strips in series as before
+(docs/calibration.md). Otherwise u_c comes from a table of the critical gap built once per
+theory and threshold (relative error below the theory's rtol;
+:func:`fastline.theory.interface.gap_table`). A sealed strip (``P(q1, p) >= threshold``) on the
+flow path seals the contact.
 """
 
 from __future__ import annotations
@@ -47,6 +50,7 @@ from fastline.theory.interface import (
 if TYPE_CHECKING:  # annotations only
     from fastline.contact.line import LineContactResult
     from fastline.contact.point import PointContactResult
+    from fastline.theory.calibrated import CalibratedLaw
     from fastline.theory.persson import PerssonTheory
 
 __all__ = ["LeakResult", "LeakageWarning", "leak_rate", "leak_rate_profile"]
@@ -100,7 +104,8 @@ class LeakResult:
         Strip centres in m (radii of the ring cells for radial flow) and the nominal pressure
         in Pa.
     u_c : ndarray
-        Critical gap ``u_c(p(x))`` in m (0 in sealed strips; +inf where p = 0).
+        Critical gap ``u_c(p(x))`` in m (0 in sealed strips; +inf where p = 0); with a
+        calibrated ``law``, its hydraulic gap ``g(p(x))``.
     sigma : ndarray
         Local conductance ``u_c^3 / (12 eta)`` in m^3/(Pa s).
     sealed_strips : ndarray of bool
@@ -349,6 +354,7 @@ def leak_rate_profile(
     method: Literal["critical-junction"] = "critical-junction",
     mean_free_path: float | None = None,
     warn: bool = True,
+    law: CalibratedLaw | None = None,
 ) -> LeakResult:
     """Leak rate of a seal with a nominal pressure profile p(x): strips (or rings) in series,
     each of conductance ``u_c(p)^3 / (12 eta)`` (module docstring; docs/leakage.md §3-5).
@@ -383,11 +389,14 @@ def leak_rate_profile(
         viscous. None for liquids.
     warn : bool
         Emit the :class:`LeakageWarning` s (listed in ``diagnostics['warnings']`` either way).
+    law : CalibratedLaw, optional
+        Its calibrated hydraulic gap g(p) in place of u_c(p) (:func:`leak_rate`).
 
     Returns
     -------
     LeakResult
     """
+    law = _law(law)
     length = _length(length, inner_radius)
     pressure_drop, viscosity, length, threshold, mean_free_path = _scalars(
         pressure_drop, viscosity, length, threshold, method, mean_free_path
@@ -395,7 +404,7 @@ def leak_rate_profile(
     interface_cache(theory)
     x, p, inner_radius = _profile(x, p, inner_radius)
     flow = _Flow(pressure_drop, viscosity, length, inner_radius, threshold, method, mean_free_path)
-    return _leak(x, p, theory, flow, warn, converged=True)
+    return _leak(x, p, theory, flow, warn, True, law)
 
 
 def _length(length, inner_radius) -> float | None:
@@ -423,10 +432,30 @@ class _Flow:
     mean_free_path: float | None
 
 
-def _leak(x, p, theory, flow: _Flow, warn: bool, converged: bool) -> LeakResult:
+def _law(law):
+    """A calibrated law for the gap (duck-typed: it has ``log_hydraulic_gap``), or None."""
+    if law is not None and not callable(getattr(law, "log_hydraulic_gap", None)):
+        raise TypeError(
+            "law must be a calibrated law with log_hydraulic_gap(p) (fastline.CalibratedLaw, "
+            f"from fastline.calibrate), got {type(law).__name__}"
+        )
+    return law
+
+
+def _gaps(theory, p, threshold, law):
+    """(ln gap, sealed strips, table diagnostics): Persson's critical gap from its table, or
+    a calibrated law's hydraulic gap g(p) in its place."""
+    if law is not None:
+        log_gap, sealed = law.log_hydraulic_gap(p)
+        return log_gap, sealed, {"law": getattr(law, "name", "calibrated")}
+    table = gap_table(theory, threshold)
+    log_gap, sealed = table.log_gap(sealing_argument(theory, p))
+    return log_gap, sealed, {"z0": table.z0, "h": table.h, "cells": int(table.cf.shape[0])}
+
+
+def _leak(x, p, theory, flow: _Flow, warn: bool, converged: bool, law=None) -> LeakResult:
     radial = flow.inner_radius is not None
-    table = gap_table(theory, flow.threshold)
-    log_gap, sealed_strips = table.log_gap(sealing_argument(theory, p))
+    log_gap, sealed_strips, table = _gaps(theory, p, flow.threshold, law)
     lo, hi = _cell_edges(x, flow.inner_radius)
     log_geometry = _log_geometry(lo, hi, radial)
     sealed_strips &= ~np.isneginf(log_geometry)  # only the cells the flow crosses
@@ -448,7 +477,7 @@ def _leak(x, p, theory, flow: _Flow, warn: bool, converged: bool) -> LeakResult:
     diag.update(
         n_strips=int(x.size),
         n_sealed=int(sealed_strips.sum()),
-        gap_table={"z0": table.z0, "h": table.h, "cells": int(table.cf.shape[0])},
+        gap_table=table,
         warnings=msgs,
     )
     for msg in msgs if warn else ():
@@ -491,6 +520,7 @@ def leak_rate(
     method: Literal["critical-junction"] = "critical-junction",
     mean_free_path: float | None = None,
     warn: bool = True,
+    law: CalibratedLaw | None = None,
 ) -> LeakResult:
     """Leak rate of a solved contact: across a line contact (along x), or radially out of the
     orifice of a point contact.
@@ -515,7 +545,11 @@ def leak_rate(
         orifice of a valve seat closed by a ball; the fluid flows outwards through the contact.
         Not for a line contact.
     theory : PerssonTheory, optional
-        The theory the contact was solved with; default ``result.theory``.
+        The theory the contact was solved with; default ``result.theory`` (or ``law.theory``).
+    law : CalibratedLaw, optional
+        A law calibrated on boundary-element ensembles (:func:`fastline.calibrate`): its
+        Reynolds effective gap g(p) replaces the critical gap u_c(p) in every strip (strips in
+        series as above; sealed where no calibrated channel percolates).
 
     Returns
     -------
@@ -535,10 +569,13 @@ def leak_rate(
     pressure_drop, viscosity, length, threshold, mean_free_path = _scalars(
         pressure_drop, viscosity, length, threshold, method, mean_free_path
     )
+    law = _law(law)
+    if theory is None and law is not None and getattr(result, "theory", None) is None:
+        theory = law.theory
     theory = _result_theory(result, theory)
     x, p, inner_radius = _profile(coords, result.pressure, inner_radius)
     flow = _Flow(pressure_drop, viscosity, length, inner_radius, threshold, method, mean_free_path)
-    return _leak(x, p, theory, flow, warn, converged=bool(result.converged))
+    return _leak(x, p, theory, flow, warn, bool(result.converged), law)
 
 
 def _coordinates(result, inner_radius) -> np.ndarray:
