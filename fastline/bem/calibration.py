@@ -269,7 +269,7 @@ def _solve_record(runs, seconds) -> dict:
     }
 
 
-def _companion(task, check, points_per_wavelength, periods, grid_given) -> _Task | None:
+def _companion(task, check) -> _Task | None:
     """The check's task: three pressures (ends and middle) on a grid twice as fine or a cell
     twice as long (None without a check)."""
     if check is None:
@@ -328,103 +328,86 @@ def _warn_unconverged(record) -> None:
 
 
 def calibrate(
-    psd: PSD,
-    E_star: float,
-    pressures: ArrayLike | None = None,
-    *,
-    radius: float | None = None,
-    loads: ArrayLike | None = None,
-    geometry: str = "line",
-    n_pressures: int = DEFAULT_PRESSURES,
-    realizations: int = 8,
-    seed: int = 0,
-    points_per_wavelength: float = 4.0,
-    periods: float = 4.0,
-    grid: Grid | None = None,
-    check: str | None = "finer",
-    tol: float = DEFAULT_TOL,
-    max_iter: int = 5000,
-    viscosity: float = 1e-3,
-    executor: ExecutorLike = None,
-    workers: int | None = None,
+    psd: PSD, E_star: float, pressures: ArrayLike | None = None, *,
+    radius: float | None = None, loads: ArrayLike | None = None, geometry: str = "line",
+    n_pressures: int = DEFAULT_PRESSURES, realizations: int = 8, seed: int = 0,
+    points_per_wavelength: float = 4.0, periods: float = 4.0, grid: Grid | None = None,
+    check: str | None = "finer", tol: float = DEFAULT_TOL, max_iter: int = 5000,
+    viscosity: float = 1e-3, executor: ExecutorLike = None, workers: int | None = None,
     progress: Callable[[int, int], None] | None = None,
-) -> CalibratedLaw:
+) -> CalibratedLaw:  # fmt: skip
     """A pressure law and hydraulic gap calibrated on flat-contact BEM ensembles of ``psd``
     (module docstring; docs/calibration.md).
 
     Parameters
     ----------
-    psd : PSD
-        The roughness spectrum.
-    E_star : float
-        Effective modulus [Pa], > 0.
+    psd, E_star : PSD, float
+        The roughness spectrum and the effective modulus [Pa], > 0.
     pressures : array_like, optional
         Nominal pressures [Pa] to simulate (>= 3 distinct, > 0). Or give ``radius`` and
         ``loads`` of the scenes to be solved: ``n_pressures`` pressures log-spaced over
         :func:`pressure_range`.
     radius, loads, geometry
         Cylinder (``"line"``, loads in N/m) or sphere (``"point"``, forces in N) [m].
-    n_pressures : int
-        Pressures when chosen from the scenes, in [3, 200] (default 15).
-    realizations : int
-        Surfaces, >= 1 (>= 2 for error bars; default 8); each runs through every pressure.
-    seed : int
-        Root seed (surface k: ``SeedSequence(seed).spawn(realizations)[k]``).
+    n_pressures, realizations, seed : int
+        Pressures chosen from the scenes (in [3, 200]); surfaces (>= 1, >= 2 for error bars),
+        each run through every pressure; the root seed (surface k:
+        ``SeedSequence(seed).spawn(realizations)[k]``).
     points_per_wavelength, periods : float
         Grid: cells per shortest wavelength ``2 pi / q1`` (>= 4) and cell length in longest
         wavelengths ``2 pi / q0`` (defaults 4 and 4: 512 x 512 cells at q1/q0 = 32).
     grid : Grid, optional
         A grid of your own instead (>= 4 cells per ``2 pi / q1``).
     check : {"finer", "larger", None}
-        The convergence check on a companion grid (module docstring); None skips it.
-    tol, max_iter
-        CCG settings (:func:`~fastline.bem.contact.solve_contact`).
-    viscosity : float
-        Fluid viscosity [Pa s] of the flow solve (the effective gap does not depend on it).
-    executor, workers
-        Where the realisations run, as for :func:`fastline.sweep`
-        (:func:`~fastline.bem.ensemble.ensemble_executor`).
-    progress : callable, optional
-        ``progress(done, total)`` after each realisation (of the check's too).
+        The companion grid of the convergence check (module docstring).
+    tol, max_iter, viscosity
+        CCG settings (:func:`~fastline.bem.contact.solve_contact`); the flow's viscosity [Pa s].
+    executor, workers, progress
+        Where the realisations run, as for :func:`fastline.sweep` (:func:`ensemble_executor`);
+        ``progress(done, total)`` is called after each realisation (of the check's too).
 
     Returns
     -------
     CalibratedLaw
-        ``law.settings`` records the grid, the solves (iterations, convergence, seconds) and
-        the check.
+        ``law.settings`` holds the grid, the solves (iterations, convergence, s), the check.
 
     Raises
     ------
     ValueError
-        For a grid of fewer than 4 cells per ``2 pi / q1``, a u(p) that is not monotone within
-        its errors, or an input outside its range.
+        A grid of < 4 cells per ``2 pi / q1``, a u(p) not monotone within its errors, an input
+        out of range.
     """
     if not isinstance(psd, PSD):
         raise TypeError(f"psd must be a fastline PSD, got {type(psd).__name__}")
     E_star = positive("E_star", E_star, "Pa")
     p = _pressures(pressures, psd, E_star, radius, loads, geometry, n_pressures)
     g = _grid(psd, grid, points_per_wavelength, periods)
-    if check not in CHECKS:
-        raise ValueError(f"check must be one of {CHECKS}, got {check!r}")
     n = integer("realizations", realizations, 1)
     task = _Task(psd, E_star, g, p, positive("tol", tol), integer("max_iter", max_iter, 1),
                  positive("viscosity", viscosity, "Pa s"))  # fmt: skip
     _warn_width(g, E_star, radius, None if loads is None else np.atleast_1d(loads), geometry)
-    comp = _companion(task, check, points_per_wavelength, periods, grid)
+    return _calibration(task, n, integer("seed", seed, 0), check, (executor, workers), progress)
+
+
+def _calibration(task, n, seed, check, engine, progress) -> CalibratedLaw:
+    """The ensembles of a checked calibration (and of its companion), and the law."""
+    if check not in CHECKS:
+        raise ValueError(f"check must be one of {CHECKS}, got {check!r}")
+    comp = _companion(task, check)
     n_comp = 0 if comp is None else max(2, n // 4) if n > 1 else 1
-    seeds = np.random.SeedSequence(integer("seed", seed, 0)).spawn(n + n_comp)
-    with ensemble_executor(executor, workers, n) as ex:
+    seeds = np.random.SeedSequence(seed).spawn(n + n_comp)
+    with ensemble_executor(engine[0], engine[1], n) as ex:
         t0 = time.perf_counter()
         runs = _run(ex, task, seeds[:n], progress, 0, n + n_comp)
         t1 = time.perf_counter()
         comp_runs = [] if comp is None else _run(ex, comp, seeds[n:], progress, n, n + n_comp)
         t2 = time.perf_counter()
     points = _points(task, runs)
-    settings = {"grid": _grid_record(psd, g), "realizations": n, "seed": int(seed),
+    settings = {"grid": _grid_record(task.psd, task.grid), "realizations": n, "seed": seed,
                 "tol": task.tol, "max_iter": task.max_iter, "viscosity": task.viscosity,
-                "solves": _solve_record(runs, t1 - t0), "psd": repr(psd),
+                "solves": _solve_record(runs, t1 - t0), "psd": repr(task.psd),
                 "fastline": __version__}  # fmt: skip
     _warn_unconverged(settings["solves"])
     if comp is not None:
         settings["check"] = _compare(points, _points(comp, comp_runs), check, comp.grid, t2 - t1)
-    return CalibratedLaw(points, psd, E_star, settings=settings)
+    return CalibratedLaw(points, task.psd, task.E_star, settings=settings)

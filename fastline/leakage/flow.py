@@ -354,7 +354,6 @@ def leak_rate_profile(
     method: Literal["critical-junction"] = "critical-junction",
     mean_free_path: float | None = None,
     warn: bool = True,
-    law: CalibratedLaw | None = None,
 ) -> LeakResult:
     """Leak rate of a seal with a nominal pressure profile p(x): strips (or rings) in series,
     each of conductance ``u_c(p)^3 / (12 eta)`` (module docstring; docs/leakage.md §3-5).
@@ -389,14 +388,11 @@ def leak_rate_profile(
         viscous. None for liquids.
     warn : bool
         Emit the :class:`LeakageWarning` s (listed in ``diagnostics['warnings']`` either way).
-    law : CalibratedLaw, optional
-        Its calibrated hydraulic gap g(p) in place of u_c(p) (:func:`leak_rate`).
 
     Returns
     -------
     LeakResult
     """
-    law = _law(law)
     length = _length(length, inner_radius)
     pressure_drop, viscosity, length, threshold, mean_free_path = _scalars(
         pressure_drop, viscosity, length, threshold, method, mean_free_path
@@ -404,7 +400,7 @@ def leak_rate_profile(
     interface_cache(theory)
     x, p, inner_radius = _profile(x, p, inner_radius)
     flow = _Flow(pressure_drop, viscosity, length, inner_radius, threshold, method, mean_free_path)
-    return _leak(x, p, theory, flow, warn, True, law)
+    return _leak(x, p, theory, flow, warn, converged=True)
 
 
 def _length(length, inner_radius) -> float | None:
@@ -525,10 +521,8 @@ def leak_rate(
     """Leak rate of a solved contact: across a line contact (along x), or radially out of the
     orifice of a point contact.
 
-    The nominal pressure of a line- or point-contact result (any model with a roughness
-    spectrum) and the Persson theory of its interface give the leak rate by
-    :func:`leak_rate_profile` (docs/leakage.md §4-5); well under the cost of the solve once the
-    theory's gap table is built (first call per theory and threshold: ~10 ms).
+    The nominal pressure of a contact result (any model with a roughness spectrum) and the
+    theory of its interface give it by :func:`leak_rate_profile` (docs/leakage.md §4-5).
 
     Parameters
     ----------
@@ -547,9 +541,7 @@ def leak_rate(
     theory : PerssonTheory, optional
         The theory the contact was solved with; default ``result.theory`` (or ``law.theory``).
     law : CalibratedLaw, optional
-        A law calibrated on boundary-element ensembles (:func:`fastline.calibrate`): its
-        Reynolds effective gap g(p) replaces the critical gap u_c(p) in every strip (strips in
-        series as above; sealed where no calibrated channel percolates).
+        Its Reynolds effective gap g(p) in place of u_c(p) (:func:`fastline.calibrate`).
 
     Returns
     -------
@@ -560,19 +552,15 @@ def leak_rate(
     TypeError
         For anything but a line- or point-contact result.
     ValueError
-        For a Hertz result (no spectrum), a result without a theory when none is given, a
-        theory of another E*, spectrum, gamma or variant, ``inner_radius`` missing for a point
-        contact or given for a line contact, or an input outside its range.
+        For a Hertz result, a result without a theory when none is given, a theory of another
+        E*, spectrum, gamma or variant, a misplaced ``inner_radius``, an input out of range.
     """
     coords = _coordinates(result, inner_radius)
     length = _length(length, inner_radius)
     pressure_drop, viscosity, length, threshold, mean_free_path = _scalars(
         pressure_drop, viscosity, length, threshold, method, mean_free_path
     )
-    law = _law(law)
-    if theory is None and law is not None and getattr(result, "theory", None) is None:
-        theory = law.theory
-    theory = _result_theory(result, theory)
+    theory = _result_theory(result, theory, _law(law))
     x, p, inner_radius = _profile(coords, result.pressure, inner_radius)
     flow = _Flow(pressure_drop, viscosity, length, inner_radius, threshold, method, mean_free_path)
     return _leak(x, p, theory, flow, warn, bool(result.converged), law)
@@ -602,8 +590,9 @@ def _coordinates(result, inner_radius) -> np.ndarray:
     return result.r if point else result.x
 
 
-def _result_theory(result, theory):
-    """The PerssonTheory of a result's interface, checked against its E*."""
+def _result_theory(result, theory, law=None):
+    """The PerssonTheory of a result's interface (or of a calibrated ``law``), checked against
+    its E*."""
     if getattr(result, "model", None) == "hertz":
         raise ValueError(
             "leak_rate needs a roughness spectrum: a model='hertz' result is for smooth surfaces "
@@ -611,6 +600,8 @@ def _result_theory(result, theory):
         )
     if theory is None:
         theory = getattr(result, "theory", None)
+    if theory is None and law is not None:
+        theory = law.theory
     if theory is None:
         raise ValueError(
             "leak_rate needs the PerssonTheory of the interface: pass theory=... (the one the "
