@@ -15,7 +15,15 @@ Solver: the constrained conjugate-gradient method of I. A. Polonsky and L. M. Ke
 for the gap equation with the mean gap in contact removed (which eliminates ``d``), projection
 onto ``p >= 0``, re-entry of penetrating cells with the steepest-descent step (which resets the
 conjugacy), and rescaling to the load.  Each iteration makes two convolutions. The stopping
-test is theirs: the relative pressure change ``sum |p - p_old| / sum p`` below ``tol``.
+test is theirs: the relative pressure change ``sum |p - p_old| / sum p`` below ``tol``; a
+result is reported converged only if, in addition, ``p >= 0`` and the penetration and the gap
+on the contact cells are within ``sqrt(tol)`` of the undeformed gap's peak-to-peak.
+
+A warm start (``p_init``, e.g. the solution at another load) is rescaled to the load first. A
+start at the optimum of its own contact set makes the conjugate-gradient step ``0/0``; then
+penetrating cells re-enter with their local closing pressure ``-g / K_00`` instead of
+``-tau g``, and a conjugate direction that is not a descent direction is replaced by the
+gradient, so no cell can be left with a negative pressure.
 
 Geometry helpers return ``g0`` for the three scenes of :mod:`fastline.bem`: a cylinder of axis
 y (``x^2 / 2R``), a sphere (``r^2 / 2R``) and a nominally flat indenter (zero), each centred on
@@ -145,7 +153,9 @@ class ContactResult:
     contact_fraction : float
         Fraction of cells in contact.
     converged : bool
-        Whether the relative pressure change fell below ``tol`` within ``max_iter``.
+        Whether the relative pressure change fell below ``tol`` within ``max_iter`` *and* the
+        complementarity conditions hold: ``min_pressure >= 0`` and ``max_penetration``,
+        ``max_contact_gap`` both within ``gap_tolerance``.
     iterations : int
         CCG iterations made (two convolutions each).
     residual : float
@@ -156,6 +166,11 @@ class ContactResult:
         ``max |gap|`` over the contact cells before zeroing [m] (the gap equation's residual).
     message : str
     grid : Grid
+    min_pressure : float
+        Smallest cell pressure [Pa] (>= 0 for a converged result).
+    gap_tolerance : float
+        Bound [m] on ``max_penetration`` and ``max_contact_gap`` for ``converged``:
+        ``sqrt(tol)`` times the peak-to-peak undeformed gap.
     """
 
     pressure: np.ndarray = field(repr=False)
@@ -170,6 +185,8 @@ class ContactResult:
     max_contact_gap: float
     message: str
     grid: Grid
+    min_pressure: float = 0.0
+    gap_tolerance: float = math.inf
 
 
 # ---- CCG stages (compiled; 1D views of the cell arrays) ----------------------------------------
@@ -218,16 +235,21 @@ def _step_length(p, g, t, r):
 
 
 @numba.njit(**JIT)
-def _update_pressure(p, g, t, tau, p_old):
-    """Step, project on ``p >= 0``, let penetrating cells re-enter; return whether any did."""
+def _update_pressure(p, g, t, tau, p_old, stiffness):
+    """Step, project on ``p >= 0``, let penetrating cells re-enter; return whether any did.
+
+    A penetrating cell re-enters with ``-tau g`` (Polonsky & Keer), or with the local closing
+    pressure ``-g stiffness`` (``stiffness`` = 1 / self coefficient) when ``tau`` is not
+    positive (the gap on the contact set already uniform: a warm start at its optimum).
+    """
     for i in range(p.size):
         p_old[i] = p[i]
         if p[i] > 0.0:
             p[i] = max(p[i] - tau * t[i], 0.0)
     entered = False
     for i in range(p.size):
-        if p[i] == 0.0 and g[i] < 0.0:
-            p[i] = -tau * g[i]
+        if p[i] <= 0.0 and g[i] < 0.0:
+            p[i] = -(tau if tau > 0.0 else stiffness) * g[i]
             entered = True
     return entered
 
@@ -265,7 +287,11 @@ def _ccg(op, g0, target_sum, tol, max_iter, p):
         G_old = G
         op.apply(t.reshape(op.shape), out=r)
         tau = _step_length(p, g, t, r.ravel())
-        entered = _update_pressure(p, g, t, tau, p_old)
+        if conjugate and not tau > 0.0:  # not a descent direction: restart along the gradient
+            _new_direction(p, g, t, 0.0)
+            op.apply(t.reshape(op.shape), out=r)
+            tau = _step_length(p, g, t, r.ravel())
+        entered = _update_pressure(p, g, t, tau, p_old, 1.0 / op.self_coefficient)
         conjugate = not entered
         residual = _rescale(p, p_old, target_sum)
         if residual < tol:
@@ -309,8 +335,9 @@ def solve_contact(
     max_iter : int
         Iteration cap, >= 1.
     p_init : array_like, optional
-        Starting pressure [Pa], >= 0 with a positive sum (rescaled to the load); default
-        uniform.
+        Starting pressure [Pa], >= 0 with a positive sum, e.g. the solution at another load
+        on the same surface (a warm start); it is rescaled to ``load`` before the first
+        iteration. Default uniform.
 
     Returns
     -------
@@ -348,7 +375,7 @@ def _start_pressure(p_init, grid, load) -> np.ndarray:
     p = finite_array("p_init", p_init, ndim=2).copy()
     if p.shape != grid.shape or np.any(p < 0.0) or p.sum() <= 0.0:
         raise ValueError(f"p_init must have shape {grid.shape}, be >= 0 and not all zero")
-    return p
+    return p * (load / (p.sum() * grid.cell_area))
 
 
 def _finish(op, g0, p, grid, load, iterations, residual, tol):
@@ -362,12 +389,19 @@ def _finish(op, g0, p, grid, load, iterations, residual, tol):
     max_pen = float(max(0.0, -outside.min())) if outside.size else 0.0
     gap[contact] = 0.0
     np.maximum(gap, 0.0, out=gap)
-    converged = residual < tol
-    msg = (
-        f"converged in {iterations} iterations (relative pressure change {residual:.2e})"
-        if converged
-        else f"not converged: {iterations} iterations, relative pressure change {residual:.2e}"
-    )
+    gap_tol = math.sqrt(tol) * float(np.ptp(g0)) if np.ptp(g0) > 0.0 else math.inf
+    p_min = float(p.min())
+    complementary = p_min >= 0.0 and max(max_pen, max_contact_gap) <= gap_tol
+    converged = residual < tol and complementary
+    if converged:
+        msg = f"converged in {iterations} iterations (relative pressure change {residual:.2e})"
+    elif residual < tol:
+        msg = (
+            f"not converged: complementarity violated after {iterations} iterations (min p "
+            f"{p_min:.3g} Pa, penetration {max_pen:.3g} m, contact gap {max_contact_gap:.3g} m)"
+        )
+    else:
+        msg = f"not converged: {iterations} iterations, relative pressure change {residual:.2e}"
     return ContactResult(
         pressure=p,
         gap=gap,
@@ -381,4 +415,6 @@ def _finish(op, g0, p, grid, load, iterations, residual, tol):
         max_contact_gap=max_contact_gap,
         message=msg,
         grid=grid,
+        min_pressure=p_min,
+        gap_tolerance=gap_tol,
     )
