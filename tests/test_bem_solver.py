@@ -96,3 +96,71 @@ def test_diagnostics_report_complementarity(flat):
     assert res.min_pressure == res.pressure.min() >= 0.0
     assert res.gap_tolerance == pytest.approx(math.sqrt(TOL) * np.ptp(g0), rel=1e-12)
     assert max(res.max_penetration, res.max_contact_gap) <= res.gap_tolerance
+
+
+# ---- the preconditioned, nested solver against Polonsky & Keer's ---------------------------------
+@pytest.mark.parametrize("nominal", [3e3, 1e5])
+def test_pcg_equals_polonsky_keer(nominal):
+    """The default solver (preconditioned, nested from 64^2) and the plain CCG on 128^2 cells
+    give the same pressure; the coarse levels appear in the diagnostics."""
+    grid = bem.Grid(128, 128, DX / 2, DX / 2)
+    g0 = -bem.random_surface(PSD, grid, seed=3).heights
+    load = nominal * grid.lx * grid.ly
+    pcg = bem.solve_contact(g0, grid, E_STAR, load, tol=TOL)
+    ccg = bem.solve_contact(g0, grid, E_STAR, load, tol=TOL, method="ccg")
+    flat = bem.solve_contact(g0, grid, E_STAR, load, tol=TOL, nested=False)
+    for res in (pcg, ccg, flat):
+        check_complementarity(res, g0)
+    peak = ccg.pressure.max()
+    np.testing.assert_allclose(pcg.pressure, ccg.pressure, rtol=0.0, atol=RTOL_WARM * peak)
+    np.testing.assert_allclose(flat.pressure, ccg.pressure, rtol=0.0, atol=RTOL_WARM * peak)
+    assert len(pcg.stage_iterations) == 2 and pcg.stage_iterations[-1] == pcg.iterations
+    assert ccg.stage_iterations == (ccg.iterations,) and ccg.convolutions == 2 * ccg.iterations + 1
+    assert pcg.iterations < ccg.iterations
+
+
+def test_isolated_patch_pcg_equals_polonsky_keer():
+    """The sphere (isolated patch): the padded preconditioner gives Polonsky & Keer's answer."""
+    grid = bem.Grid(128, 128, 2e-6, 2e-6)
+    g0 = bem.sphere_gap(grid, 0.01) - bem.random_surface(PSD, grid, seed=4).heights
+    pcg = bem.solve_contact(g0, grid, E_STAR, 0.05, periodic=False, tol=TOL)
+    ccg = bem.solve_contact(g0, grid, E_STAR, 0.05, periodic=False, tol=TOL, method="ccg")
+    check_complementarity(pcg, g0)
+    peak = ccg.pressure.max()
+    np.testing.assert_allclose(pcg.pressure, ccg.pressure, rtol=0.0, atol=RTOL_WARM * peak)
+
+
+def test_bad_method():
+    grid = bem.Grid(8, 8, DX, DX)
+    with pytest.raises(ValueError, match="method"):
+        bem.solve_contact(np.zeros(grid.shape), grid, E_STAR, 1.0, method="cg")
+
+
+# ---- Reynolds flow: multigrid-preconditioned CG against the direct solve -------------------------
+RTOL_FLOW = 1e-8  # conductance of the iterative solve against sparse LU
+
+
+def test_flow_amg_equals_direct(flat):
+    pytest.importorskip("pyamg")
+    grid, g0, area = flat
+    gap = bem.solve_contact(g0, grid, E_STAR, 1e4 * area, tol=TOL).gap
+    amg = bem.reynolds_flow(gap, grid.dx, solver="amg")
+    direct = bem.reynolds_flow(gap, grid.dx, solver="direct")
+    assert amg.solver == "amg" and amg.iterations > 0 and direct.solver == "direct"
+    assert amg.conductance == pytest.approx(direct.conductance, rel=RTOL_FLOW, abs=0.0)
+    assert amg.balance_error < RTOL_FLOW
+    assert bem.reynolds_flow(gap, grid.dx).solver == "amg"  # auto picks it when installed
+
+
+def test_flow_falls_back_without_pyamg(flat, monkeypatch):
+    import sys
+
+    grid, g0, area = flat
+    gap = bem.solve_contact(g0, grid, E_STAR, 1e4 * area, tol=TOL).gap
+    monkeypatch.setitem(sys.modules, "pyamg", None)  # import pyamg raises ImportError
+    auto = bem.reynolds_flow(gap, grid.dx)
+    assert auto.solver == "direct" and auto.iterations == 0
+    with pytest.raises(ValueError, match="pyamg"):
+        bem.reynolds_flow(gap, grid.dx, solver="amg")
+    with pytest.raises(ValueError, match="solver"):
+        bem.reynolds_flow(gap, grid.dx, solver="lu")

@@ -41,6 +41,14 @@ from numpy.typing import ArrayLike
 
 from fastline._lib.jit import JIT
 from fastline._lib.validate import finite_array, finite_scalar, integer, positive
+from fastline.bem._pcg import (
+    _rescale,
+    _step_length,
+    _update_pressure,
+    nested_levels,
+    nested_start,
+    pcg_solve,
+)
 from fastline.bem.halfspace import ElasticHalfSpace
 from fastline.bem.surface import Grid
 
@@ -157,7 +165,7 @@ class ContactResult:
         complementarity conditions hold: ``min_pressure >= 0`` and ``max_penetration``,
         ``max_contact_gap`` both within ``gap_tolerance``.
     iterations : int
-        CCG iterations made (two convolutions each).
+        Iterations on the full grid (``"pcg"``: three convolutions each, ``"ccg"``: two).
     residual : float
         Last relative pressure change ``sum |dp| / sum p``.
     max_penetration : float
@@ -171,6 +179,12 @@ class ContactResult:
     gap_tolerance : float
         Bound [m] on ``max_penetration`` and ``max_contact_gap`` for ``converged``:
         ``sqrt(tol)`` times the peak-to-peak undeformed gap.
+    stage_iterations : tuple of int
+        Iterations on each grid level, coarsest first; the last is ``iterations`` (one entry
+        without nested iteration).
+    convolutions : int
+        FFT convolutions on all levels (a level of ``n/2^k`` cells per side costs about
+        ``4^-k`` of one on the full grid).
     """
 
     pressure: np.ndarray = field(repr=False)
@@ -187,6 +201,8 @@ class ContactResult:
     grid: Grid
     min_pressure: float = 0.0
     gap_tolerance: float = math.inf
+    stage_iterations: tuple[int, ...] = ()
+    convolutions: int = 0
 
 
 # ---- CCG stages (compiled; 1D views of the cell arrays) ----------------------------------------
@@ -213,59 +229,6 @@ def _new_direction(p, g, t, beta):
     """``t = g + beta t`` on the contact cells, 0 elsewhere."""
     for i in range(p.size):
         t[i] = g[i] + beta * t[i] if p[i] > 0.0 else 0.0
-
-
-@numba.njit(**JIT)
-def _step_length(p, g, t, r):
-    """``tau = sum g t / sum r' t`` over the contact cells, ``r'`` = r minus its mean there."""
-    n = 0
-    s = 0.0
-    for i in range(p.size):
-        if p[i] > 0.0:
-            s += r[i]
-            n += 1
-    rbar = s / n if n > 0 else 0.0
-    num = 0.0
-    den = 0.0
-    for i in range(p.size):
-        if p[i] > 0.0:
-            num += g[i] * t[i]
-            den += (r[i] - rbar) * t[i]
-    return num / den if den != 0.0 else 0.0
-
-
-@numba.njit(**JIT)
-def _update_pressure(p, g, t, tau, p_old, stiffness):
-    """Step, project on ``p >= 0``, let penetrating cells re-enter; return whether any did.
-
-    A penetrating cell re-enters with ``-tau g`` (Polonsky & Keer), or with the local closing
-    pressure ``-g stiffness`` (``stiffness`` = 1 / self coefficient) when ``tau`` is not
-    positive (the gap on the contact set already uniform: a warm start at its optimum).
-    """
-    for i in range(p.size):
-        p_old[i] = p[i]
-        if p[i] > 0.0:
-            p[i] = max(p[i] - tau * t[i], 0.0)
-    entered = False
-    for i in range(p.size):
-        if p[i] <= 0.0 and g[i] < 0.0:
-            p[i] = -(tau if tau > 0.0 else stiffness) * g[i]
-            entered = True
-    return entered
-
-
-@numba.njit(**JIT)
-def _rescale(p, p_old, target_sum):
-    """Scale ``p`` to ``sum p = target_sum``; return ``sum |p - p_old| / target_sum``."""
-    s = 0.0
-    for i in range(p.size):
-        s += p[i]
-    f = target_sum / s
-    dev = 0.0
-    for i in range(p.size):
-        p[i] *= f
-        dev += abs(p[i] - p_old[i])
-    return dev / target_sum
 
 
 def _ccg(op, g0, target_sum, tol, max_iter, p):
@@ -309,12 +272,14 @@ def solve_contact(
     tol: float = DEFAULT_TOL,
     max_iter: int = 5000,
     p_init: ArrayLike | None = None,
+    method: str = "pcg",
+    nested: bool = True,
 ) -> ContactResult:
     """Frictionless normal contact of a rigid indenter and an elastic half-space, load control.
 
     Constrained conjugate gradients (Polonsky & Keer, Wear 231, 206 (1999); module docstring)
-    with the exact periodic or isolated-patch compliance of
-    :class:`~fastline.bem.halfspace.ElasticHalfSpace`.
+    with the compliance of :class:`~fastline.bem.halfspace.ElasticHalfSpace`, by default
+    preconditioned in Fourier space and nested (:mod:`fastline.bem._pcg`).
 
     Parameters
     ----------
@@ -333,24 +298,48 @@ def solve_contact(
     tol : float
         Stop when the relative pressure change of an iteration is below ``tol``, in (0, 0.1).
     max_iter : int
-        Iteration cap, >= 1.
+        Iteration cap per grid level, >= 1.
     p_init : array_like, optional
         Starting pressure [Pa], >= 0 with a positive sum, e.g. the solution at another load
         on the same surface (a warm start); it is rescaled to ``load`` before the first
-        iteration. Default uniform.
+        iteration, and no coarser level is solved. Default: a cold start.
+    method : {"pcg", "ccg"}
+        ``"pcg"`` (default): Fourier-preconditioned iterations, three convolutions each;
+        ``"ccg"``: Polonsky & Keer's plain iterations, two convolutions each.
+    nested : bool
+        Start a cold ``"pcg"`` solve from the solution on cells twice as large, recursively
+        (default True; grids with even sides of >= 128 cells).
 
     Returns
     -------
     ContactResult
-        ``converged`` is False if ``max_iter`` was reached (no warning: check the flag).
+        ``converged`` is False if ``max_iter`` was reached or the complementarity conditions
+        fail (no warning: check the flag).
     """
     g0, E_star, load, tol, max_iter = _checked(g0, grid, E_star, load, tol, max_iter)
-    p = _start_pressure(p_init, grid, load)
+    if method not in ("pcg", "ccg"):
+        raise ValueError(f"method must be 'pcg' or 'ccg', got {method!r}")
     op = ElasticHalfSpace(grid.nx, grid.ny, grid.dx, grid.dy, E_star, periodic=periodic)
-    g0_flat = np.ascontiguousarray(g0).ravel()
+    levels = nested_levels(grid.nx, grid.ny) if nested and method == "pcg" else 0
+    return _solve(op, g0, grid, load, (tol, max_iter, method, levels), p_init)
+
+
+def _solve(op, g0, grid, load, settings, p_init):
+    """The levels' iterations and the diagnostics; ``settings`` = (tol, max_iter, method,
+    number of coarser levels)."""
+    tol, max_iter, method, levels = settings
+    stages: list[int] = []
+    coarse_convolutions = 0
+    if p_init is None and levels > 0:
+        p, stages, coarse_convolutions = nested_start(op, g0, load, tol, max_iter, levels)
+    else:
+        p = _start_pressure(p_init, grid, load)
     p_flat = np.ascontiguousarray(p).ravel()
-    iterations, residual = _ccg(op, g0_flat, load / grid.cell_area, tol, max_iter, p_flat)
-    return _finish(op, g0, p_flat.reshape(grid.shape), grid, load, iterations, residual, tol)
+    g0_flat = np.ascontiguousarray(g0).ravel()
+    solve = pcg_solve if method == "pcg" else _ccg
+    iterations, residual = solve(op, g0_flat, load / grid.cell_area, tol, max_iter, p_flat)
+    stats = (iterations, residual, tuple(stages) + (iterations,), coarse_convolutions)
+    return _finish(op, g0, p_flat.reshape(grid.shape), grid, load, stats, tol)
 
 
 def _checked(g0, grid, E_star, load, tol, max_iter):
@@ -378,8 +367,10 @@ def _start_pressure(p_init, grid, load) -> np.ndarray:
     return p * (load / (p.sum() * grid.cell_area))
 
 
-def _finish(op, g0, p, grid, load, iterations, residual, tol):
-    """Gap, approach and complementarity diagnostics of the final pressure."""
+def _finish(op, g0, p, grid, load, stats, tol):
+    """Gap, approach and complementarity diagnostics of the final pressure; ``stats`` =
+    (iterations, residual, iterations per level, convolutions on the coarser levels)."""
+    iterations, residual, stages, coarse_convolutions = stats
     gap = g0 + op.apply(p)
     contact = p > 0.0
     approach = float(gap[contact].mean())
@@ -417,4 +408,6 @@ def _finish(op, g0, p, grid, load, iterations, residual, tol):
         grid=grid,
         min_pressure=p_min,
         gap_tolerance=gap_tol,
+        stage_iterations=stages,
+        convolutions=op.convolutions + coarse_convolutions,
     )
