@@ -2,7 +2,7 @@
 validation spectrum carried through the pressures as :func:`fastline.calibrate` carries it, the
 contact solve and the two flow solves (multigrid-preconditioned CG, warm-started) timed apart,
 with the iterations of each; for the ratios, cold contact solves at three of the pressures and
-the direct sparse-LU flow solve (:func:`fastline.bem.reynolds_flow`) at the middle one.
+the flow solve of :func:`fastline.bem.reynolds_flow` (its default solver) at the middle one.
 
     python -m bench.calibrate_speed [--periods 4] [--pressures 15] [--no-flow]
 
@@ -55,7 +55,7 @@ def main() -> None:
             t3 = time.perf_counter()
             reynolds_flow(r.gap, g.dx, g.dy)
             direct = time.perf_counter() - t3
-            print(f"  direct flow (sparse LU, x only) here: {direct:.2f} s vs "
+            print(f"  reynolds_flow (its default solver; x only) here: {direct:.2f} s vs "
                   f"{(t2 - t1) / 2:.2f} s iterative per direction")  # fmt: skip
         print(
             f"p {p:9.3g} Pa  {r.iterations:4d} it  contact {t1 - t:6.2f} s  flow {kx:3d}+{ky:3d}"

@@ -30,7 +30,7 @@ import scipy.sparse as sp
 from scipy.sparse.linalg import splu
 
 from fastline._lib.jit import JIT, JIT_SUMS
-from fastline.bem.flow import _percolating_cells, _transmissibilities
+from fastline.bem.flow import _percolating_cells, _transmissibilities, reynolds_flow
 
 __all__ = ["conductance", "FLOW_TOL"]
 
@@ -40,7 +40,7 @@ FLOW_TOL = 1e-10
 OVER_CORRECTION = 1.7
 #: coarsening stops at this many cells on the shorter side (or at an odd side)
 COARSEST = 16
-#: iteration cap of the conjugate gradients
+#: iteration cap of the conjugate gradients (beyond it, :func:`~fastline.bem.flow.reynolds_flow`)
 MAX_ITER = 2000
 
 
@@ -257,5 +257,8 @@ def conductance(
         x = np.array(start, dtype=np.float64)
     x[~keep] = 0.0
     it = _pcg(D, tx, ty, b, x, _Multigrid(D, tx, ty, keep), tol)
+    if it >= MAX_ITER:  # not converged: the direct solve of the same system
+        res = reynolds_flow(gap, dx, dy, viscosity=viscosity)
+        return res.conductance, np.nan_to_num(res.pressure), it
     q_out = float(np.sum(t_out * x[-1]))
     return q_out * (nx * dx) / (ny * dy), x, it
