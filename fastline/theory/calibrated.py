@@ -526,6 +526,7 @@ def _read(path: str) -> tuple[dict, dict]:
         with np.load(path, allow_pickle=False) as f:
             arrays = {k: f[k] for k in f.files}
         meta = json.loads(str(arrays.pop("metadata")[()]))
+        arrays = {k: np.asarray(v, dtype=np.float64) for k, v in arrays.items()}
     except FileNotFoundError:
         raise
     except (OSError, ValueError, KeyError, EOFError, zipfile.BadZipFile, TypeError) as e:
@@ -534,7 +535,6 @@ def _read(path: str) -> tuple[dict, dict]:
         got = meta.get("format") if isinstance(meta, dict) else None
         raise CalibrationFileError(f"{bad}: its format is {got!r}; remake it with this version")
     want = meta.get("checksum")
-    arrays = {k: np.asarray(v, dtype=np.float64) for k, v in arrays.items()}
     if want != _checksum(arrays, meta):
         raise CalibrationFileError(f"{path} is corrupt: its checksum does not match its content")
     return arrays, meta
