@@ -5,6 +5,7 @@ from . import io as io
 from ._lib.warmup import compile_kernels as compile_kernels
 from .batch import SweepTable as SweepTable
 from .batch import sweep as sweep
+from .bem import calibrate as calibrate
 from .contact import ErrorEstimate as ErrorEstimate
 from .contact import LineContact as LineContact
 from .contact import LineContactResult as LineContactResult
@@ -21,6 +22,8 @@ from .elastic import LogKernelOperator as LogKernelOperator
 from .elastic import RingKernelOperator as RingKernelOperator
 from .elastic import influence_coefficients as influence_coefficients
 from .errors import AccuracyWarning as AccuracyWarning
+from .errors import CalibrationFileError as CalibrationFileError
+from .errors import CalibrationWarning as CalibrationWarning
 from .errors import ConvergenceWarning as ConvergenceWarning
 from .errors import LeakageWarning as LeakageWarning
 from .errors import NarrowContactWarning as NarrowContactWarning
@@ -40,6 +43,8 @@ from .theory import PSD as PSD
 from .theory import WS_GAUSSIAN as WS_GAUSSIAN
 from .theory import WS_HERTZ as WS_HERTZ
 from .theory import WS_HERTZ_SPHERE as WS_HERTZ_SPHERE
+from .theory import CalibratedLaw as CalibratedLaw
+from .theory import CalibrationPoints as CalibrationPoints
 from .theory import CriticalGap as CriticalGap
 from .theory import ExponentialFit as ExponentialFit
 from .theory import ExponentialLaw as ExponentialLaw

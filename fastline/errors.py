@@ -18,6 +18,8 @@ __all__ = [
     "SceneFailureWarning",
     "SpectrumFileError",
     "UnitWarning",
+    "CalibrationWarning",
+    "CalibrationFileError",
 ]
 
 
@@ -58,3 +60,13 @@ class UnitWarning(UserWarning):
 
 class SpectrumFileError(ValueError):
     """A spectrum file that cannot be read or does not look like a spectrum."""
+
+
+class CalibrationWarning(ValidityWarning):
+    """A boundary-element calibration that is under-resolved, did not converge everywhere or
+    left part of its law uncalibrated."""
+
+
+class CalibrationFileError(ValueError):
+    """A calibrated-law file that is corrupt, of another format version, or made for another
+    spectrum or modulus."""

@@ -8,9 +8,11 @@ Reynolds flow through the gap of a nominally flat contact.
 Modules: :mod:`~fastline.bem.surface` (grids, random surfaces, spectrum estimate),
 :mod:`~fastline.bem.halfspace` (Love's influence coefficients, FFT convolution),
 :mod:`~fastline.bem.contact` (the CCG solver), :mod:`~fastline.bem.flow` (Reynolds flow),
+:mod:`~fastline.bem.pcg_flow` (its conductance by multigrid-preconditioned CG),
 :mod:`~fastline.bem.scene` (scenes and their default grids),
 :mod:`~fastline.bem.ensemble` (realisations, ensembles),
-:mod:`~fastline.bem.compare` (theory against the ensemble in units of its error bar).
+:mod:`~fastline.bem.compare` (theory against the ensemble in units of its error bar),
+:mod:`~fastline.bem.calibration` (a pressure law calibrated on flat-contact ensembles).
 """
 
 from __future__ import annotations
@@ -21,6 +23,7 @@ import lazy_loader as _lazy
 __getattr__, __dir__, __all__ = _lazy.attach(
     __name__,
     submod_attrs={
+        "calibration": ["calibrate", "pressure_range", "MIN_CELLS_PER_WAVELENGTH"],
         "compare": [
             "Difference",
             "LineComparison",

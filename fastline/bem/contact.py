@@ -15,7 +15,15 @@ Solver: the constrained conjugate-gradient method of I. A. Polonsky and L. M. Ke
 for the gap equation with the mean gap in contact removed (which eliminates ``d``), projection
 onto ``p >= 0``, re-entry of penetrating cells with the steepest-descent step (which resets the
 conjugacy), and rescaling to the load.  Each iteration makes two convolutions. The stopping
-test is theirs: the relative pressure change ``sum |p - p_old| / sum p`` below ``tol``.
+test is theirs: the relative pressure change ``sum |p - p_old| / sum p`` below ``tol``; a
+result is reported converged only if, in addition, ``p >= 0`` and the penetration and the gap
+on the contact cells are within ``sqrt(tol)`` of the undeformed gap's peak-to-peak.
+
+A warm start (``p_init``, e.g. the solution at another load) is rescaled to the load first. A
+start at the optimum of its own contact set makes the conjugate-gradient step ``0/0``; then
+penetrating cells re-enter with their local closing pressure ``-g / K_00`` instead of
+``-tau g``, and a conjugate direction that is not a descent direction is replaced by the
+gradient, so no cell can be left with a negative pressure.
 
 Geometry helpers return ``g0`` for the three scenes of :mod:`fastline.bem`: a cylinder of axis
 y (``x^2 / 2R``), a sphere (``r^2 / 2R``) and a nominally flat indenter (zero), each centred on
@@ -33,6 +41,14 @@ from numpy.typing import ArrayLike
 
 from fastline._lib.jit import JIT
 from fastline._lib.validate import MAX_ITER_RANGE, finite_array, finite_scalar, integer, positive
+from fastline.bem._pcg import (
+    _rescale,
+    _step_length,
+    _update_pressure,
+    nested_levels,
+    nested_start,
+    pcg_solve,
+)
 from fastline.bem.halfspace import ElasticHalfSpace
 from fastline.bem.surface import Grid
 
@@ -145,9 +161,11 @@ class ContactResult:
     contact_fraction : float
         Fraction of cells in contact.
     converged : bool
-        Whether the relative pressure change fell below ``tol`` within ``max_iter``.
+        Whether the relative pressure change fell below ``tol`` within ``max_iter`` *and* the
+        complementarity conditions hold: ``min_pressure >= 0`` and ``max_penetration``,
+        ``max_contact_gap`` both within ``gap_tolerance``.
     iterations : int
-        CCG iterations made (two convolutions each).
+        Iterations on the full grid (``"pcg"``: three convolutions each, ``"ccg"``: two).
     residual : float
         Last relative pressure change ``sum |dp| / sum p``.
     max_penetration : float
@@ -156,6 +174,17 @@ class ContactResult:
         ``max |gap|`` over the contact cells before zeroing [m] (the gap equation's residual).
     message : str
     grid : Grid
+    min_pressure : float
+        Smallest cell pressure [Pa] (>= 0 for a converged result).
+    gap_tolerance : float
+        Bound [m] on ``max_penetration`` and ``max_contact_gap`` for ``converged``:
+        ``sqrt(tol)`` times the peak-to-peak undeformed gap.
+    stage_iterations : tuple of int
+        Iterations on each grid level, coarsest first; the last is ``iterations`` (one entry
+        without nested iteration).
+    convolutions : int
+        FFT convolutions on all levels (a level of ``n/2^k`` cells per side costs about
+        ``4^-k`` of one on the full grid).
     """
 
     pressure: np.ndarray = field(repr=False)
@@ -170,6 +199,10 @@ class ContactResult:
     max_contact_gap: float
     message: str
     grid: Grid
+    min_pressure: float = 0.0
+    gap_tolerance: float = math.inf
+    stage_iterations: tuple[int, ...] = ()
+    convolutions: int = 0
 
 
 # ---- CCG stages (compiled; 1D views of the cell arrays) ----------------------------------------
@@ -198,54 +231,6 @@ def _new_direction(p, g, t, beta):
         t[i] = g[i] + beta * t[i] if p[i] > 0.0 else 0.0
 
 
-@numba.njit(**JIT)
-def _step_length(p, g, t, r):
-    """``tau = sum g t / sum r' t`` over the contact cells, ``r'`` = r minus its mean there."""
-    n = 0
-    s = 0.0
-    for i in range(p.size):
-        if p[i] > 0.0:
-            s += r[i]
-            n += 1
-    rbar = s / n if n > 0 else 0.0
-    num = 0.0
-    den = 0.0
-    for i in range(p.size):
-        if p[i] > 0.0:
-            num += g[i] * t[i]
-            den += (r[i] - rbar) * t[i]
-    return num / den if den != 0.0 else 0.0
-
-
-@numba.njit(**JIT)
-def _update_pressure(p, g, t, tau, p_old):
-    """Step, project on ``p >= 0``, let penetrating cells re-enter; return whether any did."""
-    for i in range(p.size):
-        p_old[i] = p[i]
-        if p[i] > 0.0:
-            p[i] = max(p[i] - tau * t[i], 0.0)
-    entered = False
-    for i in range(p.size):
-        if p[i] == 0.0 and g[i] < 0.0:
-            p[i] = -tau * g[i]
-            entered = True
-    return entered
-
-
-@numba.njit(**JIT)
-def _rescale(p, p_old, target_sum):
-    """Scale ``p`` to ``sum p = target_sum``; return ``sum |p - p_old| / target_sum``."""
-    s = 0.0
-    for i in range(p.size):
-        s += p[i]
-    f = target_sum / s
-    dev = 0.0
-    for i in range(p.size):
-        p[i] *= f
-        dev += abs(p[i] - p_old[i])
-    return dev / target_sum
-
-
 def _ccg(op, g0, target_sum, tol, max_iter, p):
     """Polonsky-Keer iterations in place on ``p`` (1D view). Returns (iterations, residual)."""
     n = p.size
@@ -265,7 +250,11 @@ def _ccg(op, g0, target_sum, tol, max_iter, p):
         G_old = G
         op.apply(t.reshape(op.shape), out=r)
         tau = _step_length(p, g, t, r.ravel())
-        entered = _update_pressure(p, g, t, tau, p_old)
+        if conjugate and not tau > 0.0:  # not a descent direction: restart along the gradient
+            _new_direction(p, g, t, 0.0)
+            op.apply(t.reshape(op.shape), out=r)
+            tau = _step_length(p, g, t, r.ravel())
+        entered = _update_pressure(p, g, t, tau, p_old, 1.0 / op.self_coefficient)
         conjugate = not entered
         residual = _rescale(p, p_old, target_sum)
         if residual < tol:
@@ -283,12 +272,14 @@ def solve_contact(
     tol: float = DEFAULT_TOL,
     max_iter: int = 5000,
     p_init: ArrayLike | None = None,
+    method: str = "pcg",
+    nested: bool = True,
 ) -> ContactResult:
     """Frictionless normal contact of a rigid indenter and an elastic half-space, load control.
 
     Constrained conjugate gradients (Polonsky & Keer, Wear 231, 206 (1999); module docstring)
-    with the exact periodic or isolated-patch compliance of
-    :class:`~fastline.bem.halfspace.ElasticHalfSpace`.
+    with the compliance of :class:`~fastline.bem.halfspace.ElasticHalfSpace`, by default
+    preconditioned in Fourier space and nested (:mod:`fastline.bem._pcg`).
 
     Parameters
     ----------
@@ -307,23 +298,48 @@ def solve_contact(
     tol : float
         Stop when the relative pressure change of an iteration is below ``tol``, in (0, 0.1).
     max_iter : int
-        Iteration cap, >= 1.
+        Iteration cap per grid level, >= 1.
     p_init : array_like, optional
-        Starting pressure [Pa], >= 0 with a positive sum (rescaled to the load); default
-        uniform.
+        Starting pressure [Pa], >= 0 with a positive sum, e.g. the solution at another load
+        on the same surface (a warm start); it is rescaled to ``load`` before the first
+        iteration, and no coarser level is solved. Default: a cold start.
+    method : {"pcg", "ccg"}
+        ``"pcg"`` (default): Fourier-preconditioned iterations, three convolutions each;
+        ``"ccg"``: Polonsky & Keer's plain iterations, two convolutions each.
+    nested : bool
+        Start a cold ``"pcg"`` solve from the solution on cells twice as large, recursively
+        (default True; grids with even sides of >= 128 cells).
 
     Returns
     -------
     ContactResult
-        ``converged`` is False if ``max_iter`` was reached (no warning: check the flag).
+        ``converged`` is False if ``max_iter`` was reached or the complementarity conditions
+        fail (no warning: check the flag).
     """
     g0, E_star, load, tol, max_iter = _checked(g0, grid, E_star, load, tol, max_iter)
-    p = _start_pressure(p_init, grid, load)
+    if method not in ("pcg", "ccg"):
+        raise ValueError(f"method must be 'pcg' or 'ccg', got {method!r}")
     op = ElasticHalfSpace(grid.nx, grid.ny, grid.dx, grid.dy, E_star, periodic=periodic)
-    g0_flat = np.ascontiguousarray(g0).ravel()
+    levels = nested_levels(grid.nx, grid.ny) if nested and method == "pcg" else 0
+    return _solve(op, g0, grid, load, (tol, max_iter, method, levels), p_init)
+
+
+def _solve(op, g0, grid, load, settings, p_init):
+    """The levels' iterations and the diagnostics; ``settings`` = (tol, max_iter, method,
+    number of coarser levels)."""
+    tol, max_iter, method, levels = settings
+    stages: list[int] = []
+    coarse_convolutions = 0
+    if p_init is None and levels > 0:
+        p, stages, coarse_convolutions = nested_start(op, g0, load, tol, max_iter, levels)
+    else:
+        p = _start_pressure(p_init, grid, load)
     p_flat = np.ascontiguousarray(p).ravel()
-    iterations, residual = _ccg(op, g0_flat, load / grid.cell_area, tol, max_iter, p_flat)
-    return _finish(op, g0, p_flat.reshape(grid.shape), grid, load, iterations, residual, tol)
+    g0_flat = np.ascontiguousarray(g0).ravel()
+    solve = pcg_solve if method == "pcg" else _ccg
+    iterations, residual = solve(op, g0_flat, load / grid.cell_area, tol, max_iter, p_flat)
+    stats = (iterations, residual, tuple(stages) + (iterations,), coarse_convolutions)
+    return _finish(op, g0, p_flat.reshape(grid.shape), grid, load, stats, tol)
 
 
 def _checked(g0, grid, E_star, load, tol, max_iter):
@@ -348,11 +364,13 @@ def _start_pressure(p_init, grid, load) -> np.ndarray:
     p = finite_array("p_init", p_init, ndim=2).copy()
     if p.shape != grid.shape or np.any(p < 0.0) or p.sum() <= 0.0:
         raise ValueError(f"p_init must have shape {grid.shape}, be >= 0 and not all zero")
-    return p
+    return p * (load / (p.sum() * grid.cell_area))
 
 
-def _finish(op, g0, p, grid, load, iterations, residual, tol):
-    """Gap, approach and complementarity diagnostics of the final pressure."""
+def _finish(op, g0, p, grid, load, stats, tol):
+    """Gap, approach and complementarity diagnostics of the final pressure; ``stats`` =
+    (iterations, residual, iterations per level, convolutions on the coarser levels)."""
+    iterations, residual, stages, coarse_convolutions = stats
     gap = g0 + op.apply(p)
     contact = p > 0.0
     approach = float(gap[contact].mean())
@@ -362,12 +380,19 @@ def _finish(op, g0, p, grid, load, iterations, residual, tol):
     max_pen = float(max(0.0, -outside.min())) if outside.size else 0.0
     gap[contact] = 0.0
     np.maximum(gap, 0.0, out=gap)
-    converged = residual < tol
-    msg = (
-        f"converged in {iterations} iterations (relative pressure change {residual:.2e})"
-        if converged
-        else f"not converged: {iterations} iterations, relative pressure change {residual:.2e}"
-    )
+    gap_tol = math.sqrt(tol) * float(np.ptp(g0)) if np.ptp(g0) > 0.0 else math.inf
+    p_min = float(p.min())
+    complementary = p_min >= 0.0 and max(max_pen, max_contact_gap) <= gap_tol
+    converged = residual < tol and complementary
+    if converged:
+        msg = f"converged in {iterations} iterations (relative pressure change {residual:.2e})"
+    elif residual < tol:
+        msg = (
+            f"not converged: complementarity violated after {iterations} iterations (min p "
+            f"{p_min:.3g} Pa, penetration {max_pen:.3g} m, contact gap {max_contact_gap:.3g} m)"
+        )
+    else:
+        msg = f"not converged: {iterations} iterations, relative pressure change {residual:.2e}"
     return ContactResult(
         pressure=p,
         gap=gap,
@@ -381,4 +406,8 @@ def _finish(op, g0, p, grid, load, iterations, residual, tol):
         max_contact_gap=max_contact_gap,
         message=msg,
         grid=grid,
+        min_pressure=p_min,
+        gap_tolerance=gap_tol,
+        stage_iterations=stages,
+        convolutions=op.convolutions + coarse_convolutions,
     )

@@ -13,8 +13,13 @@ is discretised with conservative finite volumes on the cells of the gap map:
 Cells that are not connected to both the inlet and the outlet (closed islands, or everything
 when no channel percolates) are removed before the solve with
 :func:`scipy.sparse.csgraph.connected_components`; without them the matrix is singular.  The
-remaining system is symmetric positive definite and solved directly
-(:func:`scipy.sparse.linalg.spsolve`).
+remaining system is symmetric positive definite. It is solved by conjugate gradients
+preconditioned with one V-cycle of smoothed-aggregation algebraic multigrid (P. Vanek, J. Mandel,
+M. Brezina, Computing 56, 179 (1996), doi:10.1007/BF02238511; the ``pyamg`` package, the
+optional extra ``fastline[flow]``) to a relative residual ``AMG_RTOL``, or directly by
+:func:`scipy.sparse.linalg.spsolve` (``solver="direct"``, and the fallback when pyamg is not
+installed). The two agree to ``1e-8`` relative in the conductance (``tests/test_bem_solver.py``);
+measured times in ``docs/performance.md`` (``python -m bench.bem_scaling --flow``).
 
 Exact for piecewise-constant gaps: a uniform gap ``g`` gives ``Q = (Ly / Lx) g^3/(12 eta) dP``
 (plane Poiseuille); strips across the flow give the harmonic mean of ``c`` (resistances in
@@ -41,6 +46,14 @@ from fastline._lib.validate import finite_array, positive
 
 __all__ = ["FlowResult", "reynolds_flow"]
 
+#: relative residual ``|b - A x| / |b|`` at which the multigrid-preconditioned CG stops
+AMG_RTOL = 1e-12
+#: strength-of-connection threshold of the aggregation (0.1: 28 CG iterations on a 256^2 gap at
+#: A/A0 = 0.1, against 74 at pyamg's default 0; ``python -m bench.bem_scaling --flow``)
+AMG_THETA = 0.1
+#: the sparse solvers of :func:`reynolds_flow`
+SOLVERS = ("auto", "amg", "direct")
+
 
 @dataclass(frozen=True)
 class FlowResult:
@@ -64,6 +77,10 @@ class FlowResult:
         Fluid pressure [Pa] on the active cells, NaN elsewhere.
     viscosity, pressure_drop : float
         As given [Pa s], [Pa].
+    solver : str
+        ``"amg"`` (multigrid-preconditioned CG) or ``"direct"`` (sparse LU).
+    iterations : int
+        CG iterations of the ``"amg"`` solve (0 for ``"direct"``).
     """
 
     conductance: float
@@ -75,6 +92,8 @@ class FlowResult:
     pressure: np.ndarray = field(repr=False)
     viscosity: float
     pressure_drop: float
+    solver: str = "direct"
+    iterations: int = 0
 
 
 def _harmonic(a, b):
@@ -149,6 +168,7 @@ def reynolds_flow(
     *,
     viscosity: float = 1e-3,
     pressure_drop: float = 1.0,
+    solver: str = "auto",
 ) -> FlowResult:
     """Flow across x through the gap map ``gap`` (module docstring).
 
@@ -162,20 +182,16 @@ def reynolds_flow(
         Dynamic viscosity ``eta`` [Pa s], > 0 (default 1e-3, water at 20 C).
     pressure_drop : float
         ``dP`` between inlet and outlet [Pa], > 0.
+    solver : {"auto", "amg", "direct"}
+        ``"amg"``: CG with an algebraic-multigrid preconditioner (needs pyamg, the extra
+        ``fastline[flow]``); ``"direct"``: sparse LU; ``"auto"`` (default): ``"amg"`` if pyamg
+        is installed, else ``"direct"``.
 
     Returns
     -------
     FlowResult
     """
-    g = finite_array("gap", gap, ndim=2)
-    if g.shape[0] < 2 or g.shape[1] < 1:
-        raise ValueError(f"gap must have at least 2 x 1 cells, got shape {g.shape}")
-    if np.any(g < 0.0):
-        raise ValueError("gap must be >= 0 everywhere (allowed range [0, inf) m)")
-    dx = positive("dx", dx, "m")
-    dy = dx if dy is None else positive("dy", dy, "m")
-    eta = positive("viscosity", viscosity, "Pa s")
-    dp = positive("pressure_drop", pressure_drop, "Pa")
+    g, dx, dy, eta, dp = _checked(gap, dx, dy, viscosity, pressure_drop, solver)
     nx, ny = g.shape
     c = g**3 / (12.0 * eta)
     tx, ty, t_in, t_out = _transmissibilities(c, dx, dy)
@@ -184,7 +200,7 @@ def reynolds_flow(
     if not keep.any():
         return FlowResult(0.0, 0.0, 0.0, False, 0.0, 0.0, pressure, eta, dp)
     A, rhs, first, last = _assemble(tx, ty, t_in, t_out, keep, dp)
-    sol = spsolve(A.tocsc(), rhs)
+    sol, used, iterations = _solve(A, rhs, solver)
     pressure[keep] = sol
     on_in, on_out = first >= 0, last >= 0
     q_in = float(np.sum(t_in[on_in] * (dp - sol[first[on_in]])))
@@ -201,4 +217,49 @@ def reynolds_flow(
         pressure=pressure,
         viscosity=eta,
         pressure_drop=dp,
+        solver=used,
+        iterations=iterations,
     )
+
+
+def _checked(gap, dx, dy, viscosity, pressure_drop, solver):
+    """The inputs of :func:`reynolds_flow` checked: ``(gap, dx, dy, eta, dP)``."""
+    g = finite_array("gap", gap, ndim=2)
+    if g.shape[0] < 2 or g.shape[1] < 1:
+        raise ValueError(f"gap must have at least 2 x 1 cells, got shape {g.shape}")
+    if np.any(g < 0.0):
+        raise ValueError("gap must be >= 0 everywhere (allowed range [0, inf) m)")
+    dx = positive("dx", dx, "m")
+    dy = dx if dy is None else positive("dy", dy, "m")
+    eta = positive("viscosity", viscosity, "Pa s")
+    dp = positive("pressure_drop", pressure_drop, "Pa")
+    if solver not in SOLVERS:
+        raise ValueError(f"solver must be one of {SOLVERS}, got {solver!r}")
+    return g, dx, dy, eta, dp
+
+
+def _solve(A, rhs, solver):
+    """``A x = rhs``: (x, the solver used, CG iterations)."""
+    amg = None
+    if solver != "direct":
+        try:
+            import pyamg as amg
+        except ImportError:
+            if solver == "amg":
+                raise ValueError(
+                    "solver='amg' needs pyamg (pip install 'fastline[flow]'); "
+                    "use solver='direct' or 'auto'"
+                ) from None
+    if amg is None or A.shape[0] < 2:
+        return spsolve(A.tocsc(), rhs), "direct", 0
+    ml = amg.smoothed_aggregation_solver(
+        A.tocsr(),
+        symmetry="hermitian",
+        strength=("symmetric", {"theta": AMG_THETA}),
+        max_coarse=500,
+    )
+    residuals: list[float] = []
+    x = ml.solve(rhs, tol=AMG_RTOL, accel="cg", maxiter=500, residuals=residuals)
+    if np.linalg.norm(rhs - A @ x) > 10.0 * AMG_RTOL * np.linalg.norm(rhs):
+        return spsolve(A.tocsc(), rhs), "direct", 0  # stalled: fall back to the exact solve
+    return x, "amg", len(residuals) - 1

@@ -270,6 +270,7 @@ class ElasticHalfSpace:
         self._spec = _spectrum(self.nx, self.ny, aspect, self.periodic) * scale
         self.self_coefficient = love_coefficient(0.0, 0.0, self.dx, self.dy, self.E_star)
         self.convolutions = 0
+        self._inv_spec: np.ndarray | None = None
 
     def __repr__(self) -> str:
         return (
@@ -304,3 +305,32 @@ class ElasticHalfSpace:
         return out
 
     __call__ = apply
+
+    def apply_inverse(self, u: np.ndarray, out: np.ndarray) -> np.ndarray:
+        """Pressure [Pa] of the displacement ``u`` [m] under the periodic stiffness ``1/Khat``.
+
+        Periodic cell: the exact inverse of :meth:`apply` on mean-free fields (the ``q = 0``
+        mode is returned as 0). Isolated patch: ``u`` zero-padded to ``2 nx x 2 ny`` cells and
+        the periodic kernel of that doubled cell inverted, an approximate inverse (spectrally
+        equivalent to the padded operator; used as a preconditioner). Counted in
+        ``convolutions``. ``u`` and ``out`` are float64 arrays of shape ``(nx, ny)``.
+        """
+        rbuf, cbuf, fwd, bwd = _plans(self._fft_shape)
+        if self._inv_spec is None:
+            nx, ny = self._fft_shape
+            spec = _spectrum(nx, ny, self.dy / self.dx, True) * (self.dx / self.E_star)
+            inv = np.zeros_like(spec)
+            np.divide(1.0 / (nx * ny), spec, out=inv, where=spec > 0.0)
+            inv[0, 0] = 0.0
+            self._inv_spec = inv
+        if self.periodic:
+            rbuf[...] = u
+        else:
+            rbuf[...] = 0.0
+            rbuf[: self.nx, : self.ny] = u
+        fwd.execute()
+        cbuf *= self._inv_spec
+        bwd.execute()
+        out[...] = rbuf[: self.nx, : self.ny]
+        self.convolutions += 1
+        return out

@@ -1,4 +1,5 @@
-"""Command-line interface: ``fastline paper | profile | sweep | leak | batch | psd | validate``
+"""Command-line interface: ``fastline paper | profile | sweep | leak | batch | psd | validate |
+calibrate``
 (``python -m fastline``).
 
 Argument parsing and printing only: the scenes of the paper live in :mod:`fastline.paper`, files
@@ -6,9 +7,10 @@ in :mod:`fastline.io`, figures in :mod:`fastline.plotting`, validity checks in
 :func:`fastline.assess`, measured surfaces in :func:`fastline.surfaces.analyse_scan`. This module
 holds the parser, the cylinder's ``profile``, ``sweep``, ``batch`` and ``paper`` and
 :func:`main`, on top of the others: the other commands have their own modules
-(:mod:`fastline.cli.leak`, :mod:`fastline.cli.psd`, :mod:`fastline.cli.sphere` for ``--geometry
-sphere``, :mod:`fastline.cli.validate`), the scene of the options is :mod:`fastline.cli.scene`
-and what they all share is in :mod:`fastline.cli.common`.
+(:mod:`fastline.cli.leak`, :mod:`fastline.cli.psd`, :mod:`fastline.cli.calibrate`,
+:mod:`fastline.cli.sphere` for ``--geometry sphere``, :mod:`fastline.cli.validate`), the scene
+of the options is :mod:`fastline.cli.scene` and what they all share is in
+:mod:`fastline.cli.common`.
 
 Exit status: 0 done; 1 a solve did not converge or a scene of a batch failed (results are still
 printed and written); 2 bad usage or input (one ``fastline: error: ...`` line on stderr,
@@ -29,6 +31,7 @@ import warnings
 
 import fastline as fl
 from fastline import batch, theory
+from fastline.cli.calibrate import calibrate_parser, cmd_calibrate
 from fastline.cli.common import (
     GEOMETRIES,
     CLIError,
@@ -166,6 +169,7 @@ def build_parser() -> argparse.ArgumentParser:
     psd_parser(sub, fmt)
     validate_parser(sub, fmt)
     compile_parser(sub, fmt)
+    calibrate_parser(sub, fmt)
     return parser
 
 
@@ -426,6 +430,7 @@ COMMANDS = {
     "psd": cmd_psd,
     "validate": cmd_validate,
     "compile": cmd_compile,
+    "calibrate": cmd_calibrate,
 }
 
 

@@ -21,6 +21,7 @@ from __future__ import annotations
 import argparse
 import importlib.util
 import math
+import os
 import sys
 from typing import TYPE_CHECKING
 
@@ -59,6 +60,8 @@ __all__ = [
     "spectrum_options",
     "material_options",
     "numerics_options",
+    "law_option",
+    "model_name",
     "variant_option",
     "model_checks",
     "figure_options",
@@ -281,6 +284,12 @@ def numerics_options(
             help="pressure-separation law: full Persson theory (default), its exponential "
             "approximation p = beta E* exp(-u/u0), or smooth Hertz contact",
         )
+        s.add_argument(
+            "--law",
+            metavar="FILE",
+            help="a law calibrated on boundary-element ensembles of this spectrum and E* "
+            "(fastline calibrate --out FILE) in place of --model; leak uses its hydraulic gap",
+        )
     s.add_argument(
         "--gamma",
         type=gamma,
@@ -462,6 +471,24 @@ def solve_kwargs(args: argparse.Namespace, th: PerssonTheory | None) -> dict:
     )
 
 
+def law_option(args: argparse.Namespace, psd: PSD, E_star: float) -> None:
+    """``--law FILE``: the calibrated law, checked against the scene's spectrum and E*, in
+    ``args.model`` (nothing without --law)."""
+    path = getattr(args, "law", None)
+    if path is None:
+        return
+    if args.model != "persson":
+        raise CLIError(f"--law replaces --model: drop --model {args.model}")
+    if not os.path.isfile(path):
+        raise CLIError(f"--law {path}: no such file")
+    args.model = fl.CalibratedLaw.load(path, psd=psd, E_star=E_star)
+
+
+def model_name(args: argparse.Namespace) -> str:
+    """The name of the scene's law (a calibrated law's file is named beside it)."""
+    return getattr(args.model, "name", args.model)
+
+
 def persson_theory(psd: PSD, E_star: float, args: argparse.Namespace) -> PerssonTheory | None:
     """The theory of the scene (None for the smooth ``--model hertz``)."""
     if getattr(args, "model", "persson") == "hertz":
@@ -560,12 +587,14 @@ def metadata(psd: PSD, E_star: float, args: argparse.Namespace, source: str | No
         psd,
         E_star,
         args.radius,
-        model=args.model,
+        model=model_name(args),
         gamma=args.gamma,
         n=args.n,
         source=source,
         **_variant_meta(args),
     )
+    if getattr(args, "law", None) is not None:
+        meta["law_file"] = args.law
     if isinstance(source, ScanSource):
         meta["spectrum"] = f"measured: scan {source}"
         meta.update(source.scan.metadata())
@@ -639,6 +668,8 @@ def sweep_in_parallel(
     table."""
     import numpy as np
 
+    if getattr(args, "law", None) is not None:
+        raise CLIError("--law runs in this process: drop --workers and --scheduler")
     k = len(loads)
     scenes = {
         "geometry": [args.geometry] * k,

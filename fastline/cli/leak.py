@@ -327,6 +327,7 @@ def _leak_of(r, th, args):
         mean_free_path=args.mean_free_path,
         gap_floor=args.gap_floor,
         warn=False,
+        law=args.model if isinstance(args.model, fl.CalibratedLaw) else None,
     )
 
 
@@ -386,7 +387,10 @@ def _leak_lines(leak) -> list[str]:
             f"{' the flow crosses' if radial else ''})",
             f"resistance       {leak.share_in_fwhm:.1%} of it {fwhm}; 90% of it within "
             f"{leak.resistance_width:.4g} m",
-            f"critical gap     {d['min_gap']:.6g} m (u_c at the {strip} of highest resistance)",
+            f"critical gap     {d['min_gap']:.6g} m (u_c at the {strip} of highest resistance)"
+            if "law" not in d["gap_table"]
+            else f"hydraulic gap    {d['min_gap']:.6g} m (the calibrated law's g at the {strip} of "
+            "highest resistance)",
             f"junctions across {d['junctions_across']:.3g} (roll-off wavelengths 2pi/qr = "
             f"{d['rolloff_wavelength']:.3g} m across the 90% width; the theory wants >= 5)",
         ]

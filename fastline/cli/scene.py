@@ -27,6 +27,7 @@ from fastline.cli.common import (
     check_outputs,
     convergence_status,
     count,
+    law_option,
     persson_theory,
     positive,
     report_warnings,
@@ -359,7 +360,14 @@ def checked_modulus(E_star: float, name: str) -> float:
 
 
 def scene(args: argparse.Namespace) -> tuple[PSD, float, str | None]:
-    """(psd, E_star, source file or None) from the scene options."""
+    """(psd, E_star, source file or None) from the scene options; with ``--law FILE`` the
+    calibrated law, checked against them, becomes ``args.model``."""
+    psd, E_star, source = _scene(args)
+    law_option(args, psd, E_star)
+    return psd, E_star, source
+
+
+def _scene(args: argparse.Namespace) -> tuple[PSD, float, str | None]:
     elastic = [args.E1, args.nu1, args.E2, args.nu2]
     if any(v is not None for v in elastic):
         if args.E_star is not None:

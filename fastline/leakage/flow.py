@@ -19,9 +19,12 @@ through rings in series (each ring of width dr is a rectangle of length 2 pi r):
 
     Q = dP / int_{inner_radius} dr / (2 pi r sigma(r)).
 
-u_c comes from a table of the critical gap built once per theory and threshold (relative error
-below the theory's rtol; :func:`fastline.theory.interface.gap_table`). A sealed strip
-(``P(q1, p) >= threshold``) on the flow path seals the contact.
+A law calibrated on boundary-element ensembles (``law=``, :func:`fastline.calibrate`) puts
+its Reynolds effective gap g(p) in place of u_c(p), strips in series as before
+(docs/calibration.md). Otherwise u_c comes from a table of the critical gap built once per
+theory and threshold (relative error below the theory's rtol;
+:func:`fastline.theory.interface.gap_table`). A sealed strip (``P(q1, p) >= threshold``) on the
+flow path seals the contact.
 """
 
 from __future__ import annotations
@@ -49,6 +52,7 @@ from fastline.theory.interface import (
 if TYPE_CHECKING:  # annotations only
     from fastline.contact.line import LineContactResult
     from fastline.contact.point import PointContactResult
+    from fastline.theory.calibrated import CalibratedLaw
     from fastline.theory.persson import PerssonTheory
 
 __all__ = ["LeakResult", "LeakageWarning", "leak_rate", "leak_rate_profile"]
@@ -107,7 +111,8 @@ class LeakResult:
         Strip centres in m (radii of the ring cells for radial flow) and the nominal pressure
         in Pa.
     u_c : ndarray
-        Critical gap ``u_c(p(x))`` in m (0 in sealed strips; +inf where p = 0).
+        Critical gap ``u_c(p(x))`` in m (0 in sealed strips; +inf where p = 0); with a
+        calibrated ``law``, its hydraulic gap ``g(p(x))``.
     sigma : ndarray
         Local conductance ``u_c^3 / (12 eta)`` in m^3/(Pa s).
     sealed_strips : ndarray of bool
@@ -467,10 +472,35 @@ def _flow(
     )  # fmt: skip
 
 
-def _leak(x, p, theory, flow: _Flow, warn: bool, converged: bool) -> LeakResult:
-    radial = flow.inner_radius is not None
+def _law(law, method):
+    """A calibrated law for the gap (duck-typed: it has ``log_hydraulic_gap``), or None."""
+    if law is not None and not callable(getattr(law, "log_hydraulic_gap", None)):
+        raise TypeError(
+            "law must be a calibrated law with log_hydraulic_gap(p) (fastline.CalibratedLaw, "
+            f"from fastline.calibrate), got {type(law).__name__}"
+        )
+    if law is not None and method != "critical-junction":
+        raise ValueError(
+            f"law gives the gap of every strip itself; method={method!r} cannot be used with it "
+            "(leave method at 'critical-junction')"
+        )
+    return law
+
+
+def _gaps(theory, p, flow: _Flow, law):
+    """(ln gap, sealed strips, table diagnostics): the local gap of the flow's method from its
+    table, or a calibrated law's hydraulic gap g(p) in its place."""
+    if law is not None:
+        log_gap, sealed = law.log_hydraulic_gap(p)
+        return log_gap, sealed, {"law": getattr(law, "name", "calibrated")}
     table = _gap_table(theory, flow)
-    log_gap, sealed_strips = table.log_gap(sealing_argument(theory, p))
+    log_gap, sealed = table.log_gap(sealing_argument(theory, p))
+    return log_gap, sealed, _summary(table)
+
+
+def _leak(x, p, theory, flow: _Flow, warn: bool, converged: bool, law=None) -> LeakResult:
+    radial = flow.inner_radius is not None
+    log_gap, sealed_strips, table = _gaps(theory, p, flow, law)
     lo, hi = _cell_edges(x, flow.inner_radius)
     log_geometry = _log_geometry(lo, hi, radial)
     crossed = ~np.isneginf(log_geometry)  # only the cells the flow crosses
@@ -494,7 +524,7 @@ def _leak(x, p, theory, flow: _Flow, warn: bool, converged: bool) -> LeakResult:
         diag.update(more)
         msgs += more_msgs
     diag.update(n_strips=int(x.size), n_sealed=int(sealed_strips.sum()))
-    diag.update(n_below_floor=int(below.sum()), gap_table=_summary(table), warnings=msgs)
+    diag.update(n_below_floor=int(below.sum()), gap_table=table, warnings=msgs)
     for msg in msgs if warn else ():
         warnings.warn(f"fastline.leak_rate: {msg}", LeakageWarning, stacklevel=3)
     if warn and not converged:  # not in diagnostics: the solve's own diagnostics say it
@@ -565,14 +595,13 @@ def leak_rate(
     mean_free_path: float | None = None,
     gap_floor: float = GAP_FLOOR,
     warn: bool = True,
+    law: CalibratedLaw | None = None,
 ) -> LeakResult:
     """Leak rate of a solved contact: across a line contact (along x), or radially out of the
     orifice of a point contact.
 
-    The nominal pressure of a line- or point-contact result (any model with a roughness
-    spectrum) and the Persson theory of its interface give the leak rate by
-    :func:`leak_rate_profile` (docs/leakage.md §4-5); well under the cost of the solve once the
-    theory's gap table is built (first call per theory and threshold: ~10 ms).
+    The nominal pressure of a contact result (any model with a roughness spectrum) and the
+    theory of its interface give it by :func:`leak_rate_profile` (docs/leakage.md §4-5).
 
     Parameters
     ----------
@@ -588,7 +617,9 @@ def leak_rate(
         orifice of a valve seat closed by a ball; the fluid flows outwards through the contact.
         Not for a line contact.
     theory : PerssonTheory, optional
-        The theory the contact was solved with; default ``result.theory``.
+        The theory the contact was solved with; default ``result.theory`` (or ``law.theory``).
+    law : CalibratedLaw, optional
+        Its Reynolds effective gap g(p) in place of u_c(p) (:func:`fastline.calibrate`).
 
     Returns
     -------
@@ -608,9 +639,9 @@ def leak_rate(
         pressure_drop, viscosity, length, inner_radius, threshold, method, mean_free_path,
         gap_floor,
     )  # fmt: skip
-    theory = _result_theory(result, theory)
+    theory = _result_theory(result, theory, _law(law, flow.method))
     x, p, _ = _profile(coords, result.pressure, inner_radius)
-    return _leak(x, p, theory, flow, warn, converged=bool(result.converged))
+    return _leak(x, p, theory, flow, warn, bool(result.converged), law)
 
 
 def _coordinates(result, inner_radius) -> np.ndarray:
@@ -637,8 +668,9 @@ def _coordinates(result, inner_radius) -> np.ndarray:
     return result.r if point else result.x
 
 
-def _result_theory(result, theory):
-    """The PerssonTheory of a result's interface, checked against its E*."""
+def _result_theory(result, theory, law=None):
+    """The PerssonTheory of a result's interface (or of a calibrated ``law``), checked against
+    its E*."""
     if getattr(result, "model", None) == "hertz":
         raise ValueError(
             "leak_rate needs a roughness spectrum: a model='hertz' result is for smooth surfaces "
@@ -646,6 +678,8 @@ def _result_theory(result, theory):
         )
     if theory is None:
         theory = getattr(result, "theory", None)
+    if theory is None and law is not None:
+        theory = law.theory
     if theory is None:
         raise ValueError(
             "leak_rate needs the PerssonTheory of the interface: pass theory=... (the one the "

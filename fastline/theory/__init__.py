@@ -5,7 +5,8 @@ statistics of the interface at a magnification zeta.
 The bottom layer of the physics: it imports nothing of fastline but :mod:`fastline._lib` and
 :mod:`fastline.errors`. Modules: :mod:`~fastline.theory.spectra`,
 :mod:`~fastline.theory.persson`, :mod:`~fastline.theory.variants`,
-:mod:`~fastline.theory.laws`, :mod:`~fastline.theory.asperity`,
+:mod:`~fastline.theory.laws`, :mod:`~fastline.theory.calibrated` (a law calibrated on
+boundary-element ensembles), :mod:`~fastline.theory.asperity`,
 :mod:`~fastline.theory.limits`, :mod:`~fastline.theory.interface`,
 :mod:`~fastline.theory.special` (the universal functions F), :mod:`~fastline.theory.files`
 (spectrum files and the tolerant table reader), :mod:`~fastline.theory.tables`
@@ -66,6 +67,7 @@ __getattr__, __dir__, __all__ = _lazy.attach(
             "check_law",
             "hermite",
         ],
+        "calibrated": ["CalibratedLaw", "CalibrationPoints", "isotonic_decreasing"],
         "asperity": ["SummitStatistics", "GreenwoodWilliamsonLaw", "summit_integral"],
         "limits": [
             "WS_GAUSSIAN",

@@ -1,0 +1,159 @@
+"""Iterations and times of the BEM contact solver over the grid, the warm-started load sequence
+and the Reynolds flow solve: ``python -m bench.bem_scaling``.
+
+One surface refined: a periodic square of side L = 1 mm, self-affine (H 0.8, h_rms 1 um,
+q0 = qr = 4 (2 pi/L), q1 = 64 (2 pi/L)), E* = 10 MPa, on N = 256, 512, 1024 cells per side
+(4, 8 and 16 cells per shortest wavelength). The nominal pressures give A/A0 = 0.02 ... 0.3 at
+N = 256 (found once, by secant steps); the same pressures are used on every grid. tol 1e-8.
+Times are CPU seconds of the process (``time.process_time``), best of ``--repeat``.
+
+Options: ``--sizes 256 512 1024``, ``--ccg`` (also Polonsky & Keer's plain iterations),
+``--variants`` (the preconditioner's restart choice at 256 and 512), ``--sequence N``,
+``--flow``, ``--save FILE`` (the problem as .npz for an external solver).
+"""
+
+from __future__ import annotations
+
+import argparse
+import math
+import sys
+import time
+
+import numpy as np
+
+import fastline as fl
+from fastline import bem
+
+L = 1e-3  # m
+E_STAR = 1e7  # Pa
+TOL = 1e-8
+FRACTIONS = (0.02, 0.05, 0.1, 0.2, 0.3)
+Q_L = 2.0 * math.pi / L
+PSD = fl.SelfAffinePSD(1e-6, 0.8, 4.0 * Q_L, 4.0 * Q_L, 64.0 * Q_L)
+
+
+def problem(n: int, seed: int = 1) -> tuple[bem.Grid, np.ndarray]:
+    """The grid and undeformed gap ``-heights`` [m] of the test surface on ``n^2`` cells."""
+    grid = bem.Grid(n, n, L / n, L / n)
+    return grid, -bem.random_surface(PSD, grid, seed=seed).heights
+
+
+def pressures_for(fractions, n: int = 256) -> list[float]:
+    """Nominal pressures [Pa] giving the contact fractions on ``n^2`` cells (secant in log)."""
+    grid, g0 = problem(n)
+    area = grid.lx * grid.ly
+    out = []
+    for af in fractions:
+        x0, f0 = 0.0, None
+        x1 = math.log(af * E_STAR * 0.5)
+        for _ in range(8):
+            got = bem.solve_contact(g0, grid, E_STAR, math.exp(x1) * area, tol=1e-6)
+            f1 = math.log(got.contact_fraction) - math.log(af)
+            if abs(f1) < 0.005:
+                break
+            if f0 is None:
+                x0, f0, x1 = x1, f1, x1 - f1 / 1.1
+            else:
+                x0, f0, x1 = x1, f1, x1 - f1 * (x1 - x0) / (f1 - f0)
+        out.append(math.exp(x1))
+    return out
+
+
+def timed(repeat: int, *args, **kwargs):
+    """Best CPU time of ``repeat`` calls of ``bem.solve_contact(*args, **kwargs)`` and a result."""
+    best, res = math.inf, None
+    for _ in range(repeat):
+        t0 = time.process_time()
+        res = bem.solve_contact(*args, **kwargs)
+        best = min(best, time.process_time() - t0)
+    return best, res
+
+
+def scaling(sizes, pressures, repeat, ccg):
+    print("\n## Iterations over the grid (cold solves, tol 1e-8)\n")
+    head = "| N | A/A0 | pcg: iterations per level | full-grid equivalent | convolutions | CPU s |"
+    if ccg:
+        head += " ccg iterations | ccg CPU s | ratio |"
+    print(head)
+    print("|" + "---|" * (head.count("|") - 1))
+    for n in sizes:
+        grid, g0 = problem(n)
+        area = grid.lx * grid.ly
+        bem.solve_contact(g0, grid, E_STAR, pressures[0] * area, tol=1e-4)  # tables, compiling
+        for P in pressures:
+            t, r = timed(repeat, g0, grid, E_STAR, P * area, tol=TOL)
+            k = len(r.stage_iterations) - 1
+            equiv = sum(it / 4.0 ** (k - j) for j, it in enumerate(r.stage_iterations))
+            row = (
+                f"| {n} | {r.contact_fraction:.3f} | {'/'.join(map(str, r.stage_iterations))}"
+                f" | {equiv:.1f} | {r.convolutions} | {t:.2f} |"
+            )
+            assert r.converged, r.message
+            if ccg:
+                tc, rc = timed(1, g0, grid, E_STAR, P * area, tol=TOL, method="ccg")
+                dp = np.abs(rc.pressure - r.pressure).max() / r.pressure.max()
+                row += f" {rc.iterations} | {tc:.2f} | {tc / t:.1f} (dp {dp:.0e}) |"
+            print(row, flush=True)
+
+
+def sequence(n, pressures, steps=15):
+    """15 increasing pressures from the lowest to the highest fraction, warm-started."""
+    grid, g0 = problem(n)
+    area = grid.lx * grid.ly
+    loads = np.geomspace(pressures[0], pressures[-1], steps) * area
+    bem.solve_contact(g0, grid, E_STAR, loads[0], tol=1e-4)
+    t_cold, cold = timed(1, g0, grid, E_STAR, loads[-1], tol=TOL)
+    t0 = time.process_time()
+    p, its, worst = None, [], 0.0
+    for W in loads:
+        r = bem.solve_contact(g0, grid, E_STAR, W, tol=TOL, p_init=p)
+        assert r.converged, r.message
+        p = r.pressure
+        its.append(r.iterations)
+    t_seq = time.process_time() - t0
+    worst = np.abs(p - cold.pressure).max() / cold.pressure.max()
+    t1 = time.process_time()
+    for W in loads:
+        bem.solve_contact(g0, grid, E_STAR, W, tol=TOL)
+    t_cold_seq = time.process_time() - t1
+    top = cold.contact_fraction
+    print(f"\n## Warm-started sequence, N = {n}, {steps} pressures, A/A0 up to {top:.3f}\n")
+    print(f"- one cold solve at the highest pressure: {t_cold:.2f} s ({cold.stage_iterations})")
+    print(f"- the warm sequence: {t_seq:.2f} s = {t_seq / t_cold:.1f}x that; iterations {its}")
+    print(
+        f"- the same {steps} pressures solved cold: {t_cold_seq:.2f} s = {t_cold_seq / t_cold:.1f}x"
+    )
+    print(f"- last warm against cold pressure: max |dp| / max p = {worst:.1e}")
+
+
+def main(argv=None) -> int:
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--sizes", type=int, nargs="+", default=[256, 512, 1024])
+    ap.add_argument("--repeat", type=int, default=1)
+    ap.add_argument("--ccg", action="store_true")
+    ap.add_argument("--sequence", type=int, default=0, metavar="N")
+    ap.add_argument("--flow", type=int, nargs="*", default=None, metavar="N")
+    ap.add_argument("--save", type=int, nargs=2, default=None, metavar=("N", "FRACTION_INDEX"))
+    ap.add_argument("--skip-scaling", action="store_true")
+    args = ap.parse_args(argv)
+    pressures = pressures_for(FRACTIONS)
+    print("nominal pressures [Pa]:", ", ".join(f"{P:.4g}" for P in pressures))
+    if args.save:
+        n, k = args.save
+        grid, g0 = problem(n)
+        np.savez(f"/tmp/bem_problem_{n}_{k}.npz", g0=g0, L=L, E_star=E_STAR, pressure=pressures[k])
+        print(f"saved /tmp/bem_problem_{n}_{k}.npz")
+        return 0
+    if not args.skip_scaling:
+        scaling(args.sizes, pressures, args.repeat, args.ccg)
+    if args.sequence:
+        sequence(args.sequence, pressures)
+    if args.flow is not None:
+        from bench.bem_flow import flow_table
+
+        flow_table(args.flow or [512, 1024])
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

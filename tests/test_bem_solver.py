@@ -1,0 +1,166 @@
+"""The BEM contact solver: warm starts against cold solves, and the complementarity conditions
+of every converged result (p >= 0, gap >= 0, p * gap = 0 to tolerance)."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+
+import fastline as fl
+from fastline import bem
+
+TOL = 1e-10  # solver tolerance (relative pressure change per iteration)
+RTOL_WARM = 1e-6  # warm against cold pressure, relative to the peak pressure
+RTOL_GAP = 1e-6  # complementarity residuals relative to the surface's peak-to-peak height
+
+E_STAR = 1e7  # Pa
+N = 64
+DX = 1e-6  # m
+Q0 = 2.0 * math.pi / (N * DX / 2.0)  # two wavelengths across the cell
+PSD = fl.SelfAffinePSD(0.5e-6, 0.8, Q0, Q0, 2.0 * math.pi / (4.0 * DX))
+
+
+@pytest.fixture(scope="module")
+def flat():
+    """A nominally flat rough contact: (grid, undeformed gap, nominal area)."""
+    grid = bem.Grid(N, N, DX, DX)
+    surf = bem.random_surface(PSD, grid, seed=7)
+    return grid, -surf.heights, grid.lx * grid.ly
+
+
+def check_complementarity(res, g0):
+    """The complementarity conditions of a converged result, from its own fields."""
+    scale = RTOL_GAP * np.ptp(g0)
+    assert res.converged, res.message
+    assert np.all(res.pressure >= 0.0)
+    assert res.max_penetration <= scale and res.max_contact_gap <= scale
+    assert np.all(res.gap >= 0.0) and np.all(res.pressure * res.gap == 0.0)
+
+
+def check_same(warm, cold, g0):
+    check_complementarity(warm, g0)
+    check_complementarity(cold, g0)
+    peak = cold.pressure.max()
+    np.testing.assert_allclose(warm.pressure, cold.pressure, rtol=0.0, atol=RTOL_WARM * peak)
+    assert warm.contact_fraction == pytest.approx(cold.contact_fraction, abs=2.0 / N**2)
+    assert warm.load == pytest.approx(cold.load, rel=1e-12)
+
+
+@pytest.mark.parametrize(
+    "p_from, p_to",
+    [(1e4, 1.5e4), (1.5e4, 1e4), (3e3, 1e5), (1e5, 3e3)],
+    ids=["higher-load", "lower-load", "far-higher", "far-lower"],
+)
+def test_warm_start_equals_cold_solve(flat, p_from, p_to):
+    """A converged solution at one nominal pressure [Pa] starts the solve at another; the
+    contact set changes each time (cells enter at a higher load and leave at a lower one). A
+    start at the optimum of its own contact set is the hard case: the conjugate-gradient step
+    there is 0/0 and the penetrating cells must still enter with a positive pressure."""
+    grid, g0, area = flat
+    start = bem.solve_contact(g0, grid, E_STAR, p_from * area, tol=TOL)
+    cold = bem.solve_contact(g0, grid, E_STAR, p_to * area, tol=TOL)
+    warm = bem.solve_contact(g0, grid, E_STAR, p_to * area, tol=TOL, p_init=start.pressure)
+    assert start.contact_fraction != pytest.approx(cold.contact_fraction, abs=2.0 / N**2)
+    check_same(warm, cold, g0)
+
+
+def test_warm_start_across_a_contact_set_change(flat):
+    """The start's contact set is disjoint-ish from the answer's: the surface shifted by half a
+    cell period, so every cell must leave or re-enter."""
+    grid, g0, area = flat
+    load = 3e4 * area
+    other = bem.solve_contact(np.roll(g0, (N // 2, N // 3), axis=(0, 1)), grid, E_STAR, load)
+    cold = bem.solve_contact(g0, grid, E_STAR, load, tol=TOL)
+    warm = bem.solve_contact(g0, grid, E_STAR, load, tol=TOL, p_init=other.pressure)
+    overlap = np.mean((other.pressure > 0) & (cold.pressure > 0)) / cold.contact_fraction
+    assert overlap < 0.5
+    check_same(warm, cold, g0)
+
+
+def test_warm_sequence_stays_correct(flat):
+    """Each step starts from the previous solution, up and then down in load."""
+    grid, g0, area = flat
+    p = None
+    for nominal in [1e3, 1e4, 1e5, 3e5, 3e4, 3e3]:
+        warm = bem.solve_contact(g0, grid, E_STAR, nominal * area, tol=TOL, p_init=p)
+        cold = bem.solve_contact(g0, grid, E_STAR, nominal * area, tol=TOL)
+        check_same(warm, cold, g0)
+        p = warm.pressure
+
+
+def test_diagnostics_report_complementarity(flat):
+    grid, g0, area = flat
+    res = bem.solve_contact(g0, grid, E_STAR, 1e4 * area, tol=TOL)
+    assert res.min_pressure == res.pressure.min() >= 0.0
+    assert res.gap_tolerance == pytest.approx(math.sqrt(TOL) * np.ptp(g0), rel=1e-12)
+    assert max(res.max_penetration, res.max_contact_gap) <= res.gap_tolerance
+
+
+# ---- the preconditioned, nested solver against Polonsky & Keer's ---------------------------------
+@pytest.mark.parametrize("nominal", [3e3, 1e5])
+def test_pcg_equals_polonsky_keer(nominal):
+    """The default solver (preconditioned, nested from 64^2) and the plain CCG on 128^2 cells
+    give the same pressure; the coarse levels appear in the diagnostics."""
+    grid = bem.Grid(128, 128, DX / 2, DX / 2)
+    g0 = -bem.random_surface(PSD, grid, seed=3).heights
+    load = nominal * grid.lx * grid.ly
+    pcg = bem.solve_contact(g0, grid, E_STAR, load, tol=TOL)
+    ccg = bem.solve_contact(g0, grid, E_STAR, load, tol=TOL, method="ccg")
+    flat = bem.solve_contact(g0, grid, E_STAR, load, tol=TOL, nested=False)
+    for res in (pcg, ccg, flat):
+        check_complementarity(res, g0)
+    peak = ccg.pressure.max()
+    np.testing.assert_allclose(pcg.pressure, ccg.pressure, rtol=0.0, atol=RTOL_WARM * peak)
+    np.testing.assert_allclose(flat.pressure, ccg.pressure, rtol=0.0, atol=RTOL_WARM * peak)
+    assert len(pcg.stage_iterations) == 2 and pcg.stage_iterations[-1] == pcg.iterations
+    assert ccg.stage_iterations == (ccg.iterations,) and ccg.convolutions == 2 * ccg.iterations + 1
+    assert pcg.iterations < ccg.iterations
+
+
+def test_isolated_patch_pcg_equals_polonsky_keer():
+    """The sphere (isolated patch): the padded preconditioner gives Polonsky & Keer's answer."""
+    grid = bem.Grid(128, 128, 2e-6, 2e-6)
+    g0 = bem.sphere_gap(grid, 0.01) - bem.random_surface(PSD, grid, seed=4).heights
+    pcg = bem.solve_contact(g0, grid, E_STAR, 0.05, periodic=False, tol=TOL)
+    ccg = bem.solve_contact(g0, grid, E_STAR, 0.05, periodic=False, tol=TOL, method="ccg")
+    check_complementarity(pcg, g0)
+    peak = ccg.pressure.max()
+    np.testing.assert_allclose(pcg.pressure, ccg.pressure, rtol=0.0, atol=RTOL_WARM * peak)
+
+
+def test_bad_method():
+    grid = bem.Grid(8, 8, DX, DX)
+    with pytest.raises(ValueError, match="method"):
+        bem.solve_contact(np.zeros(grid.shape), grid, E_STAR, 1.0, method="cg")
+
+
+# ---- Reynolds flow: multigrid-preconditioned CG against the direct solve -------------------------
+RTOL_FLOW = 1e-8  # conductance of the iterative solve against sparse LU
+
+
+def test_flow_amg_equals_direct(flat):
+    pytest.importorskip("pyamg")
+    grid, g0, area = flat
+    gap = bem.solve_contact(g0, grid, E_STAR, 1e4 * area, tol=TOL).gap
+    amg = bem.reynolds_flow(gap, grid.dx, solver="amg")
+    direct = bem.reynolds_flow(gap, grid.dx, solver="direct")
+    assert amg.solver == "amg" and amg.iterations > 0 and direct.solver == "direct"
+    assert amg.conductance == pytest.approx(direct.conductance, rel=RTOL_FLOW, abs=0.0)
+    assert amg.balance_error < RTOL_FLOW
+    assert bem.reynolds_flow(gap, grid.dx).solver == "amg"  # auto picks it when installed
+
+
+def test_flow_falls_back_without_pyamg(flat, monkeypatch):
+    import sys
+
+    grid, g0, area = flat
+    gap = bem.solve_contact(g0, grid, E_STAR, 1e4 * area, tol=TOL).gap
+    monkeypatch.setitem(sys.modules, "pyamg", None)  # import pyamg raises ImportError
+    auto = bem.reynolds_flow(gap, grid.dx)
+    assert auto.solver == "direct" and auto.iterations == 0
+    with pytest.raises(ValueError, match="pyamg"):
+        bem.reynolds_flow(gap, grid.dx, solver="amg")
+    with pytest.raises(ValueError, match="solver"):
+        bem.reynolds_flow(gap, grid.dx, solver="lu")
