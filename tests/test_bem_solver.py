@@ -109,11 +109,14 @@ def test_pcg_equals_polonsky_keer(nominal):
     pcg = bem.solve_contact(g0, grid, E_STAR, load, tol=TOL)
     ccg = bem.solve_contact(g0, grid, E_STAR, load, tol=TOL, method="ccg")
     flat = bem.solve_contact(g0, grid, E_STAR, load, tol=TOL, nested=False)
-    for res in (pcg, ccg, flat):
+    other = bem.solve_contact(g0, grid, E_STAR, 3.0 * load, tol=TOL, method="ccg")
+    warm = bem.solve_contact(g0, grid, E_STAR, load, tol=TOL, p_init=other.pressure)
+    for res in (pcg, ccg, flat, warm):
         check_complementarity(res, g0)
     peak = ccg.pressure.max()
     np.testing.assert_allclose(pcg.pressure, ccg.pressure, rtol=0.0, atol=RTOL_WARM * peak)
     np.testing.assert_allclose(flat.pressure, ccg.pressure, rtol=0.0, atol=RTOL_WARM * peak)
+    np.testing.assert_allclose(warm.pressure, ccg.pressure, rtol=0.0, atol=RTOL_WARM * peak)
     assert len(pcg.stage_iterations) == 2 and pcg.stage_iterations[-1] == pcg.iterations
     assert ccg.stage_iterations == (ccg.iterations,) and ccg.convolutions == 2 * ccg.iterations + 1
     assert pcg.iterations < ccg.iterations

@@ -301,13 +301,13 @@ def solve_contact(
         Iteration cap per grid level, >= 1.
     p_init : array_like, optional
         Starting pressure [Pa], >= 0 with a positive sum, e.g. the solution at another load
-        on the same surface (a warm start); it is rescaled to ``load`` before the first
-        iteration, and no coarser level is solved. Default: a cold start.
+        on the same surface (a warm start); it is rescaled to ``load`` and, when nested,
+        starts the coarsest level as its 2 x 2 means. Default: a cold start.
     method : {"pcg", "ccg"}
         ``"pcg"`` (default): Fourier-preconditioned iterations, three convolutions each;
         ``"ccg"``: Polonsky & Keer's plain iterations, two convolutions each.
     nested : bool
-        Start a cold ``"pcg"`` solve from the solution on cells twice as large, recursively
+        Start a ``"pcg"`` solve from the solution on cells twice as large, recursively
         (default True; grids with even sides of >= 128 cells).
 
     Returns
@@ -330,10 +330,11 @@ def _solve(op, g0, grid, load, settings, p_init):
     tol, max_iter, method, levels = settings
     stages: list[int] = []
     coarse_convolutions = 0
-    if p_init is None and levels > 0:
-        p, stages, coarse_convolutions = nested_start(op, g0, load, tol, max_iter, levels)
-    else:
-        p = _start_pressure(p_init, grid, load)
+    p = None if p_init is None else _start_pressure(p_init, grid, load)
+    if levels > 0:
+        p, stages, coarse_convolutions = nested_start(op, g0, load, tol, max_iter, levels, p)
+    elif p is None:
+        p = _start_pressure(None, grid, load)
     p_flat = np.ascontiguousarray(p).ravel()
     g0_flat = np.ascontiguousarray(g0).ravel()
     solve = pcg_solve if method == "pcg" else _ccg
