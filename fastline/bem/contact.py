@@ -14,7 +14,11 @@ Solver: the constrained conjugate-gradient method of I. A. Polonsky and L. M. Ke
 206-219 (1999), doi:10.1016/S0043-1648(99)00113-1: conjugate gradients on the cells in contact
 for the gap equation with the mean gap in contact removed (which eliminates ``d``), projection
 onto ``p >= 0``, re-entry of penetrating cells with the steepest-descent step (which resets the
-conjugacy), and rescaling to the load.  Each iteration makes two convolutions. The stopping
+conjugacy), and rescaling to the load.  Each iteration makes two convolutions. By default
+(``method="pcg"``) the iterations are preconditioned in Fourier space on the contact set and
+started from coarser grids (nested iteration), which keeps their number nearly independent of
+the grid; :mod:`fastline.bem._pcg` describes both and ``docs/performance.md`` the counts. The
+stopping
 test is theirs: the relative pressure change ``sum |p - p_old| / sum p`` below ``tol``; a
 result is reported converged only if, in addition, ``p >= 0`` and the penetration and the gap
 on the contact cells are within ``sqrt(tol)`` of the undeformed gap's peak-to-peak.
