@@ -11,12 +11,11 @@ from __future__ import annotations
 
 import time
 
+from bench.bem_scaling import E_STAR, FRACTIONS, pressures_for, problem
 from fastline import bem
 
 
 def flow_table(sizes, fraction_index: int = 2) -> None:
-    from bench.bem_scaling import E_STAR, FRACTIONS, pressures_for, problem
-
     pressure = pressures_for(FRACTIONS[fraction_index : fraction_index + 1])[0]
     print("\n## Reynolds flow through the gap\n")
     print("| N | A/A0 | unknowns | amg: CG iterations | amg s | direct s | ratio | rel. diff |")

@@ -1,7 +1,7 @@
 """The same contact problem solved by tamaas (run with a Python that has tamaas installed, in
 a throwaway environment; tamaas is not a dependency of fastline).
 
-    python3 -m venv /tmp/venv-tamaas && /tmp/venv-tamaas/bin/pip install tamaas
+    python3 -m venv /tmp/venv-tamaas   # then install tamaas there with its pip
     /work/venv/bin/python -m bench.bem_scaling --save 1024 4      # writes the problem .npz
     /tmp/venv-tamaas/bin/python bench/bem_tamaas.py /tmp/bem_problem_1024_4.npz
 

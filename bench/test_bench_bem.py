@@ -13,6 +13,8 @@ import numpy as np
 import pytest
 
 import fastline as fl
+from bench.bem_scaling import E_STAR as FLAT_E_STAR
+from bench.bem_scaling import problem
 from fastline import bem
 from fastline.bem.halfspace import ALIAS_ORDER, _alias_sum
 
@@ -95,3 +97,22 @@ def test_line_realization(benchmark, alpha):
         contact_fraction=run.contact_fraction,
     )
     assert run.converged
+
+
+@pytest.mark.parametrize("method", ["pcg", "ccg"])
+def test_flat_contact_solve(benchmark, method):
+    """One 256^2 nominally flat contact at A/A0 ~ 0.3 (the surface of bench.bem_scaling): the
+    preconditioned nested solver against Polonsky & Keer's plain iterations."""
+    benchmark.group = "bem-contact-solver"
+    grid, g0 = problem(256)
+    load = 1.04e5 * grid.lx * grid.ly
+    bem.solve_contact(g0, grid, FLAT_E_STAR, load, tol=1e-4, method=method)  # compile, tables
+    res = benchmark.pedantic(
+        bem.solve_contact,
+        args=(g0, grid, FLAT_E_STAR, load),
+        kwargs={"tol": 1e-8, "method": method},
+        rounds=1,
+        iterations=1,
+    )
+    benchmark.extra_info.update(iterations=res.stage_iterations, convolutions=res.convolutions)
+    assert res.converged

@@ -10,6 +10,7 @@ import pytest
 
 import fastline as fl
 from fastline import bem
+from fastline.bem import flow as bem_flow
 
 TOL = 1e-10  # solver tolerance (relative pressure change per iteration)
 RTOL_WARM = 1e-6  # warm against cold pressure, relative to the peak pressure
@@ -109,11 +110,14 @@ def test_pcg_equals_polonsky_keer(nominal):
     pcg = bem.solve_contact(g0, grid, E_STAR, load, tol=TOL)
     ccg = bem.solve_contact(g0, grid, E_STAR, load, tol=TOL, method="ccg")
     flat = bem.solve_contact(g0, grid, E_STAR, load, tol=TOL, nested=False)
-    for res in (pcg, ccg, flat):
+    other = bem.solve_contact(g0, grid, E_STAR, 3.0 * load, tol=TOL, method="ccg")
+    warm = bem.solve_contact(g0, grid, E_STAR, load, tol=TOL, p_init=other.pressure)
+    for res in (pcg, ccg, flat, warm):
         check_complementarity(res, g0)
     peak = ccg.pressure.max()
     np.testing.assert_allclose(pcg.pressure, ccg.pressure, rtol=0.0, atol=RTOL_WARM * peak)
     np.testing.assert_allclose(flat.pressure, ccg.pressure, rtol=0.0, atol=RTOL_WARM * peak)
+    np.testing.assert_allclose(warm.pressure, ccg.pressure, rtol=0.0, atol=RTOL_WARM * peak)
     assert len(pcg.stage_iterations) == 2 and pcg.stage_iterations[-1] == pcg.iterations
     assert ccg.stage_iterations == (ccg.iterations,) and ccg.convolutions == 2 * ccg.iterations + 1
     assert pcg.iterations < ccg.iterations
@@ -149,7 +153,7 @@ def test_flow_amg_equals_direct(flat):
     assert amg.solver == "amg" and amg.iterations > 0 and direct.solver == "direct"
     assert amg.conductance == pytest.approx(direct.conductance, rel=RTOL_FLOW, abs=0.0)
     assert amg.balance_error < RTOL_FLOW
-    assert bem.reynolds_flow(gap, grid.dx).solver == "amg"  # auto picks it when installed
+    assert bem.reynolds_flow(gap, grid.dx).solver == "direct"  # auto: LU on small grids
 
 
 def test_flow_falls_back_without_pyamg(flat, monkeypatch):
@@ -158,6 +162,7 @@ def test_flow_falls_back_without_pyamg(flat, monkeypatch):
     grid, g0, area = flat
     gap = bem.solve_contact(g0, grid, E_STAR, 1e4 * area, tol=TOL).gap
     monkeypatch.setitem(sys.modules, "pyamg", None)  # import pyamg raises ImportError
+    monkeypatch.setattr(bem_flow, "AMG_MIN_CELLS", 1)  # auto would take the multigrid
     auto = bem.reynolds_flow(gap, grid.dx)
     assert auto.solver == "direct" and auto.iterations == 0
     with pytest.raises(ValueError, match="pyamg"):

@@ -18,10 +18,11 @@ nearly independent of the grid:
    it saves: measured 30 against 39 iterations at 256^2 cells and A/A0 = 0.3, 47 against 64 at
    512^2, ``python -m bench.bem_scaling --variants``).
 
-Nested iteration: a cold start first solves the same problem on cells twice as large (``g0``
+Nested iteration: a start first solves the same problem on cells twice as large (``g0``
 averaged over 2 x 2 cells, the load unchanged), recursively down to ``NESTED_MIN_CELLS`` cells
 per side, each level to the tolerance ``sqrt(tol)``, and starts from the coarse pressure
-repeated on the 2 x 2 children; the finest level then only refines the contact edges.
+repeated on the 2 x 2 children; the finest level then only refines the contact edges. A warm
+start (``p_init``) enters at the coarsest level as its 2 x 2 means.
 """
 
 from __future__ import annotations
@@ -179,8 +180,9 @@ def nested_levels(nx: int, ny: int) -> int:
     return levels
 
 
-def nested_start(op, g0, load, tol, max_iter, levels):
-    """Cold start for ``op``'s grid from the coarser levels.
+def nested_start(op, g0, load, tol, max_iter, levels, p_start=None):
+    """Start for ``op``'s grid from the coarser levels (the coarsest from ``p_start``'s 2 x 2
+    means if given, else uniform).
 
     Returns (pressure of ``op``'s grid [Pa], iterations per coarse level coarsest first,
     convolutions made on them).
@@ -191,6 +193,10 @@ def nested_start(op, g0, load, tol, max_iter, levels):
     for _ in range(levels):
         g0s.append(coarsen(g0s[-1]))
     p = None
+    if p_start is not None:
+        for _ in range(levels):
+            p_start = coarsen(p_start)
+        p = p_start * (load / (p_start.sum() * dx * dy * 4**levels))
     stages: list[int] = []
     convolutions = 0
     coarse_tol = max(tol, math.sqrt(tol))
@@ -200,7 +206,7 @@ def nested_start(op, g0, load, tol, max_iter, levels):
         area = dx * dy * f * f
         if p is None:
             p = np.full(cop.shape, load / (area * cop.nx * cop.ny))
-        else:
+        elif p.shape != cop.shape:
             p = np.repeat(np.repeat(p, 2, axis=0), 2, axis=1)
         flat = p.ravel()
         g = np.ascontiguousarray(g0s[k]).ravel()

@@ -14,7 +14,11 @@ Solver: the constrained conjugate-gradient method of I. A. Polonsky and L. M. Ke
 206-219 (1999), doi:10.1016/S0043-1648(99)00113-1: conjugate gradients on the cells in contact
 for the gap equation with the mean gap in contact removed (which eliminates ``d``), projection
 onto ``p >= 0``, re-entry of penetrating cells with the steepest-descent step (which resets the
-conjugacy), and rescaling to the load.  Each iteration makes two convolutions. The stopping
+conjugacy), and rescaling to the load.  Each iteration makes two convolutions. By default
+(``method="pcg"``) the iterations are preconditioned in Fourier space on the contact set and
+started from coarser grids (nested iteration), which keeps their number nearly independent of
+the grid; :mod:`fastline.bem._pcg` describes both and ``docs/performance.md`` the counts. The
+stopping
 test is theirs: the relative pressure change ``sum |p - p_old| / sum p`` below ``tol``; a
 result is reported converged only if, in addition, ``p >= 0`` and the penetration and the gap
 on the contact cells are within ``sqrt(tol)`` of the undeformed gap's peak-to-peak.
@@ -301,13 +305,13 @@ def solve_contact(
         Iteration cap per grid level, >= 1.
     p_init : array_like, optional
         Starting pressure [Pa], >= 0 with a positive sum, e.g. the solution at another load
-        on the same surface (a warm start); it is rescaled to ``load`` before the first
-        iteration, and no coarser level is solved. Default: a cold start.
+        on the same surface (a warm start); it is rescaled to ``load`` and, when nested,
+        starts the coarsest level as its 2 x 2 means. Default: a cold start.
     method : {"pcg", "ccg"}
         ``"pcg"`` (default): Fourier-preconditioned iterations, three convolutions each;
         ``"ccg"``: Polonsky & Keer's plain iterations, two convolutions each.
     nested : bool
-        Start a cold ``"pcg"`` solve from the solution on cells twice as large, recursively
+        Start a ``"pcg"`` solve from the solution on cells twice as large, recursively
         (default True; grids with even sides of >= 128 cells).
 
     Returns
@@ -330,10 +334,11 @@ def _solve(op, g0, grid, load, settings, p_init):
     tol, max_iter, method, levels = settings
     stages: list[int] = []
     coarse_convolutions = 0
-    if p_init is None and levels > 0:
-        p, stages, coarse_convolutions = nested_start(op, g0, load, tol, max_iter, levels)
-    else:
-        p = _start_pressure(p_init, grid, load)
+    p = None if p_init is None else _start_pressure(p_init, grid, load)
+    if levels > 0:
+        p, stages, coarse_convolutions = nested_start(op, g0, load, tol, max_iter, levels, p)
+    elif p is None:
+        p = _start_pressure(None, grid, load)
     p_flat = np.ascontiguousarray(p).ravel()
     g0_flat = np.ascontiguousarray(g0).ravel()
     solve = pcg_solve if method == "pcg" else _ccg

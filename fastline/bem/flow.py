@@ -13,13 +13,16 @@ is discretised with conservative finite volumes on the cells of the gap map:
 Cells that are not connected to both the inlet and the outlet (closed islands, or everything
 when no channel percolates) are removed before the solve with
 :func:`scipy.sparse.csgraph.connected_components`; without them the matrix is singular.  The
-remaining system is symmetric positive definite. It is solved by conjugate gradients
+remaining system is symmetric positive definite. Two solvers: conjugate gradients
 preconditioned with one V-cycle of smoothed-aggregation algebraic multigrid (P. Vanek, J. Mandel,
 M. Brezina, Computing 56, 179 (1996), doi:10.1007/BF02238511; the ``pyamg`` package, the
-optional extra ``fastline[flow]``) to a relative residual ``AMG_RTOL``, or directly by
-:func:`scipy.sparse.linalg.spsolve` (``solver="direct"``, and the fallback when pyamg is not
-installed). The two agree to ``1e-8`` relative in the conductance (``tests/test_bem_solver.py``);
-measured times in ``docs/performance.md`` (``python -m bench.bem_scaling --flow``).
+optional extra ``fastline-contact[flow]``) to a relative residual ``AMG_RTOL``, and SciPy's
+sparse LU (:func:`scipy.sparse.linalg.spsolve`). They agree to ``1e-8`` relative in the
+conductance (``tests/test_bem_solver.py``; measured 4e-11-7e-11). LU was the faster on the
+measured grids (2.2 s against 3.8 s at 512^2 cells, 15.6 s against 19.1 s at 1024^2; the
+multigrid's CG iterations grow, 33 to 53, because ``g^3`` spans many decades near contact:
+``docs/performance.md``), so ``solver="auto"`` takes LU up to ``AMG_MIN_CELLS`` active cells
+and the multigrid above, where LU's fill-in makes its memory the limit, if pyamg is installed.
 
 Exact for piecewise-constant gaps: a uniform gap ``g`` gives ``Q = (Ly / Lx) g^3/(12 eta) dP``
 (plane Poiseuille); strips across the flow give the harmonic mean of ``c`` (resistances in
@@ -51,6 +54,8 @@ AMG_RTOL = 1e-12
 #: strength-of-connection threshold of the aggregation (0.1: 28 CG iterations on a 256^2 gap at
 #: A/A0 = 0.1, against 74 at pyamg's default 0; ``python -m bench.bem_scaling --flow``)
 AMG_THETA = 0.1
+#: active cells from which ``solver="auto"`` takes the multigrid (when pyamg is installed)
+AMG_MIN_CELLS = 2_000_000
 #: the sparse solvers of :func:`reynolds_flow`
 SOLVERS = ("auto", "amg", "direct")
 
@@ -184,8 +189,8 @@ def reynolds_flow(
         ``dP`` between inlet and outlet [Pa], > 0.
     solver : {"auto", "amg", "direct"}
         ``"amg"``: CG with an algebraic-multigrid preconditioner (needs pyamg, the extra
-        ``fastline[flow]``); ``"direct"``: sparse LU; ``"auto"`` (default): ``"amg"`` if pyamg
-        is installed, else ``"direct"``.
+        ``fastline-contact[flow]``); ``"direct"``: sparse LU; ``"auto"`` (default):
+        ``"amg"`` from ``AMG_MIN_CELLS`` active cells if pyamg is installed, else ``"direct"``.
 
     Returns
     -------
@@ -241,13 +246,13 @@ def _checked(gap, dx, dy, viscosity, pressure_drop, solver):
 def _solve(A, rhs, solver):
     """``A x = rhs``: (x, the solver used, CG iterations)."""
     amg = None
-    if solver != "direct":
+    if solver == "amg" or (solver == "auto" and A.shape[0] >= AMG_MIN_CELLS):
         try:
             import pyamg as amg
         except ImportError:
             if solver == "amg":
                 raise ValueError(
-                    "solver='amg' needs pyamg (pip install 'fastline[flow]'); "
+                    "solver='amg' needs pyamg (pip install 'fastline-contact[flow]'); "
                     "use solver='direct' or 'auto'"
                 ) from None
     if amg is None or A.shape[0] < 2:
