@@ -466,7 +466,13 @@ BAD_TABLES = [
     ),
     ([GOOD, {**GOOD, "n": 96.0}, {**GOOD, "n": 96.5}], TypeError, "'n' must hold an integer"),
     ([{**GOOD, "n": 128.5}], TypeError, "'n' must hold an integer"),
-    ([{**GOOD, "model": 3}], TypeError, "'model' must hold a string"),
+    ([{**GOOD, "model": 3}], TypeError, "'model' must hold a model name"),
+    (  # a law object: one line naming the in-process sweep that takes it
+        [{**GOOD, "model": fl.ExponentialLaw(1e-6, 1e5, 1.33e9)}],
+        TypeError,
+        r"'model' must hold a model name .*in this process: LineContact\(psd, E_star, radius, "
+        r"model=law\)\.sweep\(loads\).*row 0 holds ExponentialLaw",
+    ),
     ([{**GOOD, "model": "Persson"}], ValueError, "'model' must be one of .*row 0 is 'Persson'"),
     ([{**GOOD, "method": "bfgs"}], ValueError, "'method' must be one of"),
     (

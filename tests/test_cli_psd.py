@@ -9,6 +9,8 @@ dropouts, ...), unit warnings, exit statuses and output paths checked before any
 
 from __future__ import annotations
 
+import warnings
+
 import numpy as np
 import pytest
 
@@ -229,6 +231,9 @@ def test_help_states_the_units(command, capsys):
     out = " ".join(capsys.readouterr().out.split())
     for text in ("--dx M", "[m] (metres whatever --units)", "--units {m,mm,um,nm}", "[1/m]"):
         assert text in out, text
+    # the defaults the reader applies: the header's units, else m, x following the heights
+    assert "default: the unit the file's header names for them" in out and "else m;" in out
+    assert "else the heights' unit (with a warning when that is not m)" in out
     assert ("--scan FILE" in out) == (command == "profile")
 
 
@@ -347,17 +352,42 @@ def test_fit_held_at_its_bound_is_said(tmp_path, capsys):
     assert "fit              H 1 (held at its bound: C falls faster than self-affine can)" in out
 
 
-def test_psd_units_from_the_header_and_contradicting_options(tmp_path, capsys):
-    """A header naming the units is used; --units that contradicts it is a usage error naming
-    --units; the summary says what was left out above the range."""
+def _named_walk(tmp_path):
+    """A random walk with a header naming its units (x in um, heights in nm)."""
     x = np.arange(512) * 0.5  # um
     h = np.random.default_rng(4).standard_normal(512).cumsum() * 20.0  # nm
     path = tmp_path / "named.csv"
     path.write_text(
         "Position [um],Height [nm]\n" + "".join(f"{a},{b}\n" for a, b in zip(x, h, strict=True))
     )
+    return path
+
+
+def test_psd_units_from_the_header_and_contradicting_options(tmp_path, capsys):
+    """A header naming the units is used; --units that contradicts it is a usage error naming
+    --units; the summary says what was left out above the range."""
+    path = _named_walk(tmp_path)
     status, stdout, err = run(["psd", path], capsys)
     assert status == 0 and error_lines(err) == []
     assert "dx 5e-07 m" in stdout and stdout.count("left out ") == 1
     status, _, err = run(["psd", path, "--units", "mm"], capsys)
     assert status == 2 and "--units mm" in err and "contradicts" in err
+
+
+def test_profile_scan_says_what_psd_says(tmp_path, capsys):
+    """profile --scan prints the scan's whole summary (ScanSpectrum.summary, which
+    ScanSpectrum.describe returns), as fastline psd does: every line but psd's C(q) table line,
+    the line saying what the noise floor left out included."""
+    path = _named_walk(tmp_path)
+    status, out_psd, _ = run(["psd", path], capsys)
+    assert status == 0
+    status, out, _ = run(["profile", "--scan", path, *SCENE], capsys)
+    assert status == 0
+    with warnings.catch_warnings():  # those of the commands above, already checked there
+        warnings.simplefilter("ignore")
+        scan = fastline.surfaces.analyse_scan(path)
+    assert scan.describe() == scan.summary() and scan.summary(table=False) in out
+    shared = [ln for ln in out_psd.splitlines() if ln.startswith(("scan ", "data ", "q range"))]
+    shared += [ln for ln in out_psd.splitlines() if ln.startswith(("left out ", "fit  "))]
+    assert len(shared) == 5 and all(ln in out.splitlines() for ln in shared)
+    assert "C(q) table" in out_psd and "C(q) table" not in out

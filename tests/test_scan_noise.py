@@ -151,7 +151,9 @@ def test_scan_summary_says_what_was_cut(noisy, tmp_path):
     np.save(path, h / 1e-6)
     scan = _quiet(analyse_scan, path, dx=2e-7, unit="um")
     text = scan.summary()
-    assert str(scan) == text
+    assert str(scan) == text and scan.describe() == text
+    one = scan.one_line()  # the first line, without the path
+    assert "\n" not in one and text.splitlines()[0].endswith(one) and "window" in one
     assert "q range used" in text and "fit " in text and "C(q) table" in text
     left = [line for line in text.splitlines() if line.startswith("left out")]
     assert scan.limits["high"] == "noise floor found" and "noise floor found" in text

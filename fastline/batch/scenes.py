@@ -263,6 +263,8 @@ def _cell(col: Column, i: int, v):
             _type_error(col, i, v, "an integer")
         return int(v)
     if col.kind == "text":
+        if col.name == "model" and not isinstance(v, str):
+            _type_error(col, i, v, _NOT_A_LAW)
         if not isinstance(v, str):
             _type_error(col, i, v, "a string")
         return str(v)
@@ -275,6 +277,13 @@ def _psd_cell(col: Column, i: int, v):
     if isinstance(v, str | os.PathLike):
         return os.path.abspath(os.fspath(v))
     _type_error(col, i, v, "a fastline PSD, the path of a spectrum file, or None")
+
+
+#: why a law object is refused in the model column, and what to do instead
+_NOT_A_LAW = (
+    f"a model name {_MODELS} (a law object, calibrated or your own, is solved in this process: "
+    "LineContact(psd, E_star, radius, model=law).sweep(loads), PointContact for a sphere)"
+)
 
 
 def _type_error(col: Column, i: int, v, what: str):

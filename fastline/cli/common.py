@@ -669,7 +669,10 @@ def sweep_in_parallel(
     import numpy as np
 
     if getattr(args, "law", None) is not None:
-        raise CLIError("--law runs in this process: drop --workers and --scheduler")
+        raise CLIError(
+            "--law is solved in this process, not on workers: drop --workers and --scheduler "
+            "to sweep the loads in this process"
+        )
     k = len(loads)
     scenes = {
         "geometry": [args.geometry] * k,

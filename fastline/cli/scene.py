@@ -5,8 +5,8 @@ measurement) and material, and measured surfaces on the command line.
 source); :func:`run_profile` solves one scene of ``profile`` for either geometry. The options of
 a measured surface (:func:`scan_options`), their checks (:func:`scan_checks`), the analysis
 (:func:`scan_analysis`, :func:`fastline.surfaces.analyse_scan`; docs/topography.md) and its
-summary (:func:`scan_lines`) serve both ``--scan FILE`` and ``fastline psd SCAN``
-(:mod:`fastline.cli.psd`).
+summary (:meth:`fastline.surfaces.ScanSpectrum.summary`) serve both ``--scan FILE`` and
+``fastline psd SCAN`` (:mod:`fastline.cli.psd`).
 
 SI units throughout: lengths in m whatever the file's units, wavenumbers in 1/m, C(q) in m^4.
 """
@@ -53,7 +53,6 @@ __all__ = [
     "scan_options",
     "scan_checks",
     "scan_analysis",
-    "scan_lines",
 ]
 
 #: the options of a measured surface (dest -> flag); all default to None (False for switches)
@@ -137,13 +136,15 @@ def _scan_file_options(g, standalone: bool) -> None:
     g.add_argument(
         "--units",
         choices=_LENGTH_UNITS,
-        help="unit of the heights in a text or .npy file (default m; um for micrometres); "
-        "instrument files carry their own",
+        help="unit of the heights in a text or .npy file (um for micrometres); default: the "
+        'unit the file\'s header names for them ("h [um]", a units line), else m; given with '
+        "such a header it must agree with it; instrument files carry their own",
     )
     g.add_argument(
         "--x-units",
         choices=_LENGTH_UNITS,
-        help="unit of the x column of a two-column (x, h) file (default: --units)",
+        help="unit of the x column of a two-column (x, h) file; default: the unit the "
+        "header names for x, else the heights' unit (with a warning when that is not m)",
     )
 
 
@@ -295,56 +296,11 @@ def _print_warnings(caught, unit_warning) -> None:
             warn(text)
 
 
-def scan_lines(scan: ScanSpectrum, table: bool) -> list[str]:
-    """The spectrum summary: what was read, the data, the range and why, the fit, the table."""
-
-    rules = surfaces.LIMIT_RULES
-    lines = [f"scan             {scan.path}: {scan.describe()}"]
-    if scan.spectrum is not None:
-        s = scan.spectrum
-        lines.append(
-            f"data             h_rms {s.h_rms:.4g} m, rms slope {s.rms_slope:.4g} (detrended "
-            "heights; slope from differences at dx)"
-        )
-    lo, hi = scan.q_range
-    lines.append(
-        f"q range used     {lo:.4g}-{hi:.4g} 1/m; low end: {rules[scan.limits['low']]}; "
-        f"high end: {rules[scan.limits['high']]}"
-    )
-    f = scan.fit
-    hurst = f"H {f.hurst:.3f} ± {f.hurst_err:.2g}"
-    if f.hurst_at_bound:  # held there: no error bar
-        steeper = "faster" if f.hurst >= 1.0 else "slower"
-        hurst = f"H {f.hurst:g} (held at its bound: C falls {steeper} than self-affine can)"
-    qr = f"q_r {f.qr:.4g} ± {f.qr_err:.2g} 1/m"
-    if f.qr_at_bound:
-        qr = f"q_r {f.qr:.4g} 1/m not resolved (the roll-off may lie anywhere below)"
-    lines.append(
-        f"fit              {hurst}, {qr}, h_rms {f.h_rms:.4g} ± {f.h_rms_err:.2g} m "
-        f"(self-affine with roll-off fitted to {f.fitted_to} over {f.q_range[0]:.4g}-"
-        f"{f.q_range[1]:.4g} 1/m; scatter of ln {f.fitted_to.split('(')[0]} "
-        f"{f.rms_residual:.2g} rms, {f.n_points} points)"
-    )
-    if table:
-        t = scan.psd
-        lines.append(
-            f"C(q) table       {t.q.size} points, q {t.q0:.4g}-{t.q1:.4g} 1/m: h_rms "
-            f"{t.h_rms:.4g} m, rms slope {t.rms_slope:.4g}"
-        )
-    if scan.extended_from is not None:
-        lines.append(
-            f"continued        above {scan.extended_from:.4g} 1/m to q1 = {scan.psd.q1:.4g} 1/m "
-            f"as C ~ q^-{2.0 * (1.0 + f.hurst):.3g} (the fitted H): an assumption, not a "
-            "measurement"
-        )
-    return lines
-
-
 def _scan_scene(args):
     """(psd, source) of --scan: output paths checked first, the analysis printed."""
     check_outputs(args)
     scan = scan_analysis(args)
-    print("\n".join(scan_lines(scan, table=False)))
+    print(scan.summary(table=False))
     source = ScanSource(args.scan)
     source.scan = scan
     return scan.psd, source

@@ -115,8 +115,13 @@ class ScanSpectrum:
         return self.spectrum.n_profiles if self.spectrum is not None else 1
 
     def describe(self) -> str:
-        """One line: what was read and how it was analysed (:meth:`summary`: the whole
-        analysis, as ``fastline psd`` prints it)."""
+        """The whole analysis, as ``fastline psd`` and ``--scan`` print it: the same text as
+        :meth:`summary` with its C(q) table line (:meth:`one_line`: what was read, in one line)."""
+        return self.summary(table=True)
+
+    def one_line(self) -> str:
+        """One line: what was read and how it was analysed (the first line of :meth:`summary`,
+        without the path)."""
         if self.kind == "map":
             ny, nx = self.shape
             what = (
@@ -165,7 +170,7 @@ class ScanSpectrum:
         f = self.fit
         meta = {
             "scan": self.path,
-            "analysis": self.describe(),
+            "analysis": self.one_line(),
         }
         if self.spectrum is not None:
             meta["h_rms_data_m"] = self.spectrum.h_rms
@@ -210,7 +215,7 @@ def _fit_line(f: tp.SelfAffineFit) -> str:
 
 def summary_lines(scan: ScanSpectrum, table: bool) -> list[str]:
     """The lines of :meth:`ScanSpectrum.summary`."""
-    lines = [f"scan             {scan.path}: {scan.describe()}"]
+    lines = [f"scan             {scan.path}: {scan.one_line()}"]
     if scan.spectrum is not None:
         s = scan.spectrum
         lines.append(
