@@ -280,8 +280,7 @@ def validate_line_contact(
     Parameters
     ----------
     psd, E_star, radius, load
-        Roughness spectrum (m^4 vs 1/m), effective modulus [Pa], cylinder radius [m], load
-        per unit length [N/m].
+        Spectrum (m^4 vs 1/m), effective modulus [Pa], radius [m], load per length [N/m].
     models, gamma, law
         Laws to compare, from :data:`MODELS` (default the default variant), the gamma of the
         Persson variants (default: each variant's own), and a law object of the same spectrum
@@ -293,10 +292,9 @@ def validate_line_contact(
         Client, any executor; default this process; ``workers``: a local pool of that many
         processes) and a progress bar on stderr (None: on a terminal only), as for
         :func:`fastline.bem.run_ensemble`.
-    points_per_wavelength, periods : float
-        BEM grid (:func:`fastline.bem.line_contact_scene`).
-    n, scene
-        Theory grid points; a prebuilt BEM scene (then the grid options are ignored).
+    points_per_wavelength, periods, n, scene
+        BEM grid (:func:`fastline.bem.line_contact_scene`); theory grid points; a prebuilt BEM
+        scene (then the grid options are ignored).
 
     Returns
     -------
