@@ -44,8 +44,9 @@ def cmd_calibrate(args) -> None:
     print(f"load average {os.getloadavg()}", flush=True)
     t0 = time.perf_counter()
     law = fl.calibrate(
-        PSD, E_STAR, radius=RADIUS, loads=loads, n_pressures=args.pressures, realizations=args.realizations,
-        workers=args.workers, check=None if args.check == "none" else args.check,
+        PSD, E_STAR, radius=RADIUS, loads=loads, n_pressures=args.pressures,
+        realizations=args.realizations, workers=args.workers,
+        check=None if args.check == "none" else args.check,
         progress=lambda done, total: print(f"  surface {done}/{total} "
                                            f"{time.perf_counter() - t0:.0f} s", flush=True),
     )  # fmt: skip
