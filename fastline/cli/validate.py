@@ -369,13 +369,16 @@ def _check_gamma(value: float) -> None:
 def _header(psd, E, source, grid, args, what: str, law=None) -> list[str]:
     h_rms, slope = bem.lattice_moments(psd, grid)
     lines = [] if law is None else [f"law              {law.name} ({args.validate_law}): {law!r}"]
-    return lines + [
-        spectrum_line(psd, source),
-        f"BEM              {what}: {args.realizations} realisations (seed {args.seed}) on "
-        f"{grid.nx} x {grid.ny} cells of {grid.dx:.4g} m, {_where(args)}",
-        f"BEM surfaces     h_rms {h_rms:.4g} m (spectrum {psd.h_rms:.4g} m), rms slope "
-        f"{slope:.4g} (spectrum {psd.rms_slope:.4g})",
-    ]
+    return (
+        [spectrum_line(psd, source)]
+        + lines
+        + [
+            f"BEM              {what}: {args.realizations} realisations (seed {args.seed}) on "
+            f"{grid.nx} x {grid.ny} cells of {grid.dx:.4g} m, {_where(args)}",
+            f"BEM surfaces     h_rms {h_rms:.4g} m (spectrum {psd.h_rms:.4g} m), rms slope "
+            f"{slope:.4g} (spectrum {psd.rms_slope:.4g})",
+        ]
+    )
 
 
 def _run(args, validate, *params, **options):

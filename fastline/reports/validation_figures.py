@@ -186,6 +186,6 @@ def plot_flat_validation(
     a1.set_ylabel(r"effective gap ($\mu$m)")
     a1.set_ylim(0.0, None)
     a0.set_ylim(0.0, None)
-    a0.legend(loc="upper right", fontsize=7, frameon=False)
+    a0.legend(loc="lower left", fontsize=7, frameon=False)  # the curves fall to the right
     outside_legend(a1)
     return fig
