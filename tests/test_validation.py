@@ -136,17 +136,21 @@ def test_table_columns_stay_apart():
         0.0,
     )
     lines = v.table().splitlines()
-    assert len(lines) == 2 + len(names)
+    assert len(lines) == 3 + len(names)  # header, BEM, the laws, the closest law
+    assert lines[-1].startswith("closest to the BEM: ")
+    lines = lines[:-1]
     narrow = dataclasses.replace(v, ensemble=SimpleNamespace(**{**vars(ensemble), "narrow": "x"}))
-    assert narrow.table().splitlines() == [*lines, "warning: x"]
+    assert narrow.table().splitlines()[:-2] == lines
+    assert narrow.table().splitlines()[-1] == "warning: x"
     assert "1.23e+03" in lines[-1]
     # chi2/bin needs 4 realisations: with 2 or 3 z^2 has no mean
     few = dataclasses.replace(v, ensemble=SimpleNamespace(**{**vars(ensemble), "realizations": 3}))
-    assert few.table().splitlines()[-1].endswith("  n/a")
-    # the header has 4 titled columns; BEM 4 cells; each model 5 (name, 3 values, chi2)
+    assert few.table().splitlines()[-2].split()[-2] == "n/a"
+    # the header has 5 titled columns; BEM 4 cells; each law 6 (name, 3 values, chi2, mean |z|)
     widths = [len(re.split(r"\s{2,}", ln.strip())) for ln in lines]
-    assert widths == [4, 4, *[5] * len(names)], v.table()
+    assert widths == [5, 4, *[6] * len(names)], v.table()
     assert lines[-1].startswith(names[-1] + "  ")
+    assert lines[-1].endswith(f"  {(12.4 + 123.4 + 3.9) / 3:.2g}")
 
 
 def test_library_rejects():
@@ -602,3 +606,108 @@ def test_figure_shows_every_law(tiny_line_validation):
     widths = [lines[m].get_linewidth() for m in validation.MODELS]
     assert widths == sorted(widths, reverse=True)  # the first drawn is the widest
     assert ax.get_title(loc="left") == ""
+
+
+# ------------------------------------------------------------------------------------------------
+# a calibrated law beside the theory's laws
+# ------------------------------------------------------------------------------------------------
+#: a law of known points: Persson's u(p) scaled by U_SCALE, its u_c by GAP_SCALE
+U_SCALE, GAP_SCALE = 0.85, 0.8
+
+
+def _known_law(psd):
+    """A CalibratedLaw through points built from the theory (not from a BEM): u = U_SCALE u_P,
+    g = GAP_SCALE u_c, 1 % errors."""
+    th = fl.PerssonTheory(psd, E_STAR)
+    p = np.geomspace(30.0, 3e5, 12)
+    u, g = U_SCALE * th.separation(p), GAP_SCALE * th.critical_gap(p).u_c
+    a = th.contact_area(p)
+    pts = fl.CalibrationPoints(p, u, 0.01 * u, a, 0 * p, g, 0.01 * g, g, 0.01 * g)
+    return fl.CalibratedLaw(pts, psd, E_STAR)
+
+
+@pytest.fixture(scope="module")
+def calibrated_validation():
+    """The tiny scene of tiny_line_validation with the default variant, GW and a known law."""
+    psd = _psd(4)
+    f = _load(psd, 1.0)
+    law = _known_law(psd)
+    scene = bem.line_contact_scene(psd, E_STAR, RADIUS, f, periods=1)
+    models = ("yang-persson-energy", "greenwood-williamson")
+    v = validation.validate_line_contact(
+        psd, E_STAR, RADIUS, f, models=models, law=law, realizations=2, scene=scene, n=256
+    )
+    return psd, f, law, v
+
+
+def test_calibrated_law_beside_the_theory(calibrated_validation):
+    """The law's row is a direct solve of the same scene with that law, compared as any law;
+    the closest law has the smallest mean |z| of p0, s and w/s, computed here from the
+    comparisons."""
+    psd, f, law, v = calibrated_validation
+    assert tuple(v.results) == ("yang-persson-energy", "greenwood-williamson", "calibrated")
+    direct = fl.solve_line_contact(psd, E_STAR, RADIUS, f, model=law, n=256)
+    r, c = v.results["calibrated"], v.comparisons["calibrated"]
+    assert r.p0 == pytest.approx(direct.p0, rel=SAME) and r.s == pytest.approx(direct.s, rel=SAME)
+    again = bem.compare_line_contact(direct, v.ensemble)
+    assert (c.p0, c.s, c.w_over_s) == (again.p0, again.s, again.w_over_s)
+    np.testing.assert_array_equal(c.theory_pressure, again.theory_pressure)
+    # the scaled law is not the energy variant's: its row differs
+    assert abs(r.p0 / v.results["yang-persson-energy"].p0 - 1.0) > 0.01
+    mean_z = {
+        name: np.mean([abs(d.z) for d in (k.p0, k.s, k.w_over_s)])
+        for name, k in v.comparisons.items()
+    }
+    assert v.closeness() == pytest.approx(mean_z, rel=SAME)
+    best = min(mean_z, key=mean_z.__getitem__)
+    assert v.closest == best
+    last = v.table().splitlines()[-1]
+    assert last.startswith(f"closest to the BEM: {best} (mean |z| of p0, s, w/s ")
+    row = next(ln for ln in v.table().splitlines() if ln.startswith("calibrated "))
+    assert row.endswith(f"  {mean_z['calibrated']:.2g}")
+
+
+def test_calibrated_law_on_the_command_line(calibrated_validation, tmp_path, capsys):
+    """--law FILE: the law's row and the closest line as the API's; the CSV has its profile;
+    a file made for another E* is refused before any work."""
+    psd, f, law, v = calibrated_validation
+    path = tmp_path / "law.npz"
+    law.save(path)
+    csv = tmp_path / "p.csv"
+    argv = ["validate", *TINY, "--alpha", 1, "--gw", "--law", path, "--csv", csv]
+    status, out, _ = run(argv, capsys)
+    assert status == 0
+    assert v.table() in out
+    header, rows = read_csv(csv)
+    assert float(header["calibrated_p0_ratio"]) == v.results["calibrated"].p0_ratio
+    np.testing.assert_array_equal(
+        rows["p_calibrated_Pa"], v.comparisons["calibrated"].theory_pressure
+    )
+    status, out, err = run(["validate", *TINY[:-4], "--E-star", 2 * E_STAR, "--radius", RADIUS,
+                            "--law", path], capsys)  # fmt: skip
+    assert status == 2 and "E*" in err and "BEM " not in out
+    status, _, err = run(["validate", *TINY, "--law", tmp_path / "none.npz"], capsys)
+    assert status == 2 and "no such file" in err
+
+
+def test_calibrated_law_on_a_flat_contact():
+    """validate_flat_contact with law=: u(p) and the hydraulic gap are the law's; the closest
+    leak gap has the smallest leak-rate factor exp(mean |3 ln(g / g_BEM)|), computed here."""
+    psd = _psd(4)
+    law = _known_law(psd)
+    p = np.array([3e3, 3e4])
+    fv = validation.validate_flat_contact(psd, E_STAR, p, law=law, realizations=2, periods=1)
+    np.testing.assert_allclose([d.theory for d in fv.separation["calibrated"]],
+                               law.separation_and_slope(np.log(p))[0], rtol=SAME)  # fmt: skip
+    g = law.hydraulic_gap(p)
+    np.testing.assert_allclose([d.theory for d in fv.hydraulic_gap], g, rtol=SAME)
+    bem_g = np.array([e.effective_gap for e in fv.ensembles])
+    factor = np.exp(np.mean(np.abs(3.0 * np.log(g / bem_g))))
+    assert fv.leak_closeness()["calibrated"] == pytest.approx(factor, rel=1e-12)
+    leak = fv.leak_closeness()
+    best = min(leak, key=leak.__getitem__)
+    assert fv.table().splitlines()[-1].startswith(f"closest leak rate to the BEM: {best} (")
+    with pytest.raises(ValueError, match="calibrated for E"):
+        validation.validate_flat_contact(psd, 2 * E_STAR, p, law=law, realizations=2)
+    with pytest.raises(TypeError, match="law must be"):
+        validation.validate_flat_contact(psd, E_STAR, p, law="law.npz", realizations=2)

@@ -77,6 +77,12 @@ With --leak: a nominally flat contact under the uniform pressures --pressure, th
 fraction, mean gap and the effective gap of a Reynolds flow through the gap field against the
 theory's real contact area, mean separation u(p) and critical-junction gap u_c.
 
+With --law FILE: a law calibrated on flat-contact BEM ensembles of the same spectrum and E*
+(fastline calibrate --out FILE) beside the theory's laws (with --leak also its hydraulic gap
+against the effective gap). The table names the law closest to the BEM: the smallest mean |z|
+of p0, s and w/s (--leak: of u(p)), and for --leak the leak gap whose leak rate (gap^3) is
+closest to the BEM's (the typical factor exp(mean |3 ln(gap / BEM gap)|) over the pressures).
+
 The BEM grid has --points-per-wavelength cells per shortest wavelength 2 pi/q1 and a period of
 --periods longest wavelengths 2 pi/q0 along the axis: spectra with q1/q0 up to ~100 run in
 seconds to minutes per realisation. The nominal pressure is averaged over bins that follow
@@ -97,7 +103,8 @@ examples:
   fastline validate --scan examples/scan_example.txt --dx 1e-6 --units um --q1 1e6 \\
       --points-per-wavelength 2 --alpha 0.3
   fastline validate --geometry sphere --q1 1.26e6 --alpha 0.3 --workers 2 --plot sphere.png
-  fastline validate --leak --pressure 2e3 1e4 5e4 --all-variants --plot flat.png"""
+  fastline validate --leak --pressure 2e3 1e4 5e4 --all-variants --plot flat.png
+  fastline validate --E-star 10e6 --radius 32.8e-3 --alpha 3 --all-variants --law law.npz"""
 
 
 def validate_parser(sub: argparse._SubParsersAction, fmt: type[argparse.HelpFormatter]) -> None:
@@ -185,6 +192,14 @@ def _theory_group(p: argparse.ArgumentParser) -> None:
         "--gw", action="store_true", help="also the Greenwood-Williamson law of the spectrum"
     )
     t.add_argument(
+        "--law",
+        dest="validate_law",
+        metavar="FILE",
+        help="also a law calibrated on boundary-element ensembles of this spectrum and E* "
+        "(fastline calibrate --out FILE; checked against the scene); with --leak also its "
+        "hydraulic gap",
+    )
+    t.add_argument(
         "--n",
         type=count,
         metavar="N",
@@ -270,6 +285,17 @@ def _scene(args):
     return scene(args)
 
 
+def _law(args, psd, E: float):
+    """The calibrated law of ``--law FILE``, checked against the scene's spectrum and E*
+    (None without --law)."""
+    path = args.validate_law
+    if path is None:
+        return None
+    if not os.path.isfile(path):
+        raise CLIError(f"--law {path}: no such file")
+    return fl.CalibratedLaw.load(path, psd=psd, E_star=E)
+
+
 def _models(args) -> tuple[str, ...]:
     models = list(theory.VARIANTS) if args.all_variants else [args.variant]
     if args.gw:
@@ -340,16 +366,19 @@ def _check_gamma(value: float) -> None:
         raise ValueError(f"gamma must lie in [{lo:g}, {hi:g}] (dimensionless), got {value!r}")
 
 
-def _header(psd, E, source, grid, args, what: str) -> list[str]:
-
+def _header(psd, E, source, grid, args, what: str, law=None) -> list[str]:
     h_rms, slope = bem.lattice_moments(psd, grid)
-    return [
-        spectrum_line(psd, source),
-        f"BEM              {what}: {args.realizations} realisations (seed {args.seed}) on "
-        f"{grid.nx} x {grid.ny} cells of {grid.dx:.4g} m, {_where(args)}",
-        f"BEM surfaces     h_rms {h_rms:.4g} m (spectrum {psd.h_rms:.4g} m), rms slope "
-        f"{slope:.4g} (spectrum {psd.rms_slope:.4g})",
-    ]
+    lines = [] if law is None else [f"law              {law.name} ({args.validate_law}): {law!r}"]
+    return (
+        [spectrum_line(psd, source)]
+        + lines
+        + [
+            f"BEM              {what}: {args.realizations} realisations (seed {args.seed}) on "
+            f"{grid.nx} x {grid.ny} cells of {grid.dx:.4g} m, {_where(args)}",
+            f"BEM surfaces     h_rms {h_rms:.4g} m (spectrum {psd.h_rms:.4g} m), rms slope "
+            f"{slope:.4g} (spectrum {psd.rms_slope:.4g})",
+        ]
+    )
 
 
 def _run(args, validate, *params, **options):
@@ -397,13 +426,14 @@ def _profile_scene(args, psd, E: float, R: float, load: float):
 def _profile(args) -> int:
     """A cylinder or a sphere: BEM ensemble against each model's profile."""
     psd, E, source = _scene(args)
+    law = _law(args, psd, E)
     R = args.radius
     load = _load(args, psd, E, R)
     check_outputs(args)
     scene = _profile_scene(args, psd, E, R, load)
     _check_grid(scene.grid)
     what, unit, _ = _PROFILE_WORDS[args.geometry]
-    print("\n".join(_header(psd, E, source, scene.grid, args, what)))
+    print("\n".join(_header(psd, E, source, scene.grid, args, what, law)))
     print(f"scene            E* {E:.4g} Pa, R {R:.4g} m, load {load:.6g} {unit}")
     validation = reports.validation
     validate = (
@@ -420,6 +450,7 @@ def _profile(args) -> int:
         load,
         models=_models(args),
         gamma=args.validate_gamma,
+        law=law,
         realizations=args.realizations,
         seed=args.seed,
         n=args.n,
@@ -461,12 +492,13 @@ def _flat(args) -> int:
     import numpy as np
 
     psd, E, source = _scene(args)
+    law = _law(args, psd, E)
     check_outputs(args)
     grid = bem.spectral_grid(
         psd, points_per_wavelength=args.points_per_wavelength, periods=args.periods
     )
     _check_grid(grid)
-    print("\n".join(_header(psd, E, source, grid, args, "flat contact")))
+    print("\n".join(_header(psd, E, source, grid, args, "flat contact", law)))
     fv = _run(
         args,
         reports.validation.validate_flat_contact,
@@ -475,6 +507,7 @@ def _flat(args) -> int:
         np.asarray(args.pressure),
         models=_models(args),
         gamma=args.validate_gamma,
+        law=law,
         realizations=args.realizations,
         seed=args.seed,
         points_per_wavelength=args.points_per_wavelength,
@@ -577,6 +610,7 @@ def _flat_csv(path, fv, psd, E, source, args) -> None:
     ]
     cols += [f"area_{_key(m)}" for m in fv.area] + [f"u_{_key(m)}_m" for m in fv.separation]
     cols += [f"u_c_{t:g}_m" for t in fv.critical_gap]
+    cols += [f"g_{_key(m)}_m" for m in list(fv.laws)[-1:] if fv.hydraulic_gap]
     rows = []
     for i, (p, e) in enumerate(zip(fv.pressures, fv.ensembles, strict=True)):
         row = [p, e.contact_fraction, e.contact_fraction_error, e.mean_gap, e.mean_gap_error]
@@ -584,6 +618,7 @@ def _flat_csv(path, fv, psd, E, source, args) -> None:
         row += [fv.area[m][i].theory for m in fv.area]
         row += [fv.separation[m][i].theory for m in fv.separation]
         row += [fv.critical_gap[t][i].theory for t in fv.critical_gap]
+        row += [fv.hydraulic_gap[i].theory] if fv.hydraulic_gap else []
         rows.append(row)
     fl.io.write_csv(
         path,

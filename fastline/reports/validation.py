@@ -20,6 +20,11 @@ The BEM realisations are independent: ``executor=`` and ``workers=`` run them wh
 :func:`fastline.sweep` runs its tasks (a local process pool, a dask scheduler address or Client,
 any :class:`concurrent.futures.Executor`; :func:`fastline.bem.run_ensemble`). ``fastline
 validate`` is the command line of both.
+
+Each function also takes a pressure law object (``law=``, e.g. a :class:`fastline.CalibratedLaw`
+of the same spectrum and E*), compared beside the named models under its ``name``; the tables
+end with the law closest to the BEM (:meth:`ProfileValidation.closeness`: the mean |z| of p0, s
+and w/s; :meth:`FlatValidation.leak_closeness`: the leak-rate ratio of the hydraulic gaps).
 """
 
 from __future__ import annotations
@@ -39,7 +44,8 @@ from fastline.bem.compare import Difference, compare_line_contact, compare_point
 from fastline.contact.line import LineContact
 from fastline.contact.point import PointContact
 from fastline.theory.asperity import GreenwoodWilliamsonLaw
-from fastline.theory.laws import PerssonLaw
+from fastline.theory.calibrated import CalibratedLaw
+from fastline.theory.laws import PerssonLaw, PressureLaw
 from fastline.theory.persson import PerssonTheory
 from fastline.theory.spectra import PSD
 from fastline.theory.variants import DEFAULT_VARIANT, VARIANTS
@@ -142,21 +148,38 @@ class ProfileValidation:
         """``"cylinder"`` or ``"sphere"``."""
         return self.ensemble.geometry
 
+    def closeness(self) -> dict[str, float]:
+        """Law name -> mean |z| of p0, s and w/s against the BEM (the z that are finite; NaN
+        when none is)."""
+        out = {}
+        for name, c in self.comparisons.items():
+            z = np.abs([c.p0.z, c.s.z, c.w_over_s.z])
+            out[name] = float(np.mean(z[np.isfinite(z)])) if np.isfinite(z).any() else math.nan
+        return out
+
+    @property
+    def closest(self) -> str | None:
+        """The law with the smallest mean |z| (:meth:`closeness`); None when no z is finite."""
+        return _closest(self.closeness())
+
     def table(self) -> str:
-        """Plain text: BEM values with standard errors, then each model's values and their
+        """Plain text: BEM values with standard errors, then each law's values and their
         difference from the BEM (relative, and z in BEM standard errors); columns at least two
         spaces apart whatever the widths of the values; the profile's chi2/bin (``n/a`` below
         :data:`MIN_CHI2_REALIZATIONS` realisations; with the theory right it averages
-        (n - 1)/(n - 3), 1.4 for 8); a last line ``warning: ...`` when the contact is too
-        narrow to compare widths (``ensemble.narrow``)."""
+        (n - 1)/(n - 3), 1.4 for 8) and the mean |z| of p0, s and w/s; with two laws or more a
+        line ``closest to the BEM: ...`` (:attr:`closest`); a last line ``warning: ...`` when
+        the contact is too narrow to compare widths (``ensemble.narrow``)."""
         e = self.ensemble
-        head = ["", "p0/p0_Hertz", "s [m]", "w/s", "profile chi2/bin"]
+        head = ["", "p0/p0_Hertz", "s [m]", "w/s", "profile chi2/bin", "mean |z|"]
+        closeness = self.closeness()
         rows = [
             [
                 "BEM",
                 _pm(e.p0_ratio, e.p0_ratio_error),
                 _pm(e.s, e.s_error),
                 _pm(e.w_over_s, e.w_over_s_error),
+                "",
                 "",
             ]
         ]
@@ -168,9 +191,12 @@ class ProfileValidation:
                     _vz(c.s.theory, c.s),
                     _vz(c.w_over_s.theory, c.w_over_s),
                     _chi2_cell(c.chi2_per_bin, e.realizations),
+                    f"{closeness[name]:.2g}",
                 ]
             )
         table = _columns([head, *rows])
+        if len(closeness) > 1 and self.closest is not None:
+            table += "\n" + _closest_line(closeness, "mean |z| of p0, s, w/s")
         if e.narrow:
             table += f"\nwarning: {e.narrow}"
         return table
@@ -201,6 +227,19 @@ def _columns(rows: list[list[str]], gap: int = 2) -> str:
     return "\n".join(lines)
 
 
+def _closest(measure: dict[str, float]) -> str | None:
+    """The name of the smallest finite value of ``measure`` (None when there is none)."""
+    finite = {k: v for k, v in measure.items() if math.isfinite(v)}
+    return min(finite, key=finite.__getitem__) if finite else None
+
+
+def _closest_line(measure: dict[str, float], what: str, head: str = "closest to the BEM") -> str:
+    """``HEAD: NAME (WHAT V; then NAME2 V2, ...)``, by increasing value."""
+    ranked = sorted((v, k) for k, v in measure.items() if math.isfinite(v))
+    rest = "; then " + ", ".join(f"{k} {v:.3g}" for v, k in ranked[1:]) if ranked[1:] else ""
+    return f"{head}: {ranked[0][1]} ({what} {ranked[0][0]:.3g}{rest})"
+
+
 def _chi2_cell(chi2: float, realizations: int) -> str:
     """The profile's chi2/bin, or ``n/a`` below :data:`MIN_CHI2_REALIZATIONS` (with n
     realisations each bin's z is Student-t with n - 1 degrees of freedom, whose z^2 has the
@@ -225,6 +264,7 @@ def validate_line_contact(
     *,
     models: Sequence[str] = (DEFAULT_VARIANT,),
     gamma: float | None = None,
+    law: PressureLaw | None = None,
     realizations: int = 8,
     seed: int = 0,
     executor: ExecutorLike = None,
@@ -240,11 +280,11 @@ def validate_line_contact(
     Parameters
     ----------
     psd, E_star, radius, load
-        Roughness spectrum (m^4 vs 1/m), effective modulus [Pa], cylinder radius [m], load
-        per unit length [N/m].
-    models, gamma
-        Laws to compare, from :data:`MODELS` (default the default variant), and the gamma of
-        the Persson variants (default: each variant's own).
+        Spectrum (m^4 vs 1/m), effective modulus [Pa], radius [m], load per length [N/m].
+    models, gamma, law
+        Laws to compare, from :data:`MODELS` (default the default variant), the gamma of the
+        Persson variants (default: each variant's own), and a law object of the same spectrum
+        and E* (e.g. :class:`fastline.CalibratedLaw`), compared under its ``name``.
     realizations, seed : int
         BEM surfaces (>= 2: the error bars) and root seed (:func:`fastline.bem.run_ensemble`).
     executor, workers, progress
@@ -252,10 +292,9 @@ def validate_line_contact(
         Client, any executor; default this process; ``workers``: a local pool of that many
         processes) and a progress bar on stderr (None: on a terminal only), as for
         :func:`fastline.bem.run_ensemble`.
-    points_per_wavelength, periods : float
-        BEM grid (:func:`fastline.bem.line_contact_scene`).
-    n, scene
-        Theory grid points; a prebuilt BEM scene (then the grid options are ignored).
+    points_per_wavelength, periods, n, scene
+        BEM grid (:func:`fastline.bem.line_contact_scene`); theory grid points; a prebuilt BEM
+        scene (then the grid options are ignored).
 
     Returns
     -------
@@ -266,14 +305,14 @@ def validate_line_contact(
     fastline.NarrowContactWarning
         When the BEM contact is too narrow to compare widths (``ensemble.narrow``).
     """
-    models = _check_inputs(psd, models, realizations, seed)
+    models = _check_inputs(psd, models, realizations, seed, law, E_star)
     if scene is None:
         grid = {"points_per_wavelength": points_per_wavelength, "periods": periods}
         scene = bem.line_contact_scene(psd, E_star, radius, load, **grid)
     elif not isinstance(scene, bem.Scene) or scene.geometry != "cylinder":
         raise ValueError("scene must be a cylinder scene (fastline.bem.line_contact_scene)")
-    results, seconds_theory = _theory_results(LineContact, psd, E_star, radius, load, models,
-                                              gamma, n)  # fmt: skip
+    laws = _laws(models, psd, E_star, gamma, law)
+    results, seconds_theory = _theory_results(LineContact, psd, E_star, radius, load, laws, n)
     ensemble, seconds_bem = _bem_ensemble(scene, realizations, seed, executor, workers, progress)
     comparisons = {m: compare_line_contact(r, ensemble) for m, r in results.items()}
     return LineValidation(ensemble, results, comparisons, seconds_bem, seconds_theory)
@@ -287,6 +326,7 @@ def validate_point_contact(
     *,
     models: Sequence[str] = (DEFAULT_VARIANT,),
     gamma: float | None = None,
+    law: PressureLaw | None = None,
     realizations: int = 8,
     seed: int = 0,
     executor: ExecutorLike = None,
@@ -310,7 +350,7 @@ def validate_point_contact(
         Roughness spectrum (m^4 vs 1/m).
     E_star, radius, load : float
         Effective modulus [Pa], sphere radius [m], normal force on the sphere [N].
-    models, gamma, realizations, seed, executor, workers, progress
+    models, gamma, law, realizations, seed, executor, workers, progress
         As :func:`validate_line_contact` (which also names the warning).
     points_per_wavelength : float
         BEM cells per shortest wavelength ``2 pi / q1`` (>= 2;
@@ -325,27 +365,54 @@ def validate_point_contact(
     -------
     PointValidation
     """
-    models = _check_inputs(psd, models, realizations, seed)
+    models = _check_inputs(psd, models, realizations, seed, law, E_star)
     if scene is None:
         scene = bem.point_contact_scene(
             psd, E_star, radius, load, points_per_wavelength=points_per_wavelength
         )
     elif not isinstance(scene, bem.Scene) or scene.geometry != "sphere":
         raise ValueError("scene must be a sphere scene (fastline.bem.point_contact_scene)")
-    results, seconds_theory = _theory_results(
-        PointContact, psd, E_star, radius, load, models, gamma, n
-    )
+    laws = _laws(models, psd, E_star, gamma, law)
+    results, seconds_theory = _theory_results(PointContact, psd, E_star, radius, load, laws, n)
     ensemble, seconds_bem = _bem_ensemble(scene, realizations, seed, executor, workers, progress)
     comparisons = {m: compare_point_contact(r, ensemble) for m, r in results.items()}
     return PointValidation(ensemble, results, comparisons, seconds_bem, seconds_theory)
 
 
-def _check_inputs(psd, models, realizations, seed) -> tuple[str, ...]:
-    """The checks shared by the cylinder and the sphere, before any work; the models."""
+def _check_inputs(psd, models, realizations, seed, law=None, E_star=None) -> tuple[str, ...]:
+    """The checks shared by the cylinder, the sphere and the flat contact, before any work;
+    the models."""
     if not isinstance(psd, PSD):
         raise TypeError(f"psd must be a fastline PSD, got {type(psd).__name__}")
     _check_ensemble(realizations, seed)
-    return _check_models(models)
+    models = _check_models(models)
+    _check_law(law, models, E_star)
+    return models
+
+
+def _check_law(law, models, E_star) -> None:
+    """``law``: None or a pressure law whose name is not among ``models``; a calibrated law
+    made for the scene's E* (its spectrum is the caller's to match: ``CalibratedLaw.load``)."""
+    if law is None:
+        return
+    if not isinstance(law, PressureLaw):
+        raise TypeError(f"law must be a fastline PressureLaw, got {type(law).__name__}")
+    if law.name in models:
+        raise ValueError(f"law is named {law.name!r}, as one of models: give it another name")
+    if isinstance(law, CalibratedLaw) and E_star is not None:
+        E = positive("E_star", E_star, "Pa")
+        if not math.isclose(law.E_star, E, rel_tol=1e-6):
+            raise ValueError(
+                f"law was calibrated for E* = {law.E_star:.6g} Pa, the scene has {E:.6g} Pa"
+            )
+
+
+def _laws(models, psd, E_star, gamma, law) -> dict:
+    """Name -> pressure law: each model's, then ``law`` (if any) under its name."""
+    laws = {m: law_of(m, psd, E_star, gamma) for m in models}
+    if law is not None:
+        laws[law.name] = law
+    return laws
 
 
 def _check_ensemble(realizations, seed) -> None:
@@ -355,14 +422,13 @@ def _check_ensemble(realizations, seed) -> None:
         integer("seed", seed, 0)
 
 
-def _theory_results(contact, psd, E_star, radius, load, models, gamma, n):
-    """({model: result}, seconds): the scene solved by ``contact`` (LineContact or
-    PointContact) with each model's law."""
+def _theory_results(contact, psd, E_star, radius, load, laws, n):
+    """({name: result}, seconds): the scene solved by ``contact`` (LineContact or
+    PointContact) with each law of ``laws`` (name -> law)."""
     t0 = time.perf_counter()
     results = {}
-    for m in models:
-        law = law_of(m, psd, E_star, gamma)
-        results[m] = contact(psd, E_star, radius, model=law, n=n, warn=False).solve(load)
+    for name, law in laws.items():
+        results[name] = contact(psd, E_star, radius, model=law, n=n, warn=False).solve(load)
     return results, time.perf_counter() - t0
 
 
@@ -400,8 +466,12 @@ class FlatValidation:
     model : str
         The Persson variant of ``critical_gap``.
     laws : dict
-        Model name -> pressure law (for curves between the pressures).
+        Model name -> pressure law (for curves between the pressures); a law given as
+        ``law=`` under its name, last.
     seconds_bem : float
+    hydraulic_gap : list
+        Differences of the hydraulic gap ``g(p)`` of a calibrated ``law=`` [m] against the
+        BEM effective gap, one per pressure (empty without a calibrated law).
     """
 
     pressures: np.ndarray
@@ -412,9 +482,37 @@ class FlatValidation:
     model: str
     laws: dict = field(repr=False)
     seconds_bem: float
+    hydraulic_gap: list = field(default_factory=list, repr=False)
+
+    def closeness(self) -> dict[str, float]:
+        """Law name -> mean |z| of u(p) against the BEM mean gap over the pressures."""
+        out = {}
+        for name, diffs in self.separation.items():
+            z = np.abs([d.z for d in diffs])
+            out[name] = float(np.mean(z[np.isfinite(z)])) if np.isfinite(z).any() else math.nan
+        return out
+
+    def leak_closeness(self) -> dict[str, float]:
+        """Leak gap -> its typical leak-rate factor against the BEM: ``exp(mean |3 ln(g /
+        g_BEM)|)`` over the pressures where both gaps are open (1: the BEM's leak rate; 1.3:
+        30 % off either way). The gaps: ``u_c`` of each threshold (named ``u_c (MODEL,
+        threshold T)``) and the hydraulic gap of a calibrated law (named as the law)."""
+        gaps = {f"u_c ({self.model}, threshold {t:g})": d for t, d in self.critical_gap.items()}
+        if self.hydraulic_gap:
+            gaps[list(self.laws)[-1]] = self.hydraulic_gap
+        out = {}
+        for name, diffs in gaps.items():
+            r = np.array([d.theory / d.bem if d.bem > 0.0 else math.nan for d in diffs])
+            ok = np.isfinite(r) & (r > 0.0)
+            out[name] = (
+                float(np.exp(np.mean(np.abs(3.0 * np.log(r[ok]))))) if ok.any() else math.nan
+            )
+        return out
 
     def table(self) -> str:
-        """Plain text, one block per pressure."""
+        """Plain text, one block per pressure; with two laws or more the one closest to the
+        BEM in u(p) (:meth:`closeness`), and the leak gap closest in leak rate
+        (:meth:`leak_closeness`)."""
         out = []
         for i, (p, e) in enumerate(zip(self.pressures, self.ensembles, strict=True)):
             out.append(
@@ -436,6 +534,17 @@ class FlatValidation:
                     f"  u_c ({self.model}, threshold {t:g}) {d.theory:.4g} m "
                     f"({100 * d.relative:+.1f}%, z {d.z:+.1f}) vs effective gap"
                 )
+            if self.hydraulic_gap:
+                d = self.hydraulic_gap[i]
+                out.append(
+                    f"  g ({list(self.laws)[-1]}) {d.theory:.4g} m ({100 * d.relative:+.1f}%, "
+                    f"z {d.z:+.1f}) vs effective gap"
+                )
+        if len(self.laws) > 1 and _closest(self.closeness()) is not None:
+            out.append(_closest_line(self.closeness(), "mean |z| of u(p)"))
+        leak = self.leak_closeness()
+        if len(leak) > 1 and _closest(leak) is not None:
+            out.append(_closest_line(leak, "leak-rate factor", "closest leak rate to the BEM"))
         return "\n".join(out)
 
 
@@ -446,6 +555,7 @@ def validate_flat_contact(
     *,
     models: Sequence[str] = (DEFAULT_VARIANT,),
     gamma: float | None = None,
+    law: PressureLaw | None = None,
     realizations: int = 8,
     seed: int = 0,
     executor: ExecutorLike = None,
@@ -464,10 +574,10 @@ def validate_flat_contact(
         Effective modulus [Pa].
     pressures : float or array_like
         Nominal contact pressures [Pa], > 0.
-    models, gamma, realizations, seed, executor, workers, points_per_wavelength, periods
+    models, gamma, law, realizations, seed, executor, workers, points_per_wavelength, periods
         As :func:`validate_line_contact` (one pool or client serves every pressure); the
         critical gap uses the first Yang-Persson variant in ``models`` (the leak-rate theory
-        needs the contact area erf(x)).
+        needs the contact area erf(x)); a calibrated ``law`` also gives its hydraulic gap.
     thresholds : sequence of float
         Percolation thresholds of the critical junction (default 0.42 and 0.5).
     progress : bool or None
@@ -478,13 +588,10 @@ def validate_flat_contact(
     -------
     FlatValidation
     """
-    if not isinstance(psd, PSD):
-        raise TypeError(f"psd must be a fastline PSD, got {type(psd).__name__}")
-    models = _check_models(models)
-    _check_ensemble(realizations, seed)
+    models = _check_inputs(psd, models, realizations, seed, law, E_star)
     E_star = positive("E_star", E_star, "Pa")
     p = np.atleast_1d(positive_array("pressures", pressures)).ravel()
-    laws = {m: law_of(m, psd, E_star, gamma) for m in models}
+    laws = _laws(models, psd, E_star, gamma, law)
     leak_model, leak_theory = _leak_theory(models, laws, psd, E_star)
     grid = {"points_per_wavelength": points_per_wavelength, "periods": periods}
     scenes = [bem.flat_contact_scene(psd, E_star, float(pi), **grid) for pi in p]
@@ -493,7 +600,8 @@ def validate_flat_contact(
     seconds = time.perf_counter() - t0
     area, separation = _area_and_separation(laws, p, ensembles)
     gaps = _critical_gaps(leak_theory, p, ensembles, thresholds)
-    return FlatValidation(p, ensembles, area, separation, gaps, leak_model, laws, seconds)
+    g = [] if not isinstance(law, CalibratedLaw) else _hydraulic_gaps(law, p, ensembles)
+    return FlatValidation(p, ensembles, area, separation, gaps, leak_model, laws, seconds, g)
 
 
 def _flat_ensembles(scenes, realizations, seed, executor, workers, progress) -> list:
@@ -525,13 +633,24 @@ def _leak_theory(models, laws, psd, E_star) -> tuple[str, PerssonTheory]:
     return leak_model, leak_theory
 
 
+def _hydraulic_gaps(law, p, ensembles) -> list:
+    """Differences of a calibrated law's hydraulic gap g(p) [m] against the BEM effective gap,
+    one per pressure."""
+    g = np.atleast_1d(law.hydraulic_gap(p))
+    return [
+        _difference(gi, e.effective_gap, e.effective_gap_error)
+        for gi, e in zip(g, ensembles, strict=True)
+    ]
+
+
 def _area_and_separation(laws, p, ensembles) -> tuple[dict, dict]:
-    """Model -> Differences of the real contact area against the BEM contact fraction, and of
-    u(p) [m] against the BEM mean gap, one per pressure."""
+    """Model -> Differences of the real contact area against the BEM contact fraction (NaN for
+    a law without one), and of u(p) [m] against the BEM mean gap, one per pressure."""
     area, separation = {}, {}
     for m, law in laws.items():
         u, _ = law.separation_and_slope(np.log(p))
         A = law.real_area(p)
+        A = np.full(p.size, np.nan) if A is None else np.atleast_1d(A)
         area[m] = [
             _difference(a, e.contact_fraction, e.contact_fraction_error)
             for a, e in zip(A, ensembles, strict=True)

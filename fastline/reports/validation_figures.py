@@ -44,7 +44,13 @@ def _pressure_axis(ax) -> None:
 #: per law, in the order drawn: line style, width, marker (open), so that laws whose profiles
 #: coincide still show: the first is widest at the bottom, each later one narrower on top, with
 #: markers at staggered places along the line
-LAW_STYLES = (("-", 2.8, None), ("--", 2.0, "o"), ("-.", 1.5, "s"), (":", 1.3, "^"))
+LAW_STYLES = (
+    ("-", 2.8, None),
+    ("--", 2.0, "o"),
+    ("-.", 1.5, "s"),
+    (":", 1.3, "^"),
+    ("-", 1.1, "D"),
+)
 _MARK_STEP = 0.09  # markers every 9 % of the axes' diagonal, staggered by law
 
 
@@ -132,7 +138,8 @@ def plot_flat_validation(
     """Theory against BEM for a flat contact
     (:func:`fastline.reports.validation.validate_flat_contact`): mean separation u(p) of each
     model against the BEM mean gap (left), the critical-junction gap u_c against the BEM's
-    Reynolds effective gap (right); BEM points with two standard errors.
+    Reynolds effective gap (right; with a calibrated law also its hydraulic gap g(p)); BEM
+    points with two standard errors.
 
     Parameters
     ----------
@@ -168,12 +175,17 @@ def plot_flat_validation(
         else:
             uc = [d.theory for d in v.critical_gap[t]]
             a1.plot(p, np.asarray(uc) * 1e6, "s", color=f"C{3 + k}", label=rf"$u_c$ ({t:g})")
+    if v.hydraulic_gap:  # a calibrated law: its hydraulic gap g(p)
+        k, (name, law) = len(v.laws) - 1, list(v.laws.items())[-1]
+        g = law.hydraulic_gap(pp) if p.size > 1 else [d.theory for d in v.hydraulic_gap]
+        a1.plot(pp, np.asarray(g) * 1e6, "-" if p.size > 1 else "D", color=f"C{k}",
+                label=f"$g$ ({name})")  # fmt: skip
     for ax in axes:
         _pressure_axis(ax)
     a0.set_ylabel(r"mean separation $\bar u$ ($\mu$m)")
     a1.set_ylabel(r"effective gap ($\mu$m)")
     a1.set_ylim(0.0, None)
     a0.set_ylim(0.0, None)
-    a0.legend(loc="upper right", fontsize=7, frameon=False)
+    a0.legend(loc="lower left", fontsize=7, frameon=False)  # the curves fall to the right
     outside_legend(a1)
     return fig
