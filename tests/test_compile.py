@@ -21,6 +21,7 @@ import os
 import shutil
 import subprocess
 import sys
+from pathlib import Path
 
 import pytest
 
@@ -162,3 +163,24 @@ def test_compile_command_refuses_bad_jobs():
     assert res.returncode == 2 and "--jobs" in res.stderr and "Traceback" not in res.stderr
     with pytest.raises(ValueError, match="groups"):
         fl.compile_kernels(groups=["no such group"])
+
+
+def test_compile_children_import_the_installation_that_asked(tmp_path, monkeypatch):
+    """``fastline compile`` started in a directory that holds another ``fastline`` (a source
+    checkout beside an installed copy) compiles the installation it was called from: its child
+    interpreters must not pick up the working directory's package first."""
+    from fastline._lib.warmup import child_script
+
+    decoy = tmp_path / "fastline"
+    decoy.mkdir()
+    (decoy / "__init__.py").write_text("raise ImportError('the decoy package was imported')\n")
+    body = "import fastline\nprint(fastline.__file__)\n"
+    out = subprocess.run(
+        [sys.executable, "-c", child_script(body)],
+        capture_output=True,
+        text=True,
+        cwd=str(tmp_path),
+        timeout=120,
+    )
+    assert out.returncode == 0, out.stderr
+    assert Path(out.stdout.strip()) == Path(fl.__file__)

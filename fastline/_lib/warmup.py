@@ -99,10 +99,22 @@ class GroupReport:
     error: str = ""
 
 
+#: the directory that holds this fastline package: put first on the child interpreters' path, so
+#: that they compile the installation that asked (``python -c`` would otherwise import a
+#: ``fastline`` directory in the working directory first, e.g. a source checkout)
+PACKAGE_ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
+
+
+def child_script(body: str) -> str:
+    """The script a child interpreter runs: this installation first on ``sys.path``, then
+    ``body``."""
+    return f"import sys\nsys.path.insert(0, {PACKAGE_ROOT!r})\n" + body
+
+
 def _run_group(name: str, env: dict) -> GroupReport:
     t = time.perf_counter()
     proc = subprocess.run(
-        [sys.executable, "-c", COUNTER + GROUPS[name] + REPORT],
+        [sys.executable, "-c", child_script(COUNTER + GROUPS[name] + REPORT)],
         capture_output=True,
         text=True,
         env=env,

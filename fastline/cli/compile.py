@@ -11,6 +11,7 @@ image and on each kind of worker machine of a cluster (docs/performance.md, cold
 from __future__ import annotations
 
 import argparse
+import os
 import sys
 import time
 
@@ -45,7 +46,8 @@ def cmd_compile(args: argparse.Namespace) -> int:
     """Compile the groups, print one line per group and the total; 1 if a group failed."""
     if args.jobs is not None and args.jobs < 1:
         raise ValueError(f"--jobs must be an integer >= 1; got {args.jobs}")
-    print("fastline compile: compiling the kernels for this machine...", flush=True)
+    where = os.path.dirname(fl.__file__)
+    print(f"fastline compile: compiling the kernels of {where} for this machine...", flush=True)
     t = time.perf_counter()
     reports = fl.compile_kernels(jobs=args.jobs)
     for r in reports:
