@@ -24,8 +24,13 @@ from __future__ import annotations
 import functools
 import os
 from collections.abc import Mapping
+from typing import Any
 
 from fastline.theory.lawdata import LAW_KINDS, LawData, law_data, read_law_file
+from fastline.theory.laws import TabulatedLaw
+
+#: a cell of the law column once checked: none, a law object, or a file's text
+LawCell = TabulatedLaw | str | None
 
 __all__ = ["CHECKSUM_TAG", "law_cell", "law_kind", "law_text", "parse_law_text", "LawKeys"]
 
@@ -60,7 +65,7 @@ def _local_checksum(path: str) -> str | None:
     return _file_checksum(path, st.st_mtime_ns, st.st_size)
 
 
-def law_cell(i: int, v):
+def law_cell(i: int, v: Any) -> LawCell:
     """One cell of the law column: None, a law object, or ``abspath[@sha256:<hex>]``
     (the checksum of the caller's file added when it can read it); TypeError naming the row."""
     if v is None or (isinstance(v, float) and v != v):
@@ -82,7 +87,7 @@ def law_cell(i: int, v):
     return v
 
 
-def law_kind(cell) -> str | None:
+def law_kind(cell: Any) -> str | None:
     """The kind of law of a cell (``"calibrated"`` for a file), None for an empty cell or an
     object that does not travel as data."""
     if cell is None:
@@ -92,7 +97,7 @@ def law_kind(cell) -> str | None:
     return next((k for k, cls in LAW_KINDS.items() if type(cell) is cls), None)
 
 
-def law_text(cell, checksum: str | None = None) -> str:
+def law_text(cell: LawCell, checksum: str | None = None) -> str:
     """A cell's text in a CSV file: ``path@sha256:<hex>`` for a file, ``<law object ...>``
     with its checksum for an object, empty for none."""
     if cell is None:
@@ -123,7 +128,7 @@ class LawKeys:
     Keys: ``("none",)``; ``("data", checksum)`` for an object (its :class:`LawData` with it);
     ``("file", path, checksum or None)`` for a file."""
 
-    def __init__(self):
+    def __init__(self) -> None:
         self._data: dict[int, LawData] = {}
 
     def column(self, cols: Mapping) -> list[tuple[tuple, LawData | None]]:
@@ -131,7 +136,7 @@ class LawKeys:
             return [(("none",), None)] * len(cols["load"])
         return [self._key(cell) for cell in cols["law"]]
 
-    def _key(self, cell) -> tuple[tuple, LawData | None]:
+    def _key(self, cell: LawCell) -> tuple[tuple, LawData | None]:
         if cell is None:
             return ("none",), None
         if isinstance(cell, str):
@@ -142,7 +147,7 @@ class LawKeys:
             data = self._data[id(cell)] = law_data(cell)
         return ("data", data.checksum), data
 
-    def checksum(self, cell) -> str | None:
+    def checksum(self, cell: LawCell) -> str | None:
         """The checksum of a cell's law when known here (objects, and files read here)."""
         key, _ = self._key(cell)
         return key[-1] if key[0] != "none" else None

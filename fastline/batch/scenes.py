@@ -428,9 +428,11 @@ def read_scenes(path: str | os.PathLike) -> dict[str, list]:
         if key not in aliases:
             continue
         col = BY_NAME[aliases[key]]
-        cols[col.name] = [
-            _csv_cell(col, row[j].strip(), base, f"{path}:{line}") for line, row in body
-        ]
+        if col.kind == "law":
+            cells = [law_csv_cell(row[j].strip(), base, f"{path}:{k}") for k, row in body]
+        else:
+            cells = [_csv_cell(col, row[j].strip(), base) for _line, row in body]
+        cols[col.name] = cells
     return cols
 
 
@@ -453,9 +455,7 @@ def _csv_rows(path: str) -> tuple[list[str], list[tuple[int, list[str]]]]:
     return header, rows[1:]
 
 
-def _csv_cell(col: Column, text: str, base: str, where: str):
-    if col.kind == "law":
-        return law_csv_cell(text, base, where)
+def _csv_cell(col: Column, text: str, base: str):
     if text == "":
         return None
     if col.kind in ("float", "int"):
