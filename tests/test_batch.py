@@ -1093,6 +1093,10 @@ def test_cli_batch_law_column_and_default(laws, tmp_path):
     assert cols["law"][1].startswith(str(tmp_path / "default.npz") + "@sha256:")
     want = run([law_scene(3.0, law=laws["calibrated"]), law_scene(3.0)])
     assert np.array_equal(cols["p0_Pa"], want["p0"][[0, 0, 1]])
+    (tmp_path / "named.csv").write_text(lines[0] + "\n" + lines[3] + "\n")
+    status, _, err = cli(["batch", tmp_path / "named.csv", "--out", tmp_path / "no.csv",
+                          "--law", tmp_path / "default.npz"])  # fmt: skip
+    assert status == 2 and "every row names a model or a law" in err
     (tmp_path / "other.csv").write_text(lines[0] + "\n" + lines[2].replace(f",{LAW_E},", ",2e7,"))
     argv = ["batch", tmp_path / "other.csv", "--out", tmp_path / "no.csv"]
     status, _, err = cli([*argv, "--law", tmp_path / "default.npz"])

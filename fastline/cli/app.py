@@ -392,6 +392,11 @@ def _default_law(scenes: dict[str, list], path: str) -> None:
     laws = scenes.setdefault("law", [None] * size)
     models = scenes.get("model", [None] * size)
     rows = [i for i in range(size) if laws[i] is None and models[i] is None]
+    if not rows:
+        raise CLIError(
+            f"--law {path}: every row names a model or a law; leave the model and law cells "
+            "empty in the rows that should take it"
+        )
     path = os.path.abspath(path)
     fl.CalibratedLaw.load(path)  # not a law file: one clear error
     checked = set()
