@@ -388,7 +388,7 @@ def _default_law(scenes: dict[str, list], path: str) -> None:
     here (a mismatch refuses the table; a row whose spectrum cannot be read fails alone)."""
     if not os.path.isfile(path):
         raise CLIError(f"--law {path}: no such file")
-    size = len(scenes["load"])
+    size = len(next(iter(scenes.values())))
     laws = scenes.setdefault("law", [None] * size)
     models = scenes.get("model", [None] * size)
     rows = [i for i in range(size) if laws[i] is None and models[i] is None]
@@ -403,7 +403,7 @@ def _default_law(scenes: dict[str, list], path: str) -> None:
     for i in rows:
         laws[i] = path
         key = _row_scene(scenes, i)
-        if key in checked:
+        if key is None or key in checked:
             continue
         checked.add(key)
         try:
@@ -415,17 +415,18 @@ def _default_law(scenes: dict[str, list], path: str) -> None:
             fl.CalibratedLaw.load(path, psd=psd, E_star=key[1])
         except fl.CalibrationFileError as e:
             raise CLIError(f"--law {e}") from None
-        except (ValueError, TypeError):  # a bad spectrum or E* in the row: it fails alone
+        except (ValueError, TypeError):  # a bad cell: the row fails alone, fl.sweep says why
             continue
 
 
-def _row_scene(scenes: dict[str, list], i: int) -> tuple:
-    """(spectrum file or self-affine parameters, E*) of a row."""
-    if "psd" in scenes:
-        spectrum = scenes["psd"][i]
-    else:
-        spectrum = tuple(scenes[k][i] for k in ("h_rms", "hurst", "q0", "qr", "q1"))
-    return spectrum, scenes["E_star"][i]
+def _row_scene(scenes: dict[str, list], i: int) -> tuple | None:
+    """(spectrum file or self-affine parameters, E*) of a row; None when a column is missing
+    (fl.sweep refuses the table, naming it)."""
+    names = ("psd",) if "psd" in scenes else ("h_rms", "hurst", "q0", "qr", "q1")
+    if any(k not in scenes for k in (*names, "E_star")):
+        return None
+    spectrum = tuple(scenes[k][i] for k in names)
+    return (spectrum[0] if "psd" in scenes else spectrum), scenes["E_star"][i]
 
 
 def cmd_paper(args) -> int:
