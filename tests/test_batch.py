@@ -13,6 +13,7 @@ import concurrent.futures as cf
 import logging
 import multiprocessing
 import os
+import pickle
 import warnings
 
 import numpy as np
@@ -850,3 +851,254 @@ def test_pool_pays_from_the_stated_work():
     assert not pays(big, 1, n=512)  # half the work per scene
     many = int(POOL_MIN_WORK // (POOL_THEORY_WORK + 1)) + 1
     assert pays(many, many) and not pays(many, 1)
+
+
+# ---- tabulated and calibrated laws in the table (the law column) ---------------------------------
+LAW_E, LAW_R = 10e6, 0.0328  # the narrow-band validation scene (docs/validation.md)
+LAW_Q0 = 2 * np.pi / 40e-6
+LAW_SPECTRUM = dict(h_rms=0.5e-6, hurst=0.8, q0=LAW_Q0, qr=LAW_Q0, q1=4 * LAW_Q0)
+LAW_PSD = fl.SelfAffinePSD(**LAW_SPECTRUM)
+LAW_LOADS = (1.0, 3.0, 10.0)  # N/m: alpha ~ 4, 1.3, 0.4
+#: least change of p0 between the laws of the table (u 0.8x, 1.5x Persson's: expected several %)
+MIN_LAW_EFFECT = 0.03
+
+
+def law_scene(load, **extra) -> dict:
+    return {**LAW_SPECTRUM, "E_star": LAW_E, "radius": LAW_R, "load": load, "n": N, **extra}
+
+
+@pytest.fixture(scope="module")
+def laws(tmp_path_factory):
+    """A calibrated law (points on 0.8x Persson's u), saved to a file, and a tabulated law
+    (1.5x Persson's u), both of the narrow-band scene."""
+    from fastline.theory.calibrated import CalibrationPoints
+
+    th = fl.PerssonTheory(LAW_PSD, LAW_E)
+    p = np.geomspace(1e2, 1e5, 9)
+    u, g, a = th.separation(p), th.critical_gap(p).u_c, th.contact_area(p)
+    points = CalibrationPoints(p, 0.8 * u, 0.008 * u, a, 0 * p, g, 0.02 * g, g, 0.02 * g)
+    calibrated = fl.CalibratedLaw(points, LAW_PSD, LAW_E)
+    path = tmp_path_factory.mktemp("laws") / "law.npz"
+    calibrated.save(path)
+    tabulated = fl.TabulatedLaw(1.5 * u, p, real_area=a)
+    return dict(calibrated=calibrated, tabulated=tabulated, file=str(path), theory=th)
+
+
+def law_table(laws) -> list[dict]:
+    """Each load with the calibrated law (object and file), the tabulated law, Persson's and
+    the exponential law, shuffled; a sphere with the law; then three rows that must fail: a
+    missing law file, a file whose checksum is not the table's, a calibrated law at another
+    E*."""
+    rows = []
+    for f in LAW_LOADS:
+        rows += [law_scene(f, law=laws["calibrated"], label="calibrated")]
+        rows += [law_scene(f, law=laws["file"], label="file")]
+        rows += [law_scene(f, law=laws["tabulated"], label="tabulated")]
+        rows += [law_scene(f, label="persson"), law_scene(f, model="exponential", label="exp")]
+    rows = [rows[i] for i in np.random.default_rng(1).permutation(len(rows))]
+    rows.append(law_scene(0.01, law=laws["calibrated"], geometry="sphere", n=N_SPHERE))
+    wrong = f"{laws['file']}@sha256:{'0' * 64}"
+    rows += [law_scene(3.0, law=laws["file"] + ".missing"), law_scene(3.0, law=wrong)]
+    rows += [law_scene(3.0, law=laws["calibrated"], E_star=2 * LAW_E)]
+    return rows
+
+
+@pytest.fixture(scope="module")
+def law_serial(laws):
+    return run(law_table(laws), chunksize=4)
+
+
+def test_law_rows_are_their_laws_solves(law_serial, laws):
+    """Each law row is LineContact(psd, E*, R, model=law) over its piece, bit for bit (the
+    law's theory gives the diagnostics); the file and the object give the same rows; the
+    laws move p0 against each other and against Persson's."""
+    res = law_serial
+    label = res["label"]
+    kw = dict(n=N, theory=laws["theory"], warn=False)
+    for name, law in [("calibrated", laws["calibrated"]), ("file", laws["calibrated"]),
+                      ("tabulated", laws["tabulated"])]:  # fmt: skip
+        rows = np.flatnonzero(label == name)
+        rows = rows[np.argsort(res["load"][rows])]
+        want = fl.LineContact(LAW_PSD, LAW_E, LAW_R, model=law, **kw).sweep(LAW_LOADS)
+        assert_rows_are(res, rows, want)
+        assert set(res["model"][rows]) == {"tabulated" if name == "tabulated" else "calibrated"}
+    p0 = {k: np.sort(res["p0"][label == k]) for k in ("calibrated", "tabulated", "persson")}
+    assert np.min(np.abs(p0["calibrated"] / p0["persson"] - 1)) > MIN_LAW_EFFECT
+    assert np.min(np.abs(p0["tabulated"] / p0["persson"] - 1)) > MIN_LAW_EFFECT
+    sphere = int(np.flatnonzero(res["geometry"] == "sphere")[0])
+    kw["n"] = N_SPHERE
+    pc = fl.PointContact(LAW_PSD, LAW_E, LAW_R, model=laws["calibrated"], **kw)
+    assert_rows_are(res, [sphere], [pc.solve(0.01)])
+
+
+def test_law_rows_that_cannot_be_solved_fail_by_name(law_serial, laws):
+    errors = list(law_serial["error"][-3:])
+    assert errors[0].startswith("FileNotFoundError: law file ") and "no such file on" in errors[0]
+    assert laws["file"] + ".missing" in errors[0] and "give the law object" in errors[0]
+    assert errors[1].startswith("CalibrationFileError: law file ")
+    assert "is not the law of the table" in errors[1] and "0000000000000000..." in errors[1]
+    assert "calibrated for E* = 1e+07 Pa, not 2e+07 Pa" in errors[2]
+    assert (law_serial["error"][:-3] == "").all()
+
+
+def test_law_rows_on_a_process_pool_equal_serial(law_serial, laws, pool):
+    """The law objects travel as arrays, the file is read by each worker: the same numbers
+    and the same failures, bit for bit (a worker that used another law would move p0)."""
+    assert_same_table(run(law_table(laws), pool, chunksize=4), law_serial)
+
+
+def test_law_rows_on_dask_equal_serial(law_serial, laws, dask_client):
+    assert_same_table(run(law_table(laws), dask_client, chunksize=4), law_serial)
+
+
+def test_law_travels_once_per_task_as_arrays(laws):
+    """A task of six pieces (six radii) with one calibrated law pickles the law's arrays
+    once, and no law object (its class is not in the message)."""
+    from fastline.batch.plan import plan_tasks
+    from fastline.batch.scenes import normalise
+    from fastline.theory.lawdata import law_data
+
+    rows = [law_scene(f, law=laws["calibrated"], radius=r) for r in np.geomspace(0.01, 0.1, 6)
+            for f in LAW_LOADS]  # fmt: skip
+    (task,) = plan_tasks(normalise(rows), 64)
+    assert len(task) == 6 and len({id(p.spec.law_data) for p in task}) == 1
+    message = pickle.dumps(task)
+    one = len(pickle.dumps(law_data(laws["calibrated"])))
+    assert one < len(message) < one + 6 * 1000 and b"CalibratedLaw" not in message
+
+
+def test_law_data_restores_the_same_law(laws, tmp_path):
+    """The data of a law rebuild it bit for bit; a calibrated law's data are its file's."""
+    from fastline.theory.lawdata import law_data, read_law_file, restore_law
+
+    v = np.linspace(np.log(1.0), np.log(1e7), 513)
+    u = np.geomspace(1e-9, 1e-5, 257)
+    for name in ("calibrated", "tabulated"):
+        law, again = laws[name], restore_law(law_data(laws[name]))
+        assert type(again) is type(law)
+        for a, b in zip(law.separation_and_slope(v), again.separation_and_slope(v), strict=True):
+            assert np.array_equal(a, b), name
+        assert np.array_equal(law.log_pressure(u), again.log_pressure(u)), name
+        assert np.array_equal(law.real_area(np.exp(v)), again.real_area(np.exp(v))), name
+    assert read_law_file(laws["file"]).checksum == law_data(laws["calibrated"]).checksum
+    with pytest.raises(TypeError, match="only a TabulatedLaw or a CalibratedLaw"):
+        law_data(fl.ExponentialLaw(1e-7, 0.4, LAW_E))
+
+
+@pytest.mark.parametrize(
+    "extra, error, match",
+    [
+        (dict(law="LAW", model="exponential"), ValueError,
+         r"row 0 has a law and model='exponential': the law replaces the model"),
+        (dict(model="calibrated"), ValueError, r"row 0 has model='calibrated' but no law"),
+        (dict(law="EXP"), TypeError, r"column 'law' must hold a TabulatedLaw, a CalibratedLaw"),
+        (dict(model="LAW"), TypeError, r"a CalibratedLaw or a law file goes in the law column"),
+    ],
+)  # fmt: skip
+def test_law_beside_another_model_is_refused(laws, extra, error, match):
+    cells = {"LAW": laws["calibrated"], "EXP": fl.ExponentialLaw(1e-7, 0.4, LAW_E)}
+    extra = {k: cells.get(v, v) for k, v in extra.items()}
+    with pytest.raises(error, match=match):
+        fl.sweep([law_scene(1.0, **extra)], "serial", progress=False)
+
+
+def test_law_csv_round_trip(laws, law_serial, tmp_path):
+    """A law file is written as its path and checksum and read back (read_scenes): the table
+    runs again to the same numbers; a file changed since fails its rows by name; a law object
+    has no file and is refused on reading."""
+    from fastline.theory.lawdata import read_law_file
+
+    law_serial.to_csv(tmp_path / "objects.csv")
+    _, cols = read_csv(tmp_path / "objects.csv")
+    checksum = read_law_file(laws["file"]).checksum
+    assert f"{laws['file']}@sha256:{checksum}" in list(cols["law"])
+    assert f"<law object CalibratedLaw sha256:{checksum}>" in list(cols["law"])
+    with pytest.raises(ValueError, match=r"objects.csv:\d+: the law of this row was a law object"):
+        batch.read_scenes(tmp_path / "objects.csv")
+    path = tmp_path / "law.npz"
+    laws["calibrated"].save(path)
+    rows = [law_scene(f, law=str(path)) for f in LAW_LOADS] + [law_scene(1.0)]
+    first = run(rows, chunksize=2)
+    first.to_csv(tmp_path / "files.csv")
+    assert_same_table(run(batch.read_scenes(tmp_path / "files.csv"), chunksize=2), first)
+    other = fl.CalibratedLaw(laws["calibrated"].points, LAW_PSD, LAW_E, settings={"k": 1})
+    other.save(path)  # the same numbers, another file: its checksum differs
+    again = run(batch.read_scenes(tmp_path / "files.csv"), chunksize=2)
+    assert again.failed.tolist() == [True] * 3 + [False]
+    assert "is not the law of the table" in again["error"][0]
+
+
+def law_cli_args(law_file) -> list:
+    spectrum = [f"--{k.replace('_', '-')}={v!r}" for k, v in LAW_SPECTRUM.items()]
+    return ["sweep", *spectrum, "--E-star", LAW_E, "--radius", LAW_R, "--n", N, "--loads-from",
+            1, "--loads-to", 10, "--loads-num", 6, "--chunksize", 2, "--law", law_file]  # fmt: skip
+
+
+def test_cli_sweep_law_on_workers_and_scheduler(laws, tmp_path, pool, dask_client, monkeypatch):
+    """sweep --law with --workers 2 (the module's pool), --workers 1 and --scheduler writes
+    the same file, byte for byte; it agrees with the in-process --law sweep to the solver
+    tolerance and differs from Persson's; a law for another E* is refused before any work."""
+    real = batch.sweep
+
+    def on_pool(scenes, executor=None, **kw):
+        assert scenes["law"][0] is not None and isinstance(scenes["law"][0], fl.CalibratedLaw)
+        if executor is None and kw["workers"] == 2:
+            executor, kw["workers"] = pool, None
+        return real(scenes, executor, **kw)
+
+    monkeypatch.setattr(fl, "sweep", on_pool)
+    files = {}
+    address = dask_client.scheduler.address
+    for name, extra in [("pool", ["--workers", 2]), ("one", ["--workers", 1]),
+                        ("dask", ["--scheduler", address]), ("plain", [])]:  # fmt: skip
+        files[name] = tmp_path / f"{name}.csv"
+        status, out, err = cli([*law_cli_args(laws["file"]), *extra, "--csv", files[name]])
+        assert status == 0, err
+    text = {k: f.read_bytes() for k, f in files.items()}
+    assert text["pool"] == text["one"] == text["dask"]
+    meta, a = read_csv(files["pool"])
+    _, b = read_csv(files["plain"])
+    assert meta["model"] == "calibrated" and meta["law_file"] == laws["file"]
+    np.testing.assert_allclose(a["p0_Pa"], b["p0_Pa"], rtol=RTOL_CONTINUATION)
+    monkeypatch.setattr(fl, "sweep", real)
+    argv = law_cli_args(laws["file"])
+    status, _, err = cli([*argv[:-2], "--workers", 1, "--csv", tmp_path / "persson.csv"])
+    _, c = read_csv(tmp_path / "persson.csv")
+    assert status == 0 and np.min(np.abs(a["p0_Pa"] / c["p0_Pa"] - 1)) > MIN_LAW_EFFECT
+    argv[argv.index("--E-star") + 1] = 2 * LAW_E
+    status, _, err = cli([*argv, "--workers", 2, "--csv", tmp_path / "no.csv"])
+    assert status == 2 and "calibrated for E* = 1e+07 Pa, not 2e+07 Pa" in err
+    assert not (tmp_path / "no.csv").exists()
+
+
+def test_cli_batch_law_column_and_default(laws, tmp_path):
+    """batch: a law column (relative to the CSV file) and --law for the rows that name
+    neither a model nor a law; the rows equal fl.sweep of the same scenes with those laws; a
+    default law for another E* is refused before any work."""
+    import shutil
+
+    shutil.copy(laws["file"], tmp_path / "law.npz")
+    shutil.copy(laws["file"], tmp_path / "default.npz")
+    spectrum = ",".join(repr(v) for v in LAW_SPECTRUM.values())
+    lines = ["label,h_rms,hurst,q0,qr,q1,E_star,radius,load,n,model,law"]
+    for label, model, law in [("column", "", "law.npz"), ("default", "", ""),
+                              ("persson", "persson", "")]:  # fmt: skip
+        lines.append(f"{label},{spectrum},{LAW_E},{LAW_R},3.0,{N},{model},{law}")
+    (tmp_path / "scenes.csv").write_text("\n".join(lines) + "\n")
+    argv = ["batch", tmp_path / "scenes.csv", "--out", tmp_path / "out.csv"]
+    status, _, err = cli([*argv, "--law", tmp_path / "default.npz"])
+    assert status == 0, err
+    _, cols = read_csv(tmp_path / "out.csv")
+    assert list(cols["model"]) == ["calibrated", "calibrated", "persson"]
+    assert cols["law"][1].startswith(str(tmp_path / "default.npz") + "@sha256:")
+    want = run([law_scene(3.0, law=laws["calibrated"]), law_scene(3.0)])
+    assert np.array_equal(cols["p0_Pa"], want["p0"][[0, 0, 1]])
+    (tmp_path / "named.csv").write_text(lines[0] + "\n" + lines[3] + "\n")
+    status, _, err = cli(["batch", tmp_path / "named.csv", "--out", tmp_path / "no.csv",
+                          "--law", tmp_path / "default.npz"])  # fmt: skip
+    assert status == 2 and "every row names a model or a law" in err
+    (tmp_path / "other.csv").write_text(lines[0] + "\n" + lines[2].replace(f",{LAW_E},", ",2e7,"))
+    argv = ["batch", tmp_path / "other.csv", "--out", tmp_path / "no.csv"]
+    status, _, err = cli([*argv, "--law", tmp_path / "default.npz"])
+    assert status == 2 and "calibrated for E* = 1e+07 Pa, not 2e+07 Pa" in err, err
+    assert not (tmp_path / "no.csv").exists()

@@ -11,7 +11,7 @@ scene, in the order given, with the inputs and the results.
 How the work is cut (the *plan*):
 
 1. scenes are grouped by *model*: everything but the load (spectrum, E*, geometry and its
-   size, model, method, n, gamma, variant, tol, max_iter, hardness);
+   size, model, law, method, n, gamma, variant, tol, max_iter, hardness);
 2. the scenes of a group are ordered by load and cut into *pieces* of at most ``chunksize``
    scenes; a piece is solved by one ``sweep`` of its model (continuation along its loads);
 3. pieces are packed, in table order, into *tasks* of at most ``chunksize`` scenes: a task is
@@ -34,7 +34,12 @@ geometry/model/method names) are checked before any work and raise.
 SI units throughout: m, 1/m, Pa; loads in N/m (per unit length) for a cylinder, in N (the
 total load) for a sphere.
 
-Modules, each importing only those listed before it: :mod:`~fastline.batch.scenes` (the
+A tabulated or calibrated law (the ``law`` column: a law object or a law file) travels to the
+workers as arrays, once per task, or is read there from its file, checksum checked
+(:mod:`~fastline.batch.laws`).
+
+Modules, each importing only those listed before it: :mod:`~fastline.batch.laws` (the law
+column: cells, their text, their keys), :mod:`~fastline.batch.scenes` (the
 columns, the geometries, checking a table, :func:`read_scenes`), :mod:`~fastline.batch.plan`
 (groups, pieces, tasks), :mod:`~fastline.batch.worker` (the per-process cache, what a task
 does, the loop over an executor), :mod:`~fastline.batch.table` (:class:`SweepTable`,

@@ -14,6 +14,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from fastline.batch.laws import LawKeys
 from fastline.batch.scenes import SPECTRUM_PARAMS
 
 __all__ = ["default_chunksize", "pool_pays", "DEFAULT_TASKS", "MIN_CHUNK", "MAX_CHUNK"]
@@ -57,7 +58,9 @@ class ModelSpec:
 
     ``spectrum`` is a hashable key: ``("self-affine", h_rms, H, q0, qr, q1)``, ``("file",
     path)``, ``("object", digest of the pickled PSD)`` or ``("none",)``; ``psd`` carries the
-    object for the ``"object"`` kind (not part of equality)."""
+    object for the ``"object"`` kind (not part of equality). ``law`` is the key of the law
+    column (:class:`~fastline.batch.laws.LawKeys`): ``("none",)``, ``("file", path, checksum
+    or None)`` or ``("data", checksum)``, with ``law_data`` the law's arrays for the last."""
 
     geometry: str
     spectrum: tuple
@@ -71,7 +74,9 @@ class ModelSpec:
     tol: float
     max_iter: int | None
     hardness: float | None
+    law: tuple = ("none",)
     psd: object = field(default=None, compare=False, hash=False, repr=False)
+    law_data: object = field(default=None, compare=False, hash=False, repr=False)
 
 
 @dataclass(frozen=True)
@@ -118,17 +123,23 @@ def _groups(cols: Mapping) -> dict[ModelSpec, list[int]]:
     max_iter = [m or None for m in cols["max_iter"]]
     hardness = [None if math.isnan(h) else h for h in cols["hardness"]]
     spectra = _SpectrumKeys().column(cols)
+    laws = LawKeys().column(cols)
+    law_keys = [key for key, _ in laws]
     rows: dict[tuple, list[int]] = {}
-    keys = zip(spectra, *(cols[k] for k in _MODEL_COLUMNS), max_iter, hardness, strict=True)
+    keys = zip(
+        spectra, *(cols[k] for k in _MODEL_COLUMNS), max_iter, hardness, law_keys, strict=True
+    )
     for i, key in enumerate(keys):
         rows.setdefault(key, []).append(i)
-    return {_spec(key, cols, r[0]): r for key, r in rows.items()}
+    return {_spec(key, cols, laws, r[0]): r for key, r in rows.items()}
 
 
-def _spec(key: tuple, cols: Mapping, first: int) -> ModelSpec:
+def _spec(key: tuple, cols: Mapping, laws: list, first: int) -> ModelSpec:
+    """The model of a group; ``laws[first]``'s data (one object per distinct law, so a task
+    that holds several pieces with one law pickles its arrays once)."""
     spectrum, geometry, *rest = key
     psd = cols["psd"][first] if spectrum[0] == "object" else None
-    return ModelSpec(geometry, spectrum, *rest, psd=psd)
+    return ModelSpec(geometry, spectrum, *rest, psd=psd, law_data=laws[first][1])
 
 
 def default_chunksize(scenes: int) -> int:

@@ -8,7 +8,10 @@ The columns (:data:`SCENE_COLUMNS`), one scene per row. Required: ``E_star`` [Pa
 object, the path of a spectrum file read by :func:`fastline.io.read_spectrum` on the worker, or
 None for ``model="hertz"``). Optional, with defaults: ``label`` (""), ``geometry``
 ("cylinder", the default, or "sphere": :data:`GEOMETRIES`), ``model`` ("persson",
-"exponential", "hertz"), ``method`` ("newton", "picard"), ``n`` (the geometry's own: 1024 grid
+"exponential", "hertz"), ``law`` (a :class:`~fastline.TabulatedLaw`, a
+:class:`~fastline.CalibratedLaw` or the path of a law file, in place of the model: the row's
+model becomes the law's kind, "tabulated" or "calibrated"; :mod:`fastline.batch.laws`),
+``method`` ("newton", "picard"), ``n`` (the geometry's own: 1024 grid
 points for a cylinder, 512 cells for a sphere; the table shows the value used), ``variant`` of
 the theory's u(p) ("yang-persson-energy", the default, "yang-persson-printed" or
 "wang-mueser"; :mod:`fastline.theory.variants`), ``gamma`` (the variant's own: 0.45, 5/9 for
@@ -17,10 +20,13 @@ default), ``hardness`` [Pa] (NaN: none). A missing cell (None, NaN) in an option
 the default.
 
 Each scene is solved as ``LineContact(psd, E_star, radius, model=..., variant=...,
-...).solve(load)`` would (``PointContact`` for a sphere), its values checked there (a bad value
-fails that scene only). Scenes of either geometry that share a spectrum, E*, gamma and variant
+...).solve(load)`` would (``PointContact`` for a sphere; with a law, ``model=law`` and the
+spectrum's theory for the diagnostics, as ``fastline profile --law`` solves), its values
+checked there (a bad value, a calibrated law made for another spectrum or E*, fails that scene
+only). Scenes of either geometry that share a spectrum, E*, gamma and variant
 share one Persson theory per worker. The table's shape and types (column names, value types,
-geometry/model/method/variant names) are checked here, before any work, and raise.
+geometry/model/method/variant names, a law beside another model) are checked here, before any
+work, and raise.
 
 SI units throughout: m, 1/m, Pa; loads in N/m (per unit length) for a cylinder, in N (the
 total load) for a sphere.
@@ -36,8 +42,10 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from fastline.batch.laws import law_cell, law_csv_cell, law_kind
 from fastline.contact.line import LineContact
 from fastline.contact.point import PointContact
+from fastline.theory.lawdata import LAW_KINDS
 from fastline.theory.spectra import PSD
 from fastline.theory.variants import DEFAULT_VARIANT, VARIANTS
 
@@ -65,6 +73,7 @@ class Column:
 
 
 _SPECTRUM = object()  # default marker of the self-affine spectrum columns
+_ABSENT = object()  # default marker of a column left out of the table when not given (law)
 _BY_GEOMETRY = object()  # default marker of a column whose default depends on the geometry
 SPECTRUM_PARAMS = ("h_rms", "hurst", "q0", "qr", "q1")
 
@@ -82,6 +91,7 @@ INPUTS = (
     Column("radius", "float", "m"),
     Column("load", "float", "N/m"),  # N for a sphere (_load_csv_name)
     Column("model", "text", default="persson"),
+    Column("law", "law", default=_ABSENT),
     Column("method", "text", default="newton"),
     Column("n", "int", default=_BY_GEOMETRY),  # the geometry's own (_GEOMETRY_N)
     Column("gamma", "float", "-", math.nan),  # NaN: the variant's own (normalise)
@@ -113,6 +123,8 @@ RESULT_COLUMNS = tuple(c.name for c in OUTPUTS)
 _REQUIRED = tuple(c.name for c in INPUTS if c.default is None)
 NUMERIC_RESULTS = RESULT_COLUMNS[:10]  # p0 ... residual, in the order workers return them
 _MODELS = ("persson", "exponential", "hertz")
+#: model names of the rows with a law (the law's kind: its file or object sets it)
+LAW_MODELS = tuple(LAW_KINDS)
 _METHODS = ("newton", "picard")
 NEEDS_THEORY = ("persson", "exponential")
 
@@ -164,7 +176,12 @@ GEOMETRIES = {"cylinder": _cylinder, "sphere": _sphere}
 _GEOMETRY_N = {"cylinder": 1024, "sphere": 512}
 #: unit of the ``load`` column for each geometry
 LOAD_UNITS = {"cylinder": "N/m", "sphere": "N"}
-_CATEGORIES = {"geometry": GEOMETRIES, "model": _MODELS, "method": _METHODS, "variant": VARIANTS}
+_CATEGORIES = {
+    "geometry": GEOMETRIES,
+    "model": _MODELS + LAW_MODELS,
+    "method": _METHODS,
+    "variant": VARIANTS,
+}
 
 
 # ----------------------------------------------------------------------------------------------
@@ -247,6 +264,8 @@ def _is_missing(v) -> bool:
 
 def _cell(col: Column, i: int, v):
     """One cell converted to its column's type; TypeError naming the column and row."""
+    if col.kind == "law":
+        return law_cell(i, v)
     optional = col.default is not None and col.default is not _SPECTRUM
     if optional and _is_missing(v):
         return col.default
@@ -281,8 +300,9 @@ def _psd_cell(col: Column, i: int, v):
 
 #: why a law object is refused in the model column, and what to do instead
 _NOT_A_LAW = (
-    f"a model name {_MODELS} (a law object, calibrated or your own, is solved in this process: "
-    "LineContact(psd, E_star, radius, model=law).sweep(loads), PointContact for a sphere)"
+    f"a model name {_MODELS} (a TabulatedLaw, a CalibratedLaw or a law file goes in the law "
+    "column; a law of your own is solved in this process: LineContact(psd, E_star, radius, "
+    "model=law).sweep(loads), PointContact for a sphere)"
 )
 
 
@@ -333,10 +353,11 @@ def normalise(scenes) -> dict[str, list]:
             out[col.name] = (
                 fast if fast is not None else [_cell(col, i, v) for i, v in enumerate(values)]
             )
-        elif col.default is not _SPECTRUM:
+        elif col.default is not _SPECTRUM and col.default is not _ABSENT:
             out[col.name] = [col.default] * size
     for name in _CATEGORIES:
         _check_category(name, out[name])
+    _check_laws(out)
     out["n"] = [
         _GEOMETRY_N.get(g, 1024) if n is _BY_GEOMETRY else n
         for n, g in zip(out["n"], out["geometry"], strict=True)
@@ -348,6 +369,27 @@ def normalise(scenes) -> dict[str, list]:
     return out
 
 
+def _check_laws(cols: dict[str, list]) -> None:
+    """A row with a law takes the law's kind as its model (``"calibrated"``, ``"tabulated"``);
+    a law beside another model, or a law's model name without a law, is refused by row."""
+    laws = cols.get("law") or [None] * len(cols["model"])
+    models = cols["model"]
+    for i, (law, model) in enumerate(zip(laws, models, strict=True)):
+        kind = law_kind(law)
+        if kind is None and model in LAW_MODELS:
+            raise ValueError(
+                f"scenes: row {i} has model={model!r} but no law: give the law (a law object or "
+                "the path of a law file) in the law column"
+            )
+        if kind is not None and model not in ("persson", kind):
+            raise ValueError(
+                f"scenes: row {i} has a law and model={model!r}: the law replaces the model; "
+                "leave the model empty (or 'persson') in the rows with a law"
+            )
+        if kind is not None:
+            models[i] = kind
+
+
 def read_scenes(path: str | os.PathLike) -> dict[str, list]:
     """Read a scene table from a CSV file, for :func:`sweep` (``fastline batch``).
 
@@ -357,7 +399,9 @@ def read_scenes(path: str | os.PathLike) -> dict[str, list]:
     are comments. An empty cell takes the column's default. The result columns of a
     :meth:`SweepTable.to_csv` file (:data:`RESULT_COLUMNS`, ``p0_Pa``...) are recognised and
     skipped: such a file is read as the campaign it ran. Spectrum files in a ``psd`` column
-    are relative to the CSV file's directory; ``none`` there means no spectrum (hertz).
+    and law files in a ``law`` column (``path`` or ``path@sha256:<hex>``, as a table writes
+    them: :mod:`fastline.batch.laws`) are relative to the CSV file's directory; ``none`` there
+    means no spectrum (hertz) or no law.
 
     Returns
     -------
@@ -384,7 +428,11 @@ def read_scenes(path: str | os.PathLike) -> dict[str, list]:
         if key not in aliases:
             continue
         col = BY_NAME[aliases[key]]
-        cols[col.name] = [_csv_cell(col, row[j].strip(), base) for _line, row in body]
+        if col.kind == "law":
+            cells = [law_csv_cell(row[j].strip(), base, f"{path}:{k}") for k, row in body]
+        else:
+            cells = [_csv_cell(col, row[j].strip(), base) for _line, row in body]
+        cols[col.name] = cells
     return cols
 
 

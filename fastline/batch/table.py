@@ -16,6 +16,7 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 from fastline._lib.version import __version__
+from fastline.batch.laws import LawKeys, law_text
 from fastline.batch.scenes import (
     BY_NAME,
     LOAD_UNITS,
@@ -38,7 +39,15 @@ __all__ = ["SweepTable", "SweepStats"]
 # ----------------------------------------------------------------------------------------------
 # the result table
 # ----------------------------------------------------------------------------------------------
-_DTYPES = {"float": np.float64, "int": np.int64, "bool": np.bool_, "text": object, "psd": object}
+_DTYPES = {
+    "float": np.float64,
+    "int": np.int64,
+    "bool": np.bool_,
+    "text": object,
+    "psd": object,
+    "law": object,
+}
+_OBJECT_KINDS = ("text", "psd", "law")
 
 
 def _dtype(cols: Mapping) -> np.dtype:
@@ -50,7 +59,7 @@ def empty_table(cols: Mapping) -> np.ndarray:
     size = len(cols["load"])
     table = np.zeros(size, dtype=_dtype(cols))
     for name, values in cols.items():
-        if BY_NAME[name].kind in ("text", "psd"):
+        if BY_NAME[name].kind in _OBJECT_KINDS:
             table[name] = np.fromiter(values, dtype=object, count=size)  # cells kept as given
         else:
             table[name] = values
@@ -175,8 +184,10 @@ class SweepTable:
     Attributes
     ----------
     table : numpy structured array
-        The scene columns (defaults filled in; ``psd`` cells as given, paths made absolute)
-        followed by :data:`RESULT_COLUMNS`: ``p0`` [Pa], ``p0_ratio``, ``s`` [m], ``fwhm`` [m],
+        The scene columns (defaults filled in; ``psd`` and ``law`` cells as given, paths made
+        absolute, a law file's path followed by ``@sha256:`` and the checksum of the file this
+        process read; ``model`` the law's kind in the rows with a law) followed by
+        :data:`RESULT_COLUMNS`: ``p0`` [Pa], ``p0_ratio``, ``s`` [m], ``fwhm`` [m],
         ``w_over_s``, ``alpha``, ``converged``, ``iterations``, ``convolutions``,
         ``residual``, ``warnings`` (the validity causes found, ``;``-separated) and ``error``
         (empty when the scene was solved). A failed scene has NaN numbers, ``converged``
@@ -259,7 +270,10 @@ class SweepTable:
         geometries, and the header's ``load_unit`` line says which unit each geometry's has).
 
         Text cells are written on one line, in double quotes when they hold a comma or a quote
-        (as CSV quotes them); ``psd`` cells as the file path or the spectrum's repr.
+        (as CSV quotes them); ``psd`` cells as the file path or the spectrum's repr; ``law``
+        cells as the file path and its checksum (``path@sha256:<hex>``), a law object as
+        ``<law object CalibratedLaw sha256:<hex>>`` (:func:`read_scenes` refuses that text: save
+        the law to a file and put its path there).
         :func:`fastline.io.read_csv` reads the file back, :func:`read_scenes` reads its scene
         columns (and skips the result columns), so a table's file is a campaign to run again.
         """
@@ -271,9 +285,15 @@ class SweepTable:
         header["load_unit"] = "; ".join(
             f"{LOAD_UNITS.get(g, 'N/m')} ({g})" for g in dict.fromkeys(self.table["geometry"])
         )
-        text = [BY_NAME[n].kind in ("text", "psd") for n in names]
+        kinds = [BY_NAME[n].kind for n in names]
+        keys = LawKeys()
+        cell = {
+            "text": _text_cell,
+            "psd": _text_cell,
+            "law": lambda v: law_text(v, None if v is None else keys.checksum(v)),
+        }
         rows = (
-            [_text_cell(v) if t else v for v, t in zip(rec, text, strict=True)]
+            [cell[k](v) if k in cell else v for v, k in zip(rec, kinds, strict=True)]
             for rec in self.table.tolist()
         )
         title = "fastline sweep: one row per scene (inputs, then results); SI units"

@@ -14,19 +14,22 @@ import socket
 import threading
 import time
 from collections import OrderedDict
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 from fastline._lib.executors import Engine
 from fastline.batch.plan import ModelSpec, Piece
 from fastline.batch.scenes import GEOMETRIES, NEEDS_THEORY
+from fastline.errors import CalibrationFileError
 from fastline.io import read_spectrum
+from fastline.theory.lawdata import check_law_scene, read_law_file, restore_law
 from fastline.theory.persson import PerssonTheory
 from fastline.theory.spectra import SelfAffinePSD
 
 __all__ = ["CACHE_SIZES"]
 
-#: bounds of each worker's cache: spectra, Persson theories (about 150 kB each), models
-CACHE_SIZES = {"spectra": 64, "theories": 32, "models": 64}
+#: bounds of each worker's cache: spectra, Persson theories (about 150 kB each), models, laws
+#: (a calibrated law: about 10 kB)
+CACHE_SIZES = {"spectra": 64, "theories": 32, "models": 64, "laws": 32}
 
 
 # ----------------------------------------------------------------------------------------------
@@ -45,7 +48,7 @@ def _lru(store: OrderedDict, key, build, size: int):
 
 
 class _ModelCache:
-    """Spectra, theories and models of one process, bounded by :data:`CACHE_SIZES`.
+    """Spectra, theories, laws and models of one process, bounded by :data:`CACHE_SIZES`.
 
     Thread-safe (a dask worker may run several tasks at once): one lock around look-ups and
     builds, so a theory is built once per process even when two threads want it."""
@@ -55,6 +58,7 @@ class _ModelCache:
         self._spectra: OrderedDict = OrderedDict()
         self._theories: OrderedDict = OrderedDict()
         self._models: OrderedDict = OrderedDict()
+        self._laws: OrderedDict = OrderedDict()
 
     def model(self, spec: ModelSpec, counts: dict):
         build = lambda: self._build(spec, counts)  # noqa: E731
@@ -63,8 +67,11 @@ class _ModelCache:
 
     def _build(self, spec: ModelSpec, counts: dict):
         builder = GEOMETRIES[spec.geometry]
-        theory = None
-        if spec.model in NEEDS_THEORY:
+        theory, law = None, None
+        if spec.law[0] != "none":  # the law's theory: diagnostics only (fastline profile --law)
+            law, data = _lru(self._laws, spec.law, lambda: _law(spec), CACHE_SIZES["laws"])
+            check_law_scene(data, self._spectrum(spec), spec.E_star, _law_name(spec))
+        if spec.model in NEEDS_THEORY or (law is not None and self._spectrum(spec) is not None):
             key = (spec.spectrum, spec.E_star, spec.gamma, spec.variant)
             theory = _lru(
                 self._theories,
@@ -73,7 +80,7 @@ class _ModelCache:
                 CACHE_SIZES["theories"],
             )
         psd = theory.psd if theory is not None else self._spectrum(spec)
-        model = builder(spec, psd, theory)
+        model = builder(spec if law is None else replace(spec, model=law), psd, theory)
         counts["models"] += 1
         return model
 
@@ -101,6 +108,36 @@ def _make_spectrum(key: tuple, obj):
     if kind == "file":
         return read_spectrum(key[1])
     return obj  # "object" (the PSD itself) or "none"
+
+
+def _law_name(spec: ModelSpec) -> str:
+    return f"law file {spec.law[1]}" if spec.law[0] == "file" else "the law of the law column"
+
+
+def _law(spec: ModelSpec) -> tuple:
+    """(law, its data) of a model: rebuilt from the data sent with the task, or read from
+    the file (its checksum checked against the one the caller read, when it read one)."""
+    if spec.law[0] == "data":
+        return restore_law(spec.law_data), spec.law_data
+    _, path, want = spec.law
+    where = f"on {socket.gethostname()}"
+    try:
+        data = read_law_file(path)
+    except FileNotFoundError:
+        raise FileNotFoundError(
+            f"law file {path}: no such file {where} (a worker reads a law file at the path in "
+            "the table: put it where every worker sees it, or give the law object, which "
+            "travels with the tasks)"
+        ) from None
+    except OSError as e:
+        raise OSError(f"cannot read law file {path} {where}: {e.strerror or e}") from None
+    if want is not None and data.checksum != want:
+        raise CalibrationFileError(
+            f"law file {path} {where} is not the law of the table: its checksum is "
+            f"{data.checksum[:16]}..., the table's {want[:16]}... (the file changed, or the "
+            "workers see another file at this path)"
+        )
+    return restore_law(data), data
 
 
 _CACHE = _ModelCache()  # the cache of this process (used by _run_task in workers)

@@ -292,13 +292,22 @@ def _batch_parser(sub, fmt) -> None:
         "the spectrum as h_rms, hurst, q0, qr, q1 or as psd (a spectrum file, relative to the "
         "CSV file); E_star [Pa], radius [m], load [N/m; N with geometry sphere]; optional label, "
         "geometry (cylinder, the default, or sphere), "
-        "model, method, n, variant (yang-persson-energy, yang-persson-printed, wang-mueser), "
+        "model, law (a calibrated-law file, relative to the CSV file, in place of the model), "
+        "method, n, variant (yang-persson-energy, yang-persson-printed, wang-mueser), "
         "gamma (default: the variant's), tol, max_iter, hardness [Pa]; an empty cell takes the "
-        "default. A scene that fails (a value out of range, an unreadable spectrum file) is "
-        "reported in its row's error column; the others are solved.",
+        "default. A scene that fails (a value out of range, an unreadable spectrum or law file, "
+        "a law made for another spectrum or E*) is reported in its row's error column; the "
+        "others are solved.",
     )
     p.add_argument("scenes", metavar="SCENES.csv", help="the scene table")
     p.add_argument("--out", required=True, metavar="FILE", help="write the results (CSV) to FILE")
+    p.add_argument(
+        "--law",
+        metavar="FILE",
+        help="a calibrated law (fastline calibrate --out FILE) for the rows that name neither a "
+        "model nor a law; checked against their spectra and E* before any solve. Workers read "
+        "the file at its path (checksum checked): on a cluster, put it where they see it",
+    )
     _parallel_options(p, "a local process per CPU")
 
 
@@ -355,7 +364,10 @@ def cmd_batch(args) -> int:
     """``fastline batch``: a table of scenes from a CSV file; returns the exit status."""
 
     fl.io.check_output_file(args.out)
-    table = run_table(batch.read_scenes(args.scenes), args)
+    scenes = batch.read_scenes(args.scenes)
+    if args.law is not None:
+        _default_law(scenes, args.law)
+    table = run_table(scenes, args)
     table.to_csv(args.out)
     st = table.stats
     failed = int(table.failed.sum())
@@ -368,6 +380,53 @@ def cmd_batch(args) -> int:
     status = table_status(table)
     print(f"wrote {args.out}")
     return status
+
+
+def _default_law(scenes: dict[str, list], path: str) -> None:
+    """``batch --law FILE``: FILE in the law cells of the rows that name neither a model nor a
+    law, checked first against each distinct spectrum and E* of those rows that can be read
+    here (a mismatch refuses the table; a row whose spectrum cannot be read fails alone)."""
+    if not os.path.isfile(path):
+        raise CLIError(f"--law {path}: no such file")
+    size = len(next(iter(scenes.values())))
+    laws = scenes.setdefault("law", [None] * size)
+    models = scenes.get("model", [None] * size)
+    rows = [i for i in range(size) if laws[i] is None and models[i] is None]
+    if not rows:
+        raise CLIError(
+            f"--law {path}: every row names a model or a law; leave the model and law cells "
+            "empty in the rows that should take it"
+        )
+    path = os.path.abspath(path)
+    fl.CalibratedLaw.load(path)  # not a law file: one clear error
+    checked = set()
+    for i in rows:
+        laws[i] = path
+        key = _row_scene(scenes, i)
+        if key is None or key in checked:
+            continue
+        checked.add(key)
+        try:
+            psd = (
+                fl.io.read_spectrum(key[0])
+                if isinstance(key[0], str)
+                else fl.SelfAffinePSD(*key[0])
+            )
+            fl.CalibratedLaw.load(path, psd=psd, E_star=key[1])
+        except fl.CalibrationFileError as e:
+            raise CLIError(f"--law {e}") from None
+        except (ValueError, TypeError):  # a bad cell: the row fails alone, fl.sweep says why
+            continue
+
+
+def _row_scene(scenes: dict[str, list], i: int) -> tuple | None:
+    """(spectrum file or self-affine parameters, E*) of a row; None when a column is missing
+    (fl.sweep refuses the table, naming it)."""
+    names = ("psd",) if "psd" in scenes else ("h_rms", "hurst", "q0", "qr", "q1")
+    if any(k not in scenes for k in (*names, "E_star")):
+        return None
+    spectrum = tuple(scenes[k][i] for k in names)
+    return (spectrum[0] if "psd" in scenes else spectrum), scenes["E_star"][i]
 
 
 def cmd_paper(args) -> int:

@@ -288,7 +288,8 @@ def numerics_options(
             "--law",
             metavar="FILE",
             help="a law calibrated on boundary-element ensembles of this spectrum and E* "
-            "(fastline calibrate --out FILE) in place of --model; leak uses its hydraulic gap",
+            "(fastline calibrate --out FILE) in place of --model; leak uses its hydraulic gap; "
+            "on sweep's --workers/--scheduler it travels to the workers with the tasks",
         )
     s.add_argument(
         "--gamma",
@@ -665,14 +666,11 @@ def sweep_in_parallel(
 ) -> tuple[np.recarray, SweepTable]:
     """The loads of the sweep command (either geometry) as a scene table on
     --workers/--scheduler: rows with the attributes of a result (load, alpha, p0, ...) and the
-    table."""
+    table. With --law the law (loaded and checked against the spectrum and E* by
+    :func:`law_option`) is the table's law column: it travels to the workers as arrays."""
     import numpy as np
 
-    if getattr(args, "law", None) is not None:
-        raise CLIError(
-            "--law is solved in this process, not on workers: drop --workers and --scheduler "
-            "to sweep the loads in this process"
-        )
+    law = None if isinstance(args.model, str) else args.model
     k = len(loads)
     scenes = {
         "geometry": [args.geometry] * k,
@@ -680,12 +678,14 @@ def sweep_in_parallel(
         "E_star": [E] * k,
         "radius": [args.radius] * k,
         "load": [float(f) for f in loads],
-        "model": [args.model] * k,
+        "model": [args.model if law is None else "persson"] * k,
         "n": [args.n] * k,
         "gamma": [args.gamma] * k,
         "variant": [args.variant] * k,
         "max_iter": [args.max_iter or 0] * k,
         "hardness": [math.nan if args.hardness is None else args.hardness] * k,
     }
+    if law is not None:
+        scenes["law"] = [law] * k
     table = run_table(scenes, args)
     return table.table.view(np.recarray), table

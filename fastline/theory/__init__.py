@@ -6,7 +6,8 @@ The bottom layer of the physics: it imports nothing of fastline but :mod:`fastli
 :mod:`fastline.errors`. Modules: :mod:`~fastline.theory.spectra`,
 :mod:`~fastline.theory.persson`, :mod:`~fastline.theory.variants`,
 :mod:`~fastline.theory.laws`, :mod:`~fastline.theory.calibrated` (a law calibrated on
-boundary-element ensembles), :mod:`~fastline.theory.asperity`,
+boundary-element ensembles), :mod:`~fastline.theory.lawdata` (tabulated and calibrated laws as
+plain arrays, for workers), :mod:`~fastline.theory.asperity`,
 :mod:`~fastline.theory.limits`, :mod:`~fastline.theory.interface`,
 :mod:`~fastline.theory.special` (the universal functions F), :mod:`~fastline.theory.files`
 (spectrum files and the tolerant table reader), :mod:`~fastline.theory.tables`
@@ -68,6 +69,14 @@ __getattr__, __dir__, __all__ = _lazy.attach(
             "hermite",
         ],
         "calibrated": ["CalibratedLaw", "CalibrationPoints", "isotonic_decreasing"],
+        "lawdata": [
+            "LawData",
+            "LAW_KINDS",
+            "law_data",
+            "read_law_file",
+            "restore_law",
+            "check_law_scene",
+        ],
         "asperity": ["SummitStatistics", "GreenwoodWilliamsonLaw", "summit_integral"],
         "limits": [
             "WS_GAUSSIAN",
