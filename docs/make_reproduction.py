@@ -15,8 +15,8 @@ import time
 
 import fastline as fl
 from fastline.cli.app import main
-from fastline.io import write_csv
 from fastline.contact.line import solve_line_contact
+from fastline.io import write_csv
 from fastline.reports.paper import E_STAR as PAPER_E_STAR
 from fastline.reports.paper import Q0 as PAPER_Q0
 from fastline.reports.paper import QR as PAPER_QR

@@ -19,8 +19,10 @@ import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 
 import fastline as fl  # noqa: E402
-from fastline.reports import paper  # noqa: E402
-from fastline.reports import plotting
+from fastline.reports import (
+    paper,  # noqa: E402
+    plotting,
+)
 
 OUT = Path(__file__).resolve().parent / "img"
 

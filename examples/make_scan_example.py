@@ -14,8 +14,8 @@ two-sided 1D spectrum is the Abel transform of C(q) (docs/topography.md):
 
 evaluated here by quadrature after ``q = k cosh t`` (no singularity). The Fourier coefficients
 F_m = sum_j h_j exp(-i k_m x_j) of the periodic realisation (length L) are complex Gaussian with
-``E|F_m|^2 = 2 pi L C1D(k_m) / dx^2``, the convention of ``fastline.surfaces.topography``. Run from the
-repository root:
+``E|F_m|^2 = 2 pi L C1D(k_m) / dx^2``, the convention of ``fastline.surfaces.topography``. Run from
+the repository root:
 
     python examples/make_scan_example.py
 """
