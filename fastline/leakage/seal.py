@@ -450,10 +450,11 @@ def _result(run: _Run, y, dP) -> SealResult:
     flux = (pf[:-1] - pf[1:])[carries] / r[carries]
     with np.errstate(over="ignore"):
         g = np.exp(log_g)
+    fluid = pf.copy() if sys.geometry == "line" else sys.fluid_load(pf, dP)  # on the cells
     return SealResult(
         pressure_drop=dP, Q=0.0 if sealed else sys.length * q_hat / (12.0 * sys.viscosity),
-        x=sys.x, contact_pressure=pc,
-        fluid_pressure=pf.copy() if sys.geometry == "line" else sys.fluid_load(pf, dP), gap=u, local_gap=g, approach_change=dd, sealed=sealed,
+        x=sys.x, contact_pressure=pc, fluid_pressure=fluid, gap=u, local_gap=g,
+        approach_change=dd, sealed=sealed,
         lifted_off=False, converged=bool(np.max(np.abs(F)) < TOL),
         diagnostics={
             "residual": float(np.max(np.abs(F))),

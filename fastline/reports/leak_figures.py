@@ -302,8 +302,7 @@ def plot_seal(sweep: SealSweep, *, shown: Sequence[int] | None = None) -> Figure
         right.legend(loc="lower left", bbox_to_anchor=(0.0, 1.01), ncols=2, fontsize=8,
                      frameon=False, borderaxespad=0.0)  # fmt: skip
     right.set_xlabel(
-        r"$r$ (mm), flow outwards from the hole" if point
-        else r"$x$ (mm), flow from left to right"
+        r"$r$ (mm), flow outwards from the hole" if point else r"$x$ (mm), flow from left to right"
     )
     right.set_ylabel("pressure (MPa)")
     right.set_ylim(bottom=0.0)
