@@ -31,13 +31,15 @@ has reached lift-off (blow-by): no solution of the static seal holds the load be
 from __future__ import annotations
 
 import math
+import warnings
 from dataclasses import dataclass, field
 from typing import TYPE_CHECKING
 
 import numpy as np
 from numpy.typing import ArrayLike
 
-from fastline.leakage.flow import GAP_FLOOR, _flow_table, leak_rate
+from fastline.errors import LeakageWarning
+from fastline.leakage.flow import GAP_FLOOR, MAX_ORIFICE_SHARE, _flow_table, leak_rate
 from fastline.leakage.seal_kernels import reduced_step, stiffness_product
 from fastline.leakage.seal_system import (
     SUPPORTS,
@@ -72,6 +74,12 @@ LIFT = 0.01
 MAX_CELLS = 2048
 #: the Newton systems' solvers: the compiled reduced system, or NumPy's dense solve
 SOLVERS = ("compiled", "dense")
+#: the warning of a hole wide against the contact (``diagnostics["orifice_share"]``)
+ORIFICE = (
+    "fastline.seal_leak: the hole (inner_radius) is wider than 0.1 of the dry contact's half "
+    "width at half maximum of p (diagnostics['orifice_share']): the dry contact ignores the "
+    "hole, which a hole of that size changes"
+)
 
 
 @dataclass
@@ -253,6 +261,8 @@ def seal_leak(
     if sys.geometry == "point":
         diag.update(orifice_share=dry[0].diagnostics["orifice_share"],
                     contact_radius=contact_radius(result))  # fmt: skip
+        if diag["orifice_share"] > MAX_ORIFICE_SHARE:
+            warnings.warn(ORIFICE, LeakageWarning, stacklevel=2)
     return SealSweep(
         pressure_drops=dPs, Q=np.array([r.Q for r in results]), results=results,
         lift_off_pressure=lift, uncoupled_Q=np.array([k.Q for k in dry]), diagnostics=diag,

@@ -177,7 +177,7 @@ def equations(sys: System, y: np.ndarray, dP: float, r0: float, jac: bool):
     J = np.zeros((sys.size, sys.size))
     if sys.rigid:
         J[:n, :n] = np.eye(n) / su
-        J[n, n + N] = 1.0 / su
+        J[:n, n + N] = J[n, n + N] = 1.0 / su
     else:
         J[:n, :n] = (np.eye(n) - sys.K * dpc) / su
         J[:n, n : n + N] = -sys.KL / su
