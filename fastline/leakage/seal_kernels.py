@@ -53,12 +53,19 @@ def stiffness_product(K: np.ndarray, v: np.ndarray) -> np.ndarray:
     return _matvec(K, np.ascontiguousarray(v, dtype=np.float64), np.empty(K.shape[0]))
 
 
+#: columns of a panel of the blocked elimination (:func:`lu_solve`), and of a tile of its
+#: update (a tile of the panel's rows of U, 64 x 256 x 8 bytes = 128 kB, stays in cache while
+#: the rows below stream past it)
+BLOCK, TILE = 64, 256
+
+
 @numba.njit(**JIT)
-def lu_solve(a, b):
-    """Solve ``a z = b`` in place (``b`` becomes z) by Gaussian elimination with partial
-    pivoting, row operations on the C-contiguous ``a`` (destroyed); False if singular."""
+def _panel(a, b, k0, k1):
+    """Eliminate the columns ``k0 .. k1-1`` of ``a`` with partial pivoting, updating only
+    those columns (the multipliers are stored below the diagonal, rows swapped whole, ``b``
+    with them); False if a pivot is zero."""
     m = a.shape[0]
-    for k in range(m):
+    for k in range(k0, k1):
         p = k
         big = abs(a[k, k])
         for i in range(k + 1, m):
@@ -67,7 +74,7 @@ def lu_solve(a, b):
         if not big > 0.0:
             return False
         if p != k:
-            for j in range(k, m):
+            for j in range(m):
                 a[k, j], a[p, j] = a[p, j], a[k, j]
             b[k], b[p] = b[p], b[k]
         rk = a[k]
@@ -75,11 +82,67 @@ def lu_solve(a, b):
         for i in range(k + 1, m):
             ri = a[i]
             f = ri[k] * inv
+            ri[k] = f
             if f != 0.0:
-                for j in range(k + 1, m):
+                for j in range(k + 1, k1):
                     ri[j] -= f * rk[j]
-                b[i] -= f * b[k]
-    for i in range(m - 1, -1, -1):
+    return True
+
+
+@numba.njit(**JIT)
+def _rows_update(a, i, k0, k1, j0, m):
+    """``a[i, j0:m] -= sum_{k0 <= k < k1} a[i, k] a[k, j0:m]`` (the panel's own rows)."""
+    ri = a[i]
+    for k in range(k0, k1):
+        f, rk = ri[k], a[k]
+        for j in range(j0, m):
+            ri[j] -= f * rk[j]
+
+
+@numba.njit(**JIT)
+def _tile_update(a, ub, fb, rb, i, k0, j0):
+    """``a[i, j0:j0+w] -= a[i, k0:k0+kb] @ ub`` for the copied tile ``ub`` (kb x w) of the
+    panel's rows of U, through the buffers ``fb`` (kb) and ``rb`` (w): in separate arrays the
+    loop over j vectorises (on the rows of ``a`` itself LLVM cannot rule out aliasing)."""
+    kb, w = ub.shape
+    for k in range(kb):
+        fb[k] = a[i, k0 + k]
+    for j in range(w):
+        rb[j] = a[i, j0 + j]
+    for k in range(kb):
+        f = fb[k]
+        if f != 0.0:
+            for j in range(w):
+                rb[j] -= f * ub[k, j]
+    for j in range(w):
+        a[i, j0 + j] = rb[j]
+
+
+@numba.njit(**JIT)
+def lu_solve(a, b):
+    """Solve ``a z = b`` in place (``b`` becomes z) by Gaussian elimination with partial
+    pivoting, blocked by ``BLOCK`` columns (right-looking: a panel, its rows of U, then the
+    rank-``BLOCK`` update of the rest, ``TILE`` columns at a time), on the C-contiguous ``a``
+    (destroyed); False if singular. Single-threaded, no BLAS."""
+    m = a.shape[0]
+    fb, rb = np.empty(BLOCK), np.empty(TILE)
+    for k0 in range(0, m, BLOCK):
+        k1 = min(k0 + BLOCK, m)
+        if not _panel(a, b, k0, k1):
+            return False
+        for i in range(k0 + 1, k1):  # the panel's rows of U right of it: L11^-1 A12
+            _rows_update(a, i, k0, i, k1, m)
+        for j0 in range(k1, m, TILE):  # the trailing matrix, a tile at a time: A22 - L21 U12
+            ub = a[k0:k1, j0 : min(j0 + TILE, m)].copy()
+            for i in range(k1, m):
+                _tile_update(a, ub, fb[: k1 - k0], rb[: ub.shape[1]], i, k0, j0)
+    for i in range(m):  # L y = b (unit lower triangle)
+        ri = a[i]
+        acc = b[i]
+        for j in range(i):
+            acc -= ri[j] * b[j]
+        b[i] = acc
+    for i in range(m - 1, -1, -1):  # U z = y
         ri = a[i]
         acc = b[i]
         for j in range(i + 1, m):
