@@ -37,7 +37,7 @@ def _scene(geometry: str, n: int, theory):
 
 
 def _step_times(result, kw, theory) -> tuple[float, float]:
-    """Best-of-REPEAT seconds of one Newton step: (compiled reduced, dense NumPy)."""
+    """Best-of-REPEAT wall seconds of one Newton step: (compiled reduced, dense NumPy)."""
     leak = fl.leak_rate(result, 1e5, 1e-3, kw.get("length"), inner_radius=kw.get("inner_radius"),
                         theory=theory, warn=False)  # fmt: skip
     sys_ = seal._system(result, leak, theory, None, False, "edge")
@@ -57,11 +57,12 @@ def _step_times(result, kw, theory) -> tuple[float, float]:
 
 
 def _sweeps(result, kw, theory) -> dict:
+    """Per solver: (wall seconds, CPU seconds of the process, the sweep)."""
     out = {}
     for solver in ("compiled", "dense"):
-        t = time.perf_counter()
+        t, c = time.perf_counter(), time.process_time()
         s = fl.seal_leak(result, DROPS, 1e-3, theory=theory, solver=solver, **kw)
-        out[solver] = (time.perf_counter() - t, s)
+        out[solver] = (time.perf_counter() - t, time.process_time() - c, s)
     return out
 
 
@@ -69,18 +70,20 @@ def main(ns: list[int]) -> None:
     theory = fl.PerssonTheory(PSD, E_STAR)
     warm, kw = _scene("point", 32, theory)  # compile the kernels outside the timings
     fl.seal_leak(warm, [1e4], 1e-3, theory=theory, **kw)
-    print(f"{'scene':>6}{'n':>6}{'step comp.':>12}{'step dense':>12}{'ratio':>7}"
-          f"{'sweep comp.':>13}{'sweep dense':>13}{'ratio':>7}{'Newton c/d':>12}{'max dQ/Q':>10}")  # fmt: skip
+    print("seconds: wall (CPU of the process); c/d: compiled / dense")
+    print(f"{'scene':>6}{'n':>6}{'step c':>9}{'step d':>9}{'d/c':>6}{'sweep c':>16}"
+          f"{'sweep d':>16}{'d/c':>13}{'Newton c/d':>12}{'max dQ/Q':>10}")  # fmt: skip
     for n in ns:
         for geometry in ("line", "point"):
             result, kw = _scene(geometry, n, theory)
             sc, sd = _step_times(result, kw, theory)
             runs = _sweeps(result, kw, theory)
-            (tc, c), (td, d) = runs["compiled"], runs["dense"]
+            (tc, cc, c), (td, cd, d) = runs["compiled"], runs["dense"]
             dq = float(np.max(np.abs(c.Q / d.Q - 1.0)))
             steps = f"{c.diagnostics['newton_steps']}/{d.diagnostics['newton_steps']}"
-            print(f"{geometry:>6}{n:>6}{sc:>12.4g}{sd:>12.4g}{sd / sc:>7.2f}{tc:>13.4g}"
-                  f"{td:>13.4g}{td / tc:>7.2f}{steps:>12}{dq:>10.2g}", flush=True)  # fmt: skip
+            sweeps = f"{tc:>8.3g} ({cc:.3g}) {td:>7.3g} ({cd:.3g}) {td / tc:>5.2f} ({cd / cc:.2f})"
+            print(f"{geometry:>6}{n:>6}{sc:>9.3g}{sd:>9.3g}{sd / sc:>6.1f} {sweeps}{steps:>12}"
+                  f"{dq:>10.2g}", flush=True)  # fmt: skip
 
 
 if __name__ == "__main__":
