@@ -206,32 +206,27 @@ def seal_leak(
     law: CalibratedLaw | None = None,
     solver: str = "compiled",
 ) -> SealSweep:
-    """Leak rate of a seal against the pressure drop it holds, with the fluid pressure in the
-    interface coupled to the contact (module docstring; docs/leakage.md, "The seal under
-    pressure"), from the smallest dP up to lift-off: across a line contact, or radially out of
-    the hole of a point contact.
+    """Leak rate of a line or point contact's seal against dP up to lift-off, the fluid in the
+    interface coupled to the contact (module docstring; docs/leakage.md, seal under pressure).
 
     Parameters
     ----------
     result : LineContactResult or PointContactResult
-        The dry contact (``model="persson"``, or the calibrated ``law``), at most
-        ``MAX_CELLS`` cells.
+        The dry contact (``model="persson"`` or ``law``), at most ``MAX_CELLS`` cells.
     pressure_drops : array_like
         Pressure drops dP in Pa (> 0), swept in ascending order by continuation.
     viscosity, length, inner_radius, theory, threshold, method, gap_floor, law
         As in :func:`fastline.leak_rate` (Pa s, m, m, -, -, str, m, -): ``length`` for a line
         contact only, ``inner_radius`` (the hole, inside the contact) for a point contact only.
     support : {"edge", "axis"}
-        Line contact: where the fluid's load on the body starts to count (the step of
-        ``dP H``): the upstream edge of the dry contact (a body held by a force: the fluid
-        lifts it) or the body's axis (an O-ring in its groove: the contact pressure rises with
-        dP). A point contact's fluid load is compact: leave it at ``"edge"``.
+        Line contact: where the fluid's load on the body starts (the step of ``dP H``): the
+        upstream edge of the dry contact (a body held by a force: the fluid lifts it) or the
+        body's axis (an O-ring in its groove). A point contact: ``"edge"`` only.
     rigid : bool
-        Hold the mean gap at the dry contact's (a rigid body): the uncoupled leak rate, for
-        comparison.
+        Hold the mean gap at the dry contact's (a rigid body): the uncoupled leak rate.
     solver : {"compiled", "dense"}
-        The Newton systems' solver: reduced to the gaps and solved by compiled kernels (no
-        BLAS threads), or the full system by NumPy (the reference; cost grows as (2n)^3).
+        The Newton systems' solver: reduced and compiled (no BLAS threads), or NumPy's dense
+        solve of the full system (the reference).
 
     Returns
     -------
@@ -239,38 +234,42 @@ def seal_leak(
 
     Raises
     ------
-    TypeError
-        For anything but a line- or point-contact result.
-    ValueError
-        For an input outside its range, a result of another model than the law's, a hole at
-        or beyond the edge of the contact, or more than ``MAX_CELLS`` cells.
+    TypeError, ValueError
+        Not a line- or point-contact result; an input outside its range, another model than
+        the law's, a hole at or beyond the contact's edge, more than ``MAX_CELLS`` cells.
     """
-    dPs = _pressure_drops(pressure_drops)
-    if support not in SUPPORTS:
-        raise ValueError(f"support must be one of {SUPPORTS}, got {support!r}")
-    if solver not in SOLVERS:
-        raise ValueError(f"solver must be one of {SOLVERS}, got {solver!r}")
+    dPs = _pressure_drops(pressure_drops, support, solver)
     dry = [leak_rate(result, float(d), viscosity, length, inner_radius=inner_radius,
                      theory=theory, threshold=threshold, method=method, gap_floor=gap_floor,
                      warn=False, law=law) for d in dPs]  # fmt: skip
     sys = _system(result, dry[0], theory, law, rigid, support)
     run = _Run(sys, start(sys, float(dPs[0]))[1], solver, [0, 0, 0])
     results, lift = _sweep(run, dPs)
-    diag = {"newton_steps": run.counts[0], "continuation_steps": run.counts[1],
-            "halvings": run.counts[2], "solver": solver}  # fmt: skip
-    if sys.geometry == "point":
-        diag.update(orifice_share=dry[0].diagnostics["orifice_share"],
-                    contact_radius=contact_radius(result))  # fmt: skip
-        if diag["orifice_share"] > MAX_ORIFICE_SHARE:
-            warnings.warn(ORIFICE, LeakageWarning, stacklevel=2)
     return SealSweep(
         pressure_drops=dPs, Q=np.array([r.Q for r in results]), results=results,
-        lift_off_pressure=lift, uncoupled_Q=np.array([k.Q for k in dry]), diagnostics=diag,
-        geometry=sys.geometry, inner_radius=dry[0].inner_radius,
+        lift_off_pressure=lift, uncoupled_Q=np.array([k.Q for k in dry]), geometry=sys.geometry,
+        diagnostics=_diagnostics(run, dry[0], result), inner_radius=dry[0].inner_radius,
     )  # fmt: skip
 
 
-def _pressure_drops(pressure_drops) -> np.ndarray:
+def _diagnostics(run: _Run, dry, result) -> dict:
+    """The sweep's counts; a point contact's hole against the contact (warned when wide)."""
+    diag = {"newton_steps": run.counts[0], "continuation_steps": run.counts[1],
+            "halvings": run.counts[2], "solver": run.solver}  # fmt: skip
+    if run.sys.geometry == "point":
+        diag.update(orifice_share=dry.diagnostics["orifice_share"],
+                    contact_radius=contact_radius(result))  # fmt: skip
+        if diag["orifice_share"] > MAX_ORIFICE_SHARE:
+            warnings.warn(ORIFICE, LeakageWarning, stacklevel=3)
+    return diag
+
+
+def _pressure_drops(pressure_drops, support: str, solver: str) -> np.ndarray:
+    """The pressure drops, ascending (and the choices of support and solver), checked."""
+    if support not in SUPPORTS:
+        raise ValueError(f"support must be one of {SUPPORTS}, got {support!r}")
+    if solver not in SOLVERS:
+        raise ValueError(f"solver must be one of {SOLVERS}, got {solver!r}")
     d = np.atleast_1d(np.asarray(pressure_drops, dtype=float))
     if d.ndim != 1 or d.size == 0 or not np.all(np.isfinite(d)) or np.any(d <= 0.0):
         raise ValueError(

@@ -27,10 +27,15 @@ residual run compiled too (:func:`stiffness_product`).
 
 from __future__ import annotations
 
+from typing import TYPE_CHECKING
+
 import numba
 import numpy as np
 
 from fastline._lib.jit import JIT
+
+if TYPE_CHECKING:  # annotations only
+    from fastline.leakage.seal_system import System
 
 __all__ = ["lu_solve", "reduced_step", "stiffness_product"]
 
@@ -119,7 +124,7 @@ def _tile_update(a, ub, fb, rb, i, k0, j0):
 
 
 @numba.njit(**JIT)
-def lu_solve(a, b):
+def lu_solve(a: np.ndarray, b: np.ndarray) -> bool:
     """Solve ``a z = b`` in place (``b`` becomes z) by Gaussian elimination with partial
     pivoting, blocked by ``BLOCK`` columns (right-looking: a panel, its rows of U, then the
     rank-``BLOCK`` update of the rest, ``TILE`` columns at a time), on the C-contiguous ``a``
@@ -210,7 +215,9 @@ def _scaled_solve(mt, rhs, su, dP):
     return True
 
 
-def reduced_step(sys, y, vals, F, dP: float, r0: float) -> np.ndarray | None:
+def reduced_step(
+    sys: System, y: np.ndarray, vals: tuple, F: np.ndarray, dP: float, r0: float
+) -> np.ndarray | None:
     """The Newton step ``(du, dp_f, d_delta, dphi)`` of the coupled seal at ``y`` from its law
     values and scaled residual F (module docstring); None if the reduced system is singular."""
     n, N = sys.n, sys.nodes.size

@@ -32,11 +32,17 @@ With the rigid body (``rigid``) the gap rows hold ``u = u_0`` and the force row
 from __future__ import annotations
 
 import math
+from collections.abc import Callable
 from dataclasses import dataclass
+from typing import TYPE_CHECKING
 
 import numpy as np
 
 from fastline.elastic import influence_coefficients, ring_edges, ring_influence_coefficients
+
+if TYPE_CHECKING:  # annotations only
+    from fastline.contact.line import LineContactResult
+    from fastline.contact.point import PointContactResult
 
 __all__ = [
     "EDGE",
@@ -146,7 +152,10 @@ def inverse_cube(sys: System, u: np.ndarray) -> tuple[np.ndarray, ...]:
     return p, dp, inv, np.nan_to_num(-3.0 * inv * d_lg)
 
 
-def residual(sys: System, y, dP: float, r0: float, law_values=None, matvec=None) -> np.ndarray:
+def residual(
+    sys: System, y: np.ndarray, dP: float, r0: float, law_values: tuple | None = None,
+    matvec: Callable | None = None,
+) -> np.ndarray:  # fmt: skip
     """The scaled residual (module docstring) at ``y = (u, p_f, d_delta, phi)`` (``matvec(K,
     v)``: the product with K, default NumPy's)."""
     n, N = sys.n, sys.nodes.size
@@ -163,7 +172,9 @@ def residual(sys: System, y, dP: float, r0: float, law_values=None, matvec=None)
     return F
 
 
-def equations(sys: System, y: np.ndarray, dP: float, r0: float, jac: bool):
+def equations(
+    sys: System, y: np.ndarray, dP: float, r0: float, jac: bool
+) -> tuple[np.ndarray, np.ndarray | None]:
     """Scaled residual and, with ``jac``, its dense Jacobian: rows gap (n), force (1), links
     (N - 1), the two ends (2); columns u, p_f, d_delta and phi."""
     vals = inverse_cube(sys, y[: sys.n])
@@ -193,7 +204,10 @@ def equations(sys: System, y: np.ndarray, dP: float, r0: float, jac: bool):
     return F, J
 
 
-def line_system(result, law, log_gap, g_clamp, flow, rigid: bool, support: str) -> System:
+def line_system(
+    result: LineContactResult, law: Callable, log_gap: Callable, g_clamp: float,
+    flow: tuple[float, float], rigid: bool, support: str,
+) -> System:  # fmt: skip
     """The coupled equations of a line contact: strips in series (module docstring)."""
     n = result.x.size
     x = np.asarray(result.x, dtype=float)
@@ -214,14 +228,17 @@ def line_system(result, law, log_gap, g_clamp, flow, rigid: bool, support: str) 
     )  # fmt: skip
 
 
-def contact_radius(result) -> float:
+def contact_radius(result: PointContactResult) -> float:
     """The outer edge (m) of the outermost ring of a point contact with ``p_0 >= EDGE p_0,max``."""
     p0 = np.asarray(result.pressure, dtype=float)
     e = ring_edges(p0.size) * float(result.dr)
     return float(e[1:][np.nonzero(p0 >= EDGE * p0.max())[0][-1]])
 
 
-def point_system(result, law, log_gap, g_clamp, flow, rigid: bool, hole: float) -> System:
+def point_system(
+    result: PointContactResult, law: Callable, log_gap: Callable, g_clamp: float,
+    flow: tuple[float, float], rigid: bool, hole: float,
+) -> System:  # fmt: skip
     """The coupled equations of a point contact: rings in series out of a hole of radius
     ``hole`` (module docstring; the hole lies inside the contact, checked by the caller)."""
     n, dr = result.r.size, float(result.dr)

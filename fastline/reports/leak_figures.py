@@ -281,8 +281,12 @@ def plot_seal(sweep: SealSweep, *, shown: Sequence[int] | None = None) -> Figure
     left.legend(loc="lower left", bbox_to_anchor=(0.0, 1.01), fontsize=8, frameon=False,
                 borderaxespad=0.0)  # fmt: skip
     held = [k for k, r in enumerate(sweep.results) if not r.lifted_off]
-    if shown is None:
-        shown = held[-3:]  # the largest pressure drops that hold
+    _seal_profiles(right, sweep, held[-3:] if shown is None else shown)  # the largest that hold
+    return fig
+
+
+def _seal_profiles(right, sweep: SealSweep, shown) -> None:
+    """p_c and p_f of the pressure drops ``shown`` along x (line) or r (point, hole shaded)."""
     for j, k in enumerate(shown):
         r = sweep.results[k]
         c = f"C{j}"
@@ -306,4 +310,3 @@ def plot_seal(sweep: SealSweep, *, shown: Sequence[int] | None = None) -> Figure
     )
     right.set_ylabel("pressure (MPa)")
     right.set_ylim(bottom=0.0)
-    return fig
