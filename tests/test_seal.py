@@ -200,10 +200,9 @@ def test_bad_input(contact, theory, kwargs, name):
                      **{k: v for k, v in kwargs.items() if k == "support"})  # fmt: skip
 
 
-def test_point_contact_is_refused(theory):
-    r = fl.solve_point_contact(PSD, E_STAR, 10e-3, 0.2, theory=theory, n=32, warn=False)
-    with pytest.raises(TypeError, match="line contact"):
-        fl.seal_leak(r, [1e4], ETA, theory=theory)
+def test_inner_radius_is_refused(contact, theory):
+    with pytest.raises(ValueError, match="inner_radius is for a point contact"):
+        fl.seal_leak(contact, [1e4], ETA, inner_radius=1e-5, theory=theory)
 
 
 def test_cli_coupled(capsys, tmp_path):

@@ -72,6 +72,7 @@ fl.sweep([dict(psd=psd, E_star=1.33e9, radius=0.01, load=1e4, n=128)], "serial",
 r = fl.solve_point_contact(psd, 1.33e9, 0.01, 1.0, n=64)
 fl.PointContact(psd, 1.33e9, 0.01, n=64).sweep([0.5, 1.0])
 fl.leak_rate(r, 1e4, 1e-3, inner_radius=r.r[len(r.r) // 4])
+fl.seal_leak(r, [1e3], 1e-3, inner_radius=r.r[len(r.r) // 4])
 """,
     "theory tables": """
 t = fl.PerssonTheory(psd, 1.33e9)

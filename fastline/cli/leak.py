@@ -58,7 +58,7 @@ LEAK_SWEEP_DEFAULTS = {
 }
 #: seal length [m] of a cylinder when --length is not given
 _DEFAULT_LENGTH = 1.0
-#: cells of a cylinder's contact with --coupled when --n is not given (a dense Newton system)
+#: cells of the contact with --coupled when --n is not given (a dense Newton system)
 COUPLED_N = 256
 #: the molecular floor of the gap [m] when --gap-floor is not given: fl.leak_rate's default
 GAP_FLOOR = inspect.signature(fl.leak_rate).parameters["gap_floor"].default
@@ -127,9 +127,10 @@ def _fluid_options(p: argparse.ArgumentParser, threshold: float) -> None:
     g.add_argument(
         "--coupled",
         action="store_true",
-        help="a cylinder's seal under pressure: the fluid pressure in the interface coupled to "
-        "the contact (it lifts the walls), Q against each --pressure-drop and the lift-off "
-        f"pressure (default --n {COUPLED_N}; docs/leakage.md)",
+        help="the seal under pressure: the fluid pressure in the interface coupled to the "
+        "contact (it lifts the walls), Q against each --pressure-drop and the lift-off "
+        "pressure; a cylinder's seal, or a sphere's with --inner-radius "
+        f"(default --n {COUPLED_N}; docs/leakage.md)",
     )
     g.add_argument(
         "--viscosity",
@@ -254,17 +255,16 @@ def _leak_checks(args) -> str:
 
 
 def _coupled_checks(args) -> None:
-    """--coupled: a cylinder, one load, any number of pressure drops; without it, one."""
+    """--coupled: one scene, any number of pressure drops; without it, one."""
     drops = args.pressure_drop
     if not args.coupled:
         if len(drops) > 1:
             raise CLIError("several --pressure-drop values need --coupled (Q against dP)")
         args.pressure_drop = drops[0]
         return
-    if args.geometry == "sphere" or args.sweep:
+    if args.sweep:
         raise CLIError(
-            "--coupled is for one cylinder scene (not with --geometry sphere or --sweep): the "
-            "coupled seal of a point contact is not available"
+            "--coupled is for one scene (not with --sweep): it sweeps the pressure drops"
         )
     if args.n is None:
         args.n = COUPLED_N
@@ -525,17 +525,20 @@ def cmd_leak(args: argparse.Namespace) -> int:
     if args.sweep:
         return _leak_sweep(args, geometry, psd, E, source, th)
     if args.coupled:
-        return _leak_coupled(args, psd, E, source, th)
+        return _leak_coupled(args, geometry, psd, E, source, th)
     return _leak_one(args, geometry, psd, E, source, th)
 
 
-def _leak_coupled(args, psd, E, source, th) -> int:
-    """One cylinder scene, the seal under each pressure drop (fl.seal_leak)."""
-    r = fl.solve_line_contact(psd, E, args.radius, args.load, model=args.model,
-                              **solve_kwargs(args, th))  # fmt: skip
+def _leak_coupled(args, geometry, psd, E, source, th) -> int:
+    """One scene, the seal under each pressure drop (fl.seal_leak)."""
+    solve, _, result_lines = _contact(geometry)
+    r = solve(psd, E, args.radius, args.load, model=args.model, **solve_kwargs(args, th))
+    _check_inner_radius(args, [r])
+    law = args.model if isinstance(args.model, fl.CalibratedLaw) else None
     sweep = fl.seal_leak(
-        r, args.pressure_drops, args.viscosity, args.length, theory=th,
-        threshold=args.threshold, method=args.method, gap_floor=args.gap_floor,
+        r, args.pressure_drops, args.viscosity, args.length, inner_radius=args.inner_radius,
+        theory=th, threshold=args.threshold, method=args.method, gap_floor=args.gap_floor,
+        law=law,
     )  # fmt: skip
     print(spectrum_line(psd, source))
     print("\n".join(result_lines(r, r.diagnostics)))
@@ -554,6 +557,10 @@ def _leak_coupled(args, psd, E, source, th) -> int:
         if lift is None
         else f"lift-off         dP = {lift:.4g} Pa (the contact carries < 1% of the load)"
     )
+    if sweep.geometry == "point":
+        share = sweep.diagnostics["orifice_share"]
+        print(f"orifice share    {share:.3g} (inner radius over the half width at half maximum "
+              "of p; the hole should be small against the contact)")  # fmt: skip
     report_warnings([r])
     if args.plot:
         save(fl.plotting.plot_seal(sweep), args.plot, args)

@@ -1,7 +1,9 @@
 """Seal leakage: the leak rate of a contact's pressure profile through Persson's critical
 junctions or the effective medium (:mod:`~fastline.leakage.flow`,
 :mod:`~fastline.leakage.medium`), the seal under pressure with the fluid in the interface
-coupled to the contact (:mod:`~fastline.leakage.seal`), on the interface statistics of
+coupled to a line or point contact (:mod:`~fastline.leakage.seal`; its equations in
+:mod:`~fastline.leakage.seal_system`, its compiled Newton system in
+:mod:`~fastline.leakage.seal_kernels`), on the interface statistics of
 :mod:`fastline.theory.interface` (re-exported here).
 """
 

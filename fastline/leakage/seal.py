@@ -1,46 +1,63 @@
-"""A line-contact seal under pressure: the fluid in the interface coupled to the contact.
+"""A seal under pressure: the fluid in the interface coupled to a line or a point contact.
 
-docs/leakage.md, "The seal under pressure". The dry contact (a solved line contact) gives the
-mean gap ``u_0(x)``, pressure ``p_0(x)`` and approach. Under a pressure drop dP the fluid
-pressure ``p_f(x)`` in the interface lifts the walls: on the cells of the solved contact,
+docs/leakage.md, "The seal under pressure". The dry contact (a solved line or point contact)
+gives the mean gap ``u_0``, pressure ``p_0`` and approach. Under a pressure drop dP the fluid
+pressure ``p_f`` in the interface lifts the walls: on the cells of the solved contact,
 
     u = u_0 - d_delta + K (p_c + p_l - p_0)          (half-space, the solve's operator K),
     p_c = p(u)                                         (the pressure law: contact pressure),
-    sum (p_c + p_l - p_0) dx = 0                       (the load is held),
-    p_l = p_f - dP H(-x)                               (fluid load on the body: see below),
-    Q / L = -(g^3 / (12 eta)) dp_f/dx  (same on every face),  p_f(x_0) = dP,  p_f(x_end) = 0,
+    sum w (p_c + p_l - p_0) = 0                        (the load is held),
+    Q = -(L / (12 eta)) g^3 dp_f/dx   (line),   Q = -(2 pi r / (12 eta)) g^3 dp_f/dr   (point),
 
-with g = g(p_c) the local gap of the leak rate (the critical junction's u_c, or the effective
-medium's) and the face conductances the harmonic means of the cells' (strips in series). The
-fluid upstream of the contact presses on the body's upstream half: a load dP on a half-plane
-has no finite displacement on a half-space, so that far-field part, ``dP H(-x)`` with the step
-at the body's axis, is taken as carried by the body's support (the groove wall of an O-ring),
-and the half-space sees only the departure ``p_f - dP H(-x)``, compact on the contact.
+with g = g(p_c) the local gap of the leak rate (the critical junction's u_c, the effective
+medium's, or a calibrated law's hydraulic gap) and ``p_l`` the fluid's load on the body
+(:mod:`fastline.leakage.seal_system`: across a line contact ``p_f - dP H``, the far field
+carried by the body's support; out of a point contact's hole, dP in the hole and ``p_f`` on
+the rings, a compact load).
 
-The unknowns (u, p_f, d_delta, Q) solve the 2n + 2 equations by Newton's method with the exact
-Jacobian (dense; the derivatives of the law and of ln g by central differences) and a
-backtracking line search; dP sweeps by continuation, each dP started from the last solution,
-the step halved when Newton fails. Where the gap of a strip is below the molecular floor (or the
-strip does not percolate) its conductance is clamped at that of ``CLAMP`` times the floor (the
+The unknowns (u, p_f, d_delta, Q) solve these equations by Newton's method with the exact
+Jacobian (the derivatives of the law and of ln g by central differences) and a backtracking
+line search: by default each Newton system is reduced to the gaps (the fluid pressures follow
+from the links in series) and solved by compiled kernels without BLAS
+(:mod:`fastline.leakage.seal_kernels`); ``solver="dense"`` solves the full system with NumPy
+(the reference). dP sweeps by continuation, each dP started from the last solution, the step
+halved when Newton fails. Where the gap of a strip is below the molecular floor (or the strip
+does not percolate) its conductance is clamped at that of ``CLAMP`` times the floor (the
 equations stay solvable; the seal is reported sealed, Q = 0). The continuation that fails for
-every step down to ``MIN_STEP`` of dP has reached lift-off (blow-by): no solution of the
-static seal holds the load beyond it.
+every step down to ``MIN_STEP`` of dP, or whose contact carries less than ``LIFT`` of the load,
+has reached lift-off (blow-by): no solution of the static seal holds the load beyond it.
 """
 
 from __future__ import annotations
 
 import math
+import warnings
 from dataclasses import dataclass, field
 from typing import TYPE_CHECKING
 
 import numpy as np
 from numpy.typing import ArrayLike
 
-from fastline.elastic import influence_coefficients
-from fastline.leakage.flow import GAP_FLOOR, _flow_table, leak_rate
+from fastline.errors import LeakageWarning
+from fastline.leakage.flow import GAP_FLOOR, MAX_ORIFICE_SHARE, _flow_table, leak_rate
+from fastline.leakage.seal_kernels import reduced_step, stiffness_product
+from fastline.leakage.seal_system import (
+    SUPPORTS,
+    System,
+    contact_radius,
+    equations,
+    inverse_cube,
+    line_system,
+    point_system,
+    residual,
+    start,
+)
+from fastline.theory.interface import sealing_argument
 
 if TYPE_CHECKING:  # annotations only
     from fastline.contact.line import LineContactResult
+    from fastline.contact.point import PointContactResult
+    from fastline.theory.calibrated import CalibratedLaw
     from fastline.theory.persson import PerssonTheory
 
 __all__ = ["SealResult", "SealSweep", "seal_leak"]
@@ -51,29 +68,37 @@ CLAMP = 1e-2
 TOL, MAX_NEWTON = 1e-10, 40
 #: continuation: smallest dP step, as a fraction of the last converged dP, before lift-off
 MIN_STEP = 1e-3
-#: where the fluid's load on the body starts to count (see seal_leak), and the pressure, as a
-#: fraction of the peak, that marks the upstream edge of the dry contact
-SUPPORTS, EDGE = ("edge", "axis"), 1e-3
 #: lift-off: the contact carries less than this share of the load (the fluid film the rest)
 LIFT = 0.01
-#: largest number of cells of the dense coupled system
+#: largest number of cells of the coupled system
 MAX_CELLS = 2048
+#: the Newton systems' solvers: the compiled reduced system, or NumPy's dense solve
+SOLVERS = ("compiled", "dense")
+#: the warning of a hole wide against the contact (``diagnostics["orifice_share"]``)
+ORIFICE = (
+    "fastline.seal_leak: the hole (inner_radius) is wider than 0.1 of the dry contact's half "
+    "width at half maximum of p (diagnostics['orifice_share']): the dry contact ignores the "
+    "hole, which a hole of that size changes"
+)
 
 
 @dataclass
 class SealResult:
-    """The seal at one pressure drop (arrays per cell of the line contact; SI units).
+    """The seal at one pressure drop (arrays per cell of the contact; SI units).
 
     Attributes
     ----------
     pressure_drop : float
         dP in Pa.
     Q : float
-        Leak rate in m^3/s over the seal length (0 when sealed; ``inf`` at and beyond
-        lift-off, where the static seal is open and no profile is computed).
+        Leak rate in m^3/s (over the seal length of a line contact; out of the hole of a point
+        contact). 0 when sealed; ``inf`` at and beyond lift-off, where the static seal is open
+        and no profile is computed.
     x, contact_pressure, fluid_pressure, gap, local_gap : ndarray
-        Cell centres (m), p_c and p_f (Pa), the mean gap u (m) and the local gap g(p_c) of the
-        leak rate (m, before the clamp).
+        Cell centres (m: x of a line contact, r of a point contact), p_c and the fluid's
+        pressure on each cell (Pa: the load it puts on the body; dP inside a point contact's
+        hole), the mean gap u (m) and the local gap g(p_c) of the leak rate (m, before the
+        clamp).
     approach_change : float
         d_delta in m (positive: the body moves towards the counter-face).
     sealed, lifted_off, converged : bool
@@ -81,9 +106,12 @@ class SealResult:
         beyond lift-off (the arrays are then zeros); Newton converged.
     diagnostics : dict
         ``iterations``, ``residual`` (relative), ``force_error`` (relative to the load),
-        ``mass_error`` (largest relative departure of a face's flux from Q, over the faces
+        ``mass_error`` (largest relative departure of a link's flux from Q, over the links
         that hold at least 1e-4 of the resistance), ``peak_contact_pressure`` (Pa),
         ``contact_load_share`` (the share of the load the contact carries).
+    nodes, node_pressure : ndarray
+        The flow nodes (m: a line contact's cell centres; a point contact's hole edge and the
+        ring edges beyond it) and p_f there (Pa).
     """
 
     pressure_drop: float
@@ -98,6 +126,8 @@ class SealResult:
     lifted_off: bool
     converged: bool
     diagnostics: dict = field(default_factory=dict)
+    nodes: np.ndarray = field(default_factory=lambda: np.zeros(0))
+    node_pressure: np.ndarray = field(default_factory=lambda: np.zeros(0))
 
     def __repr__(self):
         state = "lifted off" if self.lifted_off else ("sealed" if self.sealed else "leaks")
@@ -124,7 +154,13 @@ class SealSweep:
     uncoupled_Q : ndarray
         The leak rate of the dry contact (:func:`fastline.leak_rate`) at each dP, for comparison.
     diagnostics : dict
-        ``newton_steps`` (in all), ``continuation_steps``, ``halvings``.
+        ``newton_steps`` (in all), ``continuation_steps``, ``halvings``, ``solver``; a point
+        contact adds ``orifice_share`` (the hole's radius over the half width at half maximum
+        of p_0) and ``contact_radius`` (m, where p_0 falls below 1e-3 of its peak).
+    geometry : str
+        ``"line"`` or ``"point"``.
+    inner_radius : float or None
+        The hole's radius of a point contact (m).
     """
 
     pressure_drops: np.ndarray
@@ -133,199 +169,107 @@ class SealSweep:
     lift_off_pressure: float | None
     uncoupled_Q: np.ndarray
     diagnostics: dict
+    geometry: str = "line"
+    inner_radius: float | None = None
 
     def __repr__(self):
         lift = "none" if self.lift_off_pressure is None else f"{self.lift_off_pressure:.4g} Pa"
-        return f"SealSweep({self.pressure_drops.size} pressure drops, lift-off {lift})"
+        return (
+            f"SealSweep({self.geometry} contact, {self.pressure_drops.size} pressure drops, "
+            f"lift-off {lift})"
+        )
 
 
 @dataclass
-class _System:
-    """The fixed pieces of the coupled equations of one dry contact."""
+class _Run:
+    """What every Newton solve of one sweep shares: the system, R_0, the solver, counts."""
 
-    x: np.ndarray
-    dx: float
-    K: np.ndarray
-    u0: np.ndarray
-    p0: np.ndarray
-    upstream: np.ndarray
-    law: object
-    log_gap: object
-    g_clamp: float
-    viscosity: float
-    length: float
-    rigid: bool
-
-
-def _local_gap(sys: _System, pc: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """(ln g, sealed) of the leak rate's local gap at contact pressures pc (g = +inf at 0)."""
-    log_g, sealed = sys.log_gap(pc)
-    return log_g, sealed
-
-
-def _inverse_cube(sys: _System, u: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """(p_c, dp_c/du, g^-3 with the clamp, d(g^-3)/du) at the mean gaps u (central
-    differences of the law and of ln g in u, step 1e-6 u)."""
-    h = 1e-6 * u
-    p = sys.law(u)
-    p_up, p_dn = sys.law(u + h), sys.law(u - h)
-    dp = (p_up - p_dn) / (2.0 * h)
-    floor = math.log(sys.g_clamp)
-    lg = np.maximum(_local_gap(sys, p)[0], floor)
-    lg_up = np.maximum(_local_gap(sys, p_up)[0], floor)
-    lg_dn = np.maximum(_local_gap(sys, p_dn)[0], floor)
-    with np.errstate(over="ignore", invalid="ignore"):
-        inv = np.exp(-3.0 * lg)
-        d_lg = np.where(np.isfinite(lg_up - lg_dn), (lg_up - lg_dn) / (2.0 * h), 0.0)
-    return p, dp, inv, np.nan_to_num(-3.0 * inv * d_lg)
-
-
-def _equations(sys: _System, y: np.ndarray, dP: float, r0: float, jac: bool):
-    """Scaled residual of the coupled equations (module docstring) and, with ``jac``, its
-    Jacobian: rows gap (n), force (1), faces (n - 1), the two ends (2); columns u, p_f, the
-    change of approach and the flux variable phi (``12 eta Q / L = phi / r0``)."""
-    n = sys.x.size
-    u, pf, dd, phi = y[:n], y[n : 2 * n], y[2 * n], y[2 * n + 1]
-    pc, dpc, inv, dinv = _inverse_cube(sys, u)
-    r = 0.5 * sys.dx * (inv[:-1] + inv[1:])  # face resistances (strips in series)
-    su, sf = float(np.median(sys.u0)), float(np.sum(sys.p0) * sys.dx)
-    load = pc + pf - dP * sys.upstream - sys.p0
-    F = np.empty(2 * n + 2)
-    F[:n] = (u - sys.u0 + dd - (0.0 if sys.rigid else sys.K @ load)) / su
-    F[n] = dd / su if sys.rigid else np.sum(load) * sys.dx / sf
-    F[n + 1 : 2 * n] = (pf[:-1] - pf[1:] - phi * r / r0) / dP
-    F[2 * n], F[2 * n + 1] = (pf[0] - dP) / dP, pf[-1] / dP
-    if not jac:
-        return F, None
-    J = np.zeros((2 * n + 2, 2 * n + 2))
-    if sys.rigid:
-        J[:n, :n] = np.eye(n) / su
-        J[n, 2 * n] = 1.0 / su
-    else:
-        J[:n, :n] = (np.eye(n) - sys.K * dpc) / su
-        J[:n, n : 2 * n] = -sys.K / su
-        J[:n, 2 * n] = 1.0 / su
-        J[n, :n], J[n, n : 2 * n] = dpc * sys.dx / sf, sys.dx / sf
-    k = np.arange(n - 1)
-    J[n + 1 + k, n + k], J[n + 1 + k, n + 1 + k] = 1.0 / dP, -1.0 / dP
-    J[n + 1 + k, k] = -phi * 0.5 * sys.dx * dinv[:-1] / r0 / dP
-    J[n + 1 + k, k + 1] = -phi * 0.5 * sys.dx * dinv[1:] / r0 / dP
-    J[n + 1 + k, 2 * n + 1] = -r / r0 / dP
-    J[2 * n, n], J[2 * n + 1, 2 * n - 1] = 1.0 / dP, 1.0 / dP
-    return F, J
-
-
-def _newton(sys: _System, y: np.ndarray, dP: float, r0: float) -> tuple[np.ndarray, bool, int]:
-    """Newton with a backtracking line search on |F|^2, the mean gaps kept > 0."""
-    n = sys.x.size
-    F, J = _equations(sys, y, dP, r0, jac=True)
-    norm = float(np.max(np.abs(F)))
-    for it in range(1, MAX_NEWTON + 1):
-        try:
-            step = np.linalg.solve(J, -F)
-        except np.linalg.LinAlgError:
-            return y, False, it
-        du = step[:n]
-        shrink = np.min(np.where(du < 0.0, -0.5 * y[:n] / np.minimum(du, -1e-300), np.inf))
-        alpha = min(1.0, float(shrink))
-        while alpha > 1e-6:
-            trial = y + alpha * step
-            F_t, _ = _equations(sys, trial, dP, r0, jac=False)
-            if np.all(np.isfinite(F_t)) and np.sum(F_t**2) < (1.0 - 1e-4 * alpha) * np.sum(F**2):
-                break
-            alpha *= 0.5
-        else:
-            return y, False, it
-        y = trial
-        F, J = _equations(sys, y, dP, r0, jac=True)
-        norm = float(np.max(np.abs(F)))
-        if norm < TOL:
-            return y, True, it
-    return y, norm < TOL, MAX_NEWTON
+    sys: System
+    r0: float
+    solver: str
+    counts: list
 
 
 def seal_leak(
-    result: LineContactResult,
+    result: LineContactResult | PointContactResult,
     pressure_drops: ArrayLike,
     viscosity: float,
     length: float | None = None,
     *,
+    inner_radius: float | None = None,
     theory: PerssonTheory | None = None,
     threshold: float | None = None,
     method: str = "critical-junction",
     gap_floor: float = GAP_FLOOR,
     support: str = "edge",
     rigid: bool = False,
+    law: CalibratedLaw | None = None,
+    solver: str = "compiled",
 ) -> SealSweep:
-    """Leak rate of a line-contact seal against the pressure drop it holds, with the fluid
-    pressure in the interface coupled to the contact (module docstring; docs/leakage.md,
-    "The seal under pressure"), from the smallest dP up to lift-off.
+    """Leak rate of a line or point contact's seal against dP up to lift-off, the fluid in the
+    interface coupled to the contact (module docstring; docs/leakage.md, seal under pressure).
 
     Parameters
     ----------
-    result : LineContactResult
-        The dry contact (``model="persson"``), at most ``MAX_CELLS`` cells.
+    result : LineContactResult or PointContactResult
+        The dry contact (``model="persson"`` or ``law``), at most ``MAX_CELLS`` cells.
     pressure_drops : array_like
         Pressure drops dP in Pa (> 0), swept in ascending order by continuation.
-    viscosity, length, theory, threshold, method, gap_floor
-        As in :func:`fastline.leak_rate` (Pa s, m, -, -, str, m).
+    viscosity, length, inner_radius, theory, threshold, method, gap_floor, law
+        As in :func:`fastline.leak_rate` (Pa s, m, m, -, -, str, m, -): ``length`` for a line
+        contact only, ``inner_radius`` (the hole, inside the contact) for a point contact only.
     support : {"edge", "axis"}
-        Where the fluid's load on the body starts to count (the step of ``dP H``): the
+        Line contact: where the fluid's load on the body starts (the step of ``dP H``): the
         upstream edge of the dry contact (a body held by a force: the fluid lifts it) or the
-        body's axis (an O-ring in its groove: the contact pressure rises with dP).
+        body's axis (an O-ring in its groove). A point contact: ``"edge"`` only.
     rigid : bool
-        Hold the mean gap at the dry contact's (a rigid body): the uncoupled leak rate, for
-        comparison.
+        Hold the mean gap at the dry contact's (a rigid body): the uncoupled leak rate.
+    solver : {"compiled", "dense"}
+        The Newton systems' solver: reduced and compiled (no BLAS threads), or NumPy's dense
+        solve of the full system (the reference).
 
     Returns
     -------
     SealSweep
+
+    Raises
+    ------
+    TypeError, ValueError
+        Not a line- or point-contact result; an input outside its range, another model than
+        the law's, a hole at or beyond the contact's edge, more than ``MAX_CELLS`` cells.
     """
-    dPs = _pressure_drops(pressure_drops)
-    if not hasattr(result, "x"):
-        name = type(result).__name__
-        raise TypeError(f"the coupled seal is for a line contact, got a {name} (not available)")
-    if support not in SUPPORTS:
-        raise ValueError(f"support must be one of {SUPPORTS}, got {support!r}")
-    dry = [leak_rate(result, float(d), viscosity, length, theory=theory, threshold=threshold,
-                     method=method, gap_floor=gap_floor, warn=False) for d in dPs]  # fmt: skip
-    sys = _system(result, dry[0], theory, rigid, support)
-    inv = _inverse_cube(sys, sys.u0)[2]
-    r0 = float(np.sum(0.5 * sys.dx * (inv[:-1] + inv[1:])))
-    counts = [0, 0, 0]
-    results, lift = _sweep(sys, dPs, r0, counts)
+    dPs = _pressure_drops(pressure_drops, support, solver)
+    dry = [leak_rate(result, float(d), viscosity, length, inner_radius=inner_radius,
+                     theory=theory, threshold=threshold, method=method, gap_floor=gap_floor,
+                     warn=False, law=law) for d in dPs]  # fmt: skip
+    sys = _system(result, dry[0], theory, law, rigid, support)
+    run = _Run(sys, start(sys, float(dPs[0]))[1], solver, [0, 0, 0])
+    results, lift = _sweep(run, dPs)
     return SealSweep(
-        pressure_drops=dPs,
-        Q=np.array([r.Q for r in results]),
-        results=results,
-        lift_off_pressure=lift,
-        uncoupled_Q=np.array([k.Q for k in dry]),
-        diagnostics={"newton_steps": counts[0], "continuation_steps": counts[1],
-                     "halvings": counts[2]},
+        pressure_drops=dPs, Q=np.array([r.Q for r in results]), results=results,
+        lift_off_pressure=lift, uncoupled_Q=np.array([k.Q for k in dry]), geometry=sys.geometry,
+        diagnostics=_diagnostics(run, dry[0], result), inner_radius=dry[0].inner_radius,
     )  # fmt: skip
 
 
-def _sweep(sys: _System, dPs: np.ndarray, r0: float, counts: list) -> tuple[list, float | None]:
-    """The results at each dP by continuation, and the lift-off pressure (or None)."""
-    y, last, results = _start(sys, dPs[0], r0), 0.0, []
-    lift, held = None, (None, 0.0)  # the last state that holds the load, and its dP
-    for dP in dPs:
-        if lift is not None:  # the static seal is open: nothing to solve
-            results.append(_beyond(sys, float(dP)))
-            continue
-        y, last, ok = _continue(sys, y, last, float(dP), r0, counts)
-        if ok and not _lifted(sys, y):
-            held = (y, last)
-            results.append(_result(sys, y, float(dP), r0, lifted=False))
-            continue
-        # lifted off on the way to dP (or no solution beyond ``last``): bracket and bisect
-        top = last if (ok or last > held[1]) else float(dP)
-        lift = _lift_off(sys, held, max(top, held[1] * (1 + MIN_STEP)), r0, counts)
-        results.append(_beyond(sys, float(dP)))
-    return results, lift
+def _diagnostics(run: _Run, dry, result) -> dict:
+    """The sweep's counts; a point contact's hole against the contact (warned when wide)."""
+    diag = {"newton_steps": run.counts[0], "continuation_steps": run.counts[1],
+            "halvings": run.counts[2], "solver": run.solver}  # fmt: skip
+    if run.sys.geometry == "point":
+        diag.update(orifice_share=dry.diagnostics["orifice_share"],
+                    contact_radius=contact_radius(result))  # fmt: skip
+        if diag["orifice_share"] > MAX_ORIFICE_SHARE:
+            warnings.warn(ORIFICE, LeakageWarning, stacklevel=3)
+    return diag
 
 
-def _pressure_drops(pressure_drops) -> np.ndarray:
+def _pressure_drops(pressure_drops, support: str, solver: str) -> np.ndarray:
+    """The pressure drops, ascending (and the choices of support and solver), checked."""
+    if support not in SUPPORTS:
+        raise ValueError(f"support must be one of {SUPPORTS}, got {support!r}")
+    if solver not in SOLVERS:
+        raise ValueError(f"solver must be one of {SOLVERS}, got {solver!r}")
     d = np.atleast_1d(np.asarray(pressure_drops, dtype=float))
     if d.ndim != 1 or d.size == 0 or not np.all(np.isfinite(d)) or np.any(d <= 0.0):
         raise ValueError(
@@ -335,95 +279,157 @@ def _pressure_drops(pressure_drops) -> np.ndarray:
     return np.sort(d)
 
 
-def _system(result, leak, theory, rigid: bool, support: str) -> _System:
-    """The coupled equations' fixed pieces from the dry contact and its leak rate."""
-    n = result.x.size
+def _system(result, leak, theory, law, rigid: bool, support: str) -> System:
+    """The coupled equations' fixed pieces from the dry contact and its leak rate (already
+    validated by :func:`fastline.leak_rate`)."""
+    n = result.pressure.size
     if n > MAX_CELLS:
         raise ValueError(f"the contact has {n} cells; the coupled seal takes at most {MAX_CELLS}")
-    if getattr(result, "model", None) != "persson":
-        raise ValueError("the coupled seal needs a model='persson' line contact")
-    th = result.theory if theory is None else theory
-    from scipy.linalg import toeplitz  # lazy: only when a seal is solved
+    want = "persson" if law is None else getattr(law, "name", "calibrated")
+    if getattr(result, "model", None) != want:
+        raise ValueError(
+            f"the coupled seal needs a contact solved with model={want!r} (the law whose p(u) "
+            f"it continues), got model={getattr(result, 'model', None)!r}"
+        )
+    if law is not None:
+        pressure, log_gap = law.pressure, law.log_hydraulic_gap
+    else:
+        th = result.theory if theory is None else theory
+        table = _flow_table(th, leak)
+        pressure = th.pressure
 
-    K = toeplitz(influence_coefficients(n)) * (result.dx / result.E_star)
-    table = _flow_table(th, leak)
-    w1 = 1.0 / math.sqrt(float(th.psd.cumulative(th.psd.q1)))
-
-    def log_gap(p):
-        return table.log_gap(np.ascontiguousarray(w1 * p / th.E_star, dtype=np.float64))
+        def log_gap(p):
+            return table.log_gap(sealing_argument(th, p))
 
     floor = leak.gap_floor if leak.gap_floor > 0.0 else 1e-10
-    x = np.asarray(result.x, dtype=float)
-    return _System(
-        x=x, dx=float(result.dx), K=K, u0=np.asarray(result.separation, dtype=float),
-        p0=np.asarray(result.pressure, dtype=float),
-        upstream=_upstream(x, np.asarray(result.pressure, dtype=float), support),
-        law=th.pressure, log_gap=log_gap, g_clamp=CLAMP * floor, viscosity=leak.viscosity,
-        length=leak.length, rigid=bool(rigid),
-    )  # fmt: skip
+    point = leak.inner_radius is not None
+    flow = (leak.viscosity, 1.0 if point else leak.length)
+    if not point:
+        return line_system(result, pressure, log_gap, CLAMP * floor, flow, rigid, support)
+    if support != "edge":
+        raise ValueError(
+            f"support={support!r} is for a line contact; a point contact's fluid load is "
+            "compact (leave support at 'edge')"
+        )
+    edge = contact_radius(result)
+    if leak.inner_radius >= edge:
+        raise ValueError(
+            f"inner_radius must lie inside the contact, below {edge:.6g} m (where p falls to "
+            f"1e-3 of its peak; allowed range (0, {edge:.6g}) m), got {leak.inner_radius:.6g}: "
+            "a hole larger than the contact leaves no seal"
+        )
+    return point_system(result, pressure, log_gap, CLAMP * floor, flow, rigid, leak.inner_radius)
 
 
-def _upstream(x: np.ndarray, p0: np.ndarray, support: str) -> np.ndarray:
-    """The step ``H`` of the far-field fluid load: 1 upstream of the step, 0 downstream (1/2
-    on a cell centred on it): the body's axis, or the upstream edge of the dry contact (the
-    first cell with ``p0 >= EDGE * max(p0)``)."""
-    step = 0.0 if support == "axis" else float(x[np.argmax(p0 >= EDGE * p0.max())])
-    return np.where(x < step, 1.0, np.where(x == step, 0.5, 0.0))
+def _sweep(run: _Run, dPs: np.ndarray) -> tuple[list, float | None]:
+    """The results at each dP by continuation, and the lift-off pressure (or None)."""
+    y, last, results = start(run.sys, float(dPs[0]))[0], 0.0, []
+    lift, held = None, (None, 0.0)  # the last state that holds the load, and its dP
+    for dP in dPs:
+        if lift is not None:  # the static seal is open: nothing to solve
+            results.append(_beyond(run.sys, float(dP)))
+            continue
+        y, last, ok = _continue(run, y, last, float(dP))
+        if ok and not _lifted(run.sys, y):
+            held = (y, last)
+            results.append(_result(run, y, float(dP)))
+            continue
+        # lifted off on the way to dP (or no solution beyond ``last``): bracket and bisect
+        top = last if (ok or last > held[1]) else float(dP)
+        lift = _lift_off(run, held, max(top, held[1] * (1 + MIN_STEP)))
+        results.append(_beyond(run.sys, float(dP)))
+    return results, lift
 
 
-def _start(sys: _System, dP: float, r0: float) -> np.ndarray:
-    """The uncoupled state at dP: the dry gaps and the fluid pressure of strips in series."""
-    inv = _inverse_cube(sys, sys.u0)[2]
-    r = 0.5 * sys.dx * (inv[:-1] + inv[1:])
-    pf = dP * (1.0 - np.concatenate([[0.0], np.cumsum(r)]) / r0)
-    return np.concatenate([sys.u0, pf, [0.0, dP]])
-
-
-def _continue(sys, y, last, dP, r0, counts) -> tuple[np.ndarray, float, bool]:
+def _continue(run: _Run, y, last, dP) -> tuple[np.ndarray, float, bool]:
     """Continuation from the solution at ``last`` (0: none yet) to dP: the step halved on a
     failure and doubled after a success, stopping where the body lifts off; returns (solution,
     dP reached, whether that solution holds the load at dP)."""
-    n = sys.x.size
+    n, N = run.sys.n, run.sys.nodes.size
     step = dP - last
     while True:
         target = min(dP, last + step)
         trial = y.copy()
         if last > 0.0:
-            trial[n : 2 * n] *= target / last
-            trial[2 * n + 1] *= target / last
-        sol, ok, its = _newton(sys, trial, target, r0)
-        counts[0] += its
-        counts[1] += 1
+            trial[n : n + N] *= target / last
+            trial[n + N + 1] *= target / last
+        sol, ok, its = _newton(run, trial, target)
+        run.counts[0] += its
+        run.counts[1] += 1
         if ok:
             y, last = sol, target
-            if _lifted(sys, y):
+            if _lifted(run.sys, y):
                 return y, last, False
             if target >= dP:
                 return y, last, True
             step *= 2.0
             continue
-        counts[2] += 1
+        run.counts[2] += 1
         step *= 0.5
         if step <= MIN_STEP * max(last, MIN_STEP * dP):
             return y, last, False
 
 
-def _lifted(sys: _System, y: np.ndarray) -> bool:
+def _evaluate(run: _Run, y: np.ndarray, dP: float):
+    """(law values, scaled residual) at y, the gap rows' product with K compiled."""
+    sys = run.sys
+    vals = inverse_cube(sys, y[: sys.n])
+    return vals, residual(sys, y, dP, run.r0, vals, stiffness_product)
+
+
+def _newton(run: _Run, y: np.ndarray, dP: float) -> tuple[np.ndarray, bool, int]:
+    """Newton with a backtracking line search on |F|^2, the mean gaps kept > 0."""
+    n = run.sys.n
+    vals, F = _evaluate(run, y, dP)
+    norm = float(np.max(np.abs(F)))
+    for it in range(1, MAX_NEWTON + 1):
+        step = _direction(run, y, vals, F, dP)
+        if step is None or not np.all(np.isfinite(step)):
+            return y, False, it
+        du = step[:n]
+        shrink = np.min(np.where(du < 0.0, -0.5 * y[:n] / np.minimum(du, -1e-300), np.inf))
+        alpha = min(1.0, float(shrink))
+        while alpha > 1e-6:
+            trial = y + alpha * step
+            vals_t, F_t = _evaluate(run, trial, dP)
+            if np.all(np.isfinite(F_t)) and np.sum(F_t**2) < (1.0 - 1e-4 * alpha) * np.sum(F**2):
+                break
+            alpha *= 0.5
+        else:
+            return y, False, it
+        y, vals, F = trial, vals_t, F_t
+        norm = float(np.max(np.abs(F)))
+        if norm < TOL:
+            return y, True, it
+    return y, norm < TOL, MAX_NEWTON
+
+
+def _direction(run: _Run, y, vals, F, dP) -> np.ndarray | None:
+    """The Newton step: the compiled reduced system, or the dense system by NumPy."""
+    if run.solver == "compiled":
+        return reduced_step(run.sys, y, vals, F, dP, run.r0)
+    _, J = equations(run.sys, y, dP, run.r0, jac=True)
+    try:
+        return np.linalg.solve(J, -F)
+    except np.linalg.LinAlgError:
+        return None
+
+
+def _lifted(sys: System, y: np.ndarray) -> bool:
     """The contact carries less than ``LIFT`` of the load: the fluid holds the body off."""
-    n = sys.x.size
-    return float(np.sum(sys.law(y[:n]))) < LIFT * float(np.sum(sys.p0))
+    return float(sys.w @ sys.law(y[: sys.n])) < LIFT * float(sys.w @ sys.p0)
 
 
-def _lift_off(sys, held, dP, r0, counts) -> float:
+def _lift_off(run: _Run, held, dP) -> float:
     """The lift-off pressure drop between the last dP that held and dP, by bisection (each
     trial continued from the state that held), to ``MIN_STEP`` relative."""
     y_lo, lo = held
     if y_lo is None:  # lifted off at the first pressure drop
-        y_lo, lo = _start(sys, MIN_STEP * dP, r0), 0.0
+        y_lo, lo = start(run.sys, MIN_STEP * dP)[0], 0.0
     hi = dP
     while hi - lo > MIN_STEP * hi:
         mid = 0.5 * (lo + hi)
-        y, reached, ok = _continue(sys, y_lo, lo, mid, r0, counts)
+        y, reached, ok = _continue(run, y_lo, lo, mid)
         if ok:
             y_lo, lo = y, mid
         else:
@@ -431,37 +437,40 @@ def _lift_off(sys, held, dP, r0, counts) -> float:
     return 0.5 * (lo + hi)
 
 
-def _beyond(sys: _System, dP: float) -> SealResult:
+def _beyond(sys: System, dP: float) -> SealResult:
     """A pressure drop the continuation did not reach (flagged, no numbers)."""
-    empty = np.zeros(sys.x.size)
+    empty = np.zeros(sys.n)
     return SealResult(dP, math.inf, sys.x, empty, empty, empty, empty, 0.0, False, True, False,
-                      {"message": "at or beyond lift-off: the static seal is open"})  # fmt: skip
+                      {"message": "at or beyond lift-off: the static seal is open"},
+                      sys.nodes, np.zeros(sys.nodes.size))  # fmt: skip
 
 
-def _result(sys, y, dP, r0, lifted: bool) -> SealResult:
-    n = sys.x.size
-    u, pf, dd, phi = y[:n], y[n : 2 * n], float(y[2 * n]), float(y[2 * n + 1])
-    pc, _, inv, _ = _inverse_cube(sys, u)
-    log_g, perc = _local_gap(sys, pc)
-    floor = sys.g_clamp / CLAMP
-    sealed = bool(np.any(perc) or np.any(log_g < math.log(floor)))
-    F, _ = _equations(sys, y, dP, r0, jac=False)
-    r = 0.5 * sys.dx * (inv[:-1] + inv[1:])
+def _result(run: _Run, y, dP) -> SealResult:
+    sys, r0 = run.sys, run.r0
+    n, N = sys.n, sys.nodes.size
+    u, pf, dd, phi = y[:n], y[n : n + N], float(y[n + N]), float(y[n + N + 1])
+    vals, F = _evaluate(run, y, dP)
+    pc, _, inv, _ = vals
+    log_g, perc = sys.log_gap(pc)
+    sealed = bool(np.any(perc) or np.any(log_g < math.log(sys.g_clamp / CLAMP)))
+    r = sys.resistances(inv)
     q_hat = phi / r0
-    carries = r >= 1e-4 * r.sum()  # the faces that hold a share of the resistance
+    carries = r >= 1e-4 * r.sum()  # the links that hold a share of the resistance
     flux = (pf[:-1] - pf[1:])[carries] / r[carries]
-    Q = 0.0 if sealed else sys.length * q_hat / (12.0 * sys.viscosity)
     with np.errstate(over="ignore"):
         g = np.exp(log_g)
+    fluid = pf.copy() if sys.geometry == "line" else sys.fluid_load(pf, dP)  # on the cells
     return SealResult(
-        pressure_drop=dP, Q=Q, x=sys.x, contact_pressure=pc, fluid_pressure=pf, gap=u,
-        local_gap=g, approach_change=dd, sealed=sealed, lifted_off=lifted,
-        converged=bool(np.max(np.abs(F)) < TOL),
+        pressure_drop=dP, Q=0.0 if sealed else sys.length * q_hat / (12.0 * sys.viscosity),
+        x=sys.x, contact_pressure=pc, fluid_pressure=fluid, gap=u, local_gap=g,
+        approach_change=dd, sealed=sealed,
+        lifted_off=False, converged=bool(np.max(np.abs(F)) < TOL),
         diagnostics={
             "residual": float(np.max(np.abs(F))),
             "force_error": 0.0 if sys.rigid else abs(float(F[n])),
             "mass_error": float(np.max(np.abs(flux - q_hat)) / abs(q_hat)),
             "peak_contact_pressure": float(pc.max()),
-            "contact_load_share": float(np.sum(pc) / np.sum(sys.p0)),
+            "contact_load_share": float(sys.w @ pc / (sys.w @ sys.p0)),
         },
+        nodes=sys.nodes, node_pressure=pf,
     )  # fmt: skip

@@ -248,8 +248,8 @@ def _mark_sealed_and_unconverged(ax, f, Q, sealed, bad) -> None:
 
 def plot_seal(sweep: SealSweep, *, shown: Sequence[int] | None = None) -> Figure:
     """A seal under pressure: Q against dP (coupled and uncoupled, lift-off marked) on the
-    left; contact pressure p_c(x) and fluid pressure p_f(x) at some pressure drops on the
-    right.
+    left; contact pressure p_c and fluid pressure p_f at some pressure drops on the right,
+    along x across a line contact, or along r out of a point contact's hole (shaded).
 
     Parameters
     ----------
@@ -281,8 +281,12 @@ def plot_seal(sweep: SealSweep, *, shown: Sequence[int] | None = None) -> Figure
     left.legend(loc="lower left", bbox_to_anchor=(0.0, 1.01), fontsize=8, frameon=False,
                 borderaxespad=0.0)  # fmt: skip
     held = [k for k, r in enumerate(sweep.results) if not r.lifted_off]
-    if shown is None:
-        shown = held[-3:]  # the largest pressure drops that hold
+    _seal_profiles(right, sweep, held[-3:] if shown is None else shown)  # the largest that hold
+    return fig
+
+
+def _seal_profiles(right, sweep: SealSweep, shown) -> None:
+    """p_c and p_f of the pressure drops ``shown`` along x (line) or r (point, hole shaded)."""
     for j, k in enumerate(shown):
         r = sweep.results[k]
         c = f"C{j}"
@@ -290,14 +294,19 @@ def plot_seal(sweep: SealSweep, *, shown: Sequence[int] | None = None) -> Figure
                    label=f"$p_c$, $\\Delta P$ = {r.pressure_drop:.3g} Pa")  # fmt: skip
         right.plot(r.x * 1e3, r.fluid_pressure / 1e6, "--", color=c,
                    label=f"$p_f$, $\\Delta P$ = {r.pressure_drop:.3g} Pa")  # fmt: skip
+    point = getattr(sweep, "geometry", "line") == "point"
+    if point:
+        right.axvspan(0.0, sweep.inner_radius * 1e3, color="0.85", lw=0, label="hole")
     if shown:
         r = sweep.results[shown[0]]
         inside = r.x[r.contact_pressure >= 1e-3 * r.contact_pressure.max()]
         pad = 0.3 * (inside[-1] - inside[0])
-        right.set_xlim((inside[0] - pad) * 1e3, (inside[-1] + pad) * 1e3)
+        right.set_xlim(0.0 if point else (inside[0] - pad) * 1e3, (inside[-1] + pad) * 1e3)
+    if shown or point:
         right.legend(loc="lower left", bbox_to_anchor=(0.0, 1.01), ncols=2, fontsize=8,
                      frameon=False, borderaxespad=0.0)  # fmt: skip
-    right.set_xlabel(r"$x$ (mm), flow from left to right")
+    right.set_xlabel(
+        r"$r$ (mm), flow outwards from the hole" if point else r"$x$ (mm), flow from left to right"
+    )
     right.set_ylabel("pressure (MPa)")
     right.set_ylim(bottom=0.0)
-    return fig
