@@ -32,6 +32,9 @@ EXPORTS = Path(__file__).parent / "data" / "exports"
 TOL_H, TOL_H_ERRORS, TOL_H_RMS, TOL_SLOPE = 0.05, 2.0, 0.03, 0.05
 #: the fit's +-2 standard errors hold the true H in at least this share of the repeats
 COVERAGE, REPEATS = 0.90, 50
+#: q_r of a roll-off 16 modes up, one profile of 2048 points, QR_REPEATS seeded repeats: the
+#: two-standard-error interval holds the truth in at least QR_COVERAGE of them (~0.92 expected)
+QR_COVERAGE, QR_REPEATS = 0.75, 16
 #: the found white-noise level against the true sigma^2 dx / (2 pi) (from ~1000 values: ~10 %)
 TOL_LEVEL = 0.3
 
@@ -143,6 +146,26 @@ def test_fit_errors_cover_the_truth():
         fit = _quiet(tp.fit_self_affine, _quiet(tp.psd_from_profile, row, 1e-6))
         inside += abs(fit.hurst - truth.hurst) <= 2.0 * fit.hurst_err
     assert inside >= COVERAGE * REPEATS
+
+
+def test_rolloff_few_modes_up_is_said_to_be_uncertain():
+    """A roll-off 16 modes up, one profile each: the q_r interval holds the truth in at least
+    QR_COVERAGE of the repeats, and no fit gives a q_r off by more than 25 % without saying it
+    is uncertain (``qr_uncertain``, a warning); eight such profiles together measure it."""
+    h, _, truth, _ = _scans(0.8, 16, 0.01, 2048, 1e-6, QR_REPEATS + 8, seed=23)
+    inside = 0
+    for row in h[:QR_REPEATS]:
+        with warnings.catch_warnings(record=True) as said:
+            warnings.simplefilter("always", tp.TopographyWarning)
+            fit = tp.fit_self_affine(_quiet(tp.psd_from_profile, row, 1e-6))
+        lo, hi = fit.qr_interval
+        inside += lo <= truth.qr <= hi
+        assert fit.qr_uncertain or fit.qr == pytest.approx(truth.qr, rel=0.25)
+        assert fit.qr_uncertain == any("q_r" in str(w.message) for w in said)
+    assert inside >= QR_COVERAGE * QR_REPEATS
+    fit = tp.fit_self_affine(_quiet(tp.psd_from_profile, h[QR_REPEATS:], 1e-6))
+    lo, hi = fit.qr_interval
+    assert lo <= truth.qr <= hi and fit.qr == pytest.approx(truth.qr, rel=0.25)
 
 
 def test_scan_summary_says_what_was_cut(noisy, tmp_path):
