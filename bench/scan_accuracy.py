@@ -144,17 +144,21 @@ def table(profiles: int) -> list[dict]:
     return rows
 
 
-def coverage(case, repeats: int, profiles: int = 1) -> tuple[float, float, float]:
-    """(share of repeats with |H - H_true| <= 2 H_err, mean H, std of H) over seeded repeats
-    (an H held at its bound 1 counts when the truth is 1)."""
-    inside, hs = [], []
+def coverage(case, repeats: int, profiles: int = 1) -> tuple[float, float, float, float]:
+    """(share of repeats with |H - H_true| <= 2 H_err, mean H, std of H, share whose q_r
+    interval holds the truth (NaN without roll-off)) over seeded repeats (an H held at its
+    bound 1 counts when the truth is 1)."""
+    inside, hs, qr_inside = [], [], []
     folder = tempfile.mkdtemp()
     for seed in range(repeats):
         r = analyse(case, seed=1000 + seed, profiles=profiles, folder=folder)
         hs.append(r["H"])
         exact = r["H_bound"] and abs(r["H"] - case[0]) < 1e-9
         inside.append(exact or abs(r["H"] - case[0]) <= 2.0 * r["H_err"])
-    return float(np.mean(inside)), float(np.mean(hs)), float(np.std(hs, ddof=1))
+        lo, hi = r["qr_interval"]
+        qr_inside.append(lo <= 1.0 + 1e-9 and 1.0 - 1e-9 <= hi)
+    qr_share = float(np.mean(qr_inside)) if case[1] else math.nan
+    return float(np.mean(inside)), float(np.mean(hs)), float(np.std(hs, ddof=1)), qr_share
 
 
 def figure(path: str) -> None:
@@ -230,10 +234,11 @@ def main(argv=None) -> None:
     _qr_counts(rows)
     if args.coverage:
         for case in ((0.8, True, 0.01, 1e-6, 4096), (0.5, False, 0.03, 1e-6, 4096)):
-            share, mean, std = coverage(case, args.coverage, args.profiles)
+            share, mean, std, qr_share = coverage(case, args.coverage, args.profiles)
             print(
                 f"coverage {case}: {share:.0%} of {args.coverage} within +-2 errors; "
-                f"H {mean:.3f} +- {std:.3f} (scatter)"
+                f"H {mean:.3f} +- {std:.3f} (scatter); q_r interval holds the truth in "
+                f"{qr_share:.0%}"
             )
 
 
