@@ -394,7 +394,7 @@ def _warn_uncertain(qr: float, interval, lowest: float, length: float | None) ->
         f"fit_self_affine: q_r = {qr:.3g} 1/m is uncertain: the data allow {lo:.3g}-{hi:.3g} "
         f"1/m (two standard errors; qr_interval), more than {QR_TOLERANCE - 1.0:.0%} either "
         f"way. The roll-off lies {where}; {advice}",
-        stacklevel=3,
+        stacklevel=4,
     )
 
 
@@ -411,7 +411,7 @@ def _warn_unresolved(qr: float, lowest: float, gain: float, upper: float) -> Non
         f"1/m. The roll-off may lie anywhere below {upper:.3g} 1/m (two standard errors); q_r, "
         "its error and the model's h_rms are not measurements (a longer scan, more profiles or "
         "a map resolve them)",
-        stacklevel=3,
+        stacklevel=4,
     )
 
 
@@ -451,6 +451,20 @@ def _fit_result(f: _Fitted, m0: float, m1: float, flags, fitted_to: str) -> Self
         qr_interval=(float(math.exp(f.interval[0])), float(math.exp(f.interval[1]))),
         qr_uncertain=bool(qr_uncertain),
     )
+
+
+def _qr_flags(fitted: _Fitted, length: float | None) -> tuple[bool, bool]:
+    """(q_r not resolved, q_r uncertain) of a fit with roll-off, each said by a warning;
+    ``length``: the profile's (m), None for a table."""
+    qr, lowest, gain = math.exp(fitted.xr), float(fitted.q[0]), fitted.gain
+    qr_at_bound = qr < lowest * ROLLOFF_MARGIN or gain < ROLLOFF_SIGNIFICANCE
+    lo, hi = (math.exp(v) for v in fitted.interval)
+    wide = not (qr / QR_TOLERANCE <= lo and hi <= qr * QR_TOLERANCE)
+    if qr_at_bound:
+        _warn_unresolved(qr, lowest, gain, hi)
+    elif wide:
+        _warn_uncertain(qr, (lo, hi), lowest, length)
+    return qr_at_bound, qr_at_bound or wide
 
 
 def fit_self_affine(
@@ -506,13 +520,5 @@ def fit_self_affine(
     profile = isinstance(psd, ProfileSpectrum)
     m0, m1 = _model_range(psd, q0, q1)
     fitted = (_fit_profile if profile else _fit_table)(psd, q_range, rolloff)
-    qr, lowest, gain = math.exp(fitted.xr), float(fitted.q[0]), fitted.gain
-    qr_at_bound = rolloff and (qr < lowest * ROLLOFF_MARGIN or gain < ROLLOFF_SIGNIFICANCE)
-    lo, hi = (math.exp(v) for v in fitted.interval)
-    wide = rolloff and not (qr / QR_TOLERANCE <= lo and hi <= qr * QR_TOLERANCE)
-    if qr_at_bound:
-        _warn_unresolved(qr, lowest, gain, hi)
-    elif wide:
-        _warn_uncertain(qr, (lo, hi), lowest, psd.length if profile else None)
-    flags = (qr_at_bound, rolloff and (qr_at_bound or wide))
+    flags = _qr_flags(fitted, psd.length if profile else None) if rolloff else (False, False)
     return _fit_result(fitted, m0, m1, flags, "C1D(k)" if profile else "C(q)")

@@ -11,6 +11,7 @@ from __future__ import annotations
 import math
 
 import numba
+import numpy as np
 
 from fastline._lib.jit import JIT
 
@@ -22,7 +23,7 @@ _RESYNC = 512
 
 
 @numba.njit(**JIT)
-def line_sums(row):
+def line_sums(row: np.ndarray) -> tuple[float, float]:
     """(sum h_j, sum (j - c) h_j) with ``c = (n - 1) / 2``: the mean and the centred first
     moment of a profile, in one pass (pairs of partial sums keep the rounding small)."""
     n = row.shape[0]
@@ -41,7 +42,9 @@ def line_sums(row):
 
 
 @numba.njit(**JIT)
-def detrend_into(row, mean, slope, out):
+def detrend_into(
+    row: np.ndarray, mean: float, slope: float, out: np.ndarray
+) -> tuple[float, float]:
     """``out_j = h_j - mean - slope (j - c)`` (``c = (n - 1) / 2``); returns the sum of the
     squares of out and of its differences ``out_{j+1} - out_j`` (h_rms and the rms slope)."""
     n = row.shape[0]
@@ -66,7 +69,7 @@ def detrend_into(row, mean, slope, out):
 
 
 @numba.njit(**JIT)
-def hann_in_place(row, scale):
+def hann_in_place(row: np.ndarray, scale: float) -> None:
     """``h_j *= scale (1 - cos(2 pi j / n)) / 2`` (the periodic Hann window): the cosine
     advanced by a rotation of ``2 pi / n`` and taken afresh every ``_RESYNC`` points."""
     n = row.shape[0]
@@ -82,7 +85,7 @@ def hann_in_place(row, scale):
 
 
 @numba.njit(**JIT)
-def add_power(F, out):
+def add_power(F: np.ndarray, out: np.ndarray) -> None:
     """``out_m += |F_m|^2`` (a periodogram's power, summed over profiles)."""
     for m in range(F.shape[0]):
         out[m] += F[m].real * F[m].real + F[m].imag * F[m].imag
