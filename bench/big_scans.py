@@ -5,7 +5,9 @@ same kind of scan as a ~90 MB two-column text file (x and h in micrometres, a he
 a 4096 x 4096 height map as ``.npy``. Each is analysed at the defaults after a warm-up call on
 a small scan (the compiled kernels loaded); the peak is what ``tracemalloc`` sees NumPy
 allocate during a second call, against the size of the file's own float64 array (traced apart:
-tracing slows NumPy's text reader many times).
+tracing slows NumPy's text reader many times). Beside the wall time: the CPU time of the process
+(all its threads) and the load average of the machine at the end (a shared machine's wall time
+follows its load; the CPU time much less).
 
 Run: ``python -m bench.big_scans`` (``--skip-map`` to leave the map out).
 """
@@ -46,16 +48,17 @@ def _measure(label: str, path: str, points: int, **options) -> None:
     reference = _reference(points)
     with warnings.catch_warnings():
         warnings.simplefilter("ignore", fl.topography.TopographyWarning)
-        start = time.perf_counter()
+        start, cpu = time.perf_counter(), time.process_time()
         scan = analyse_scan(path, **options)
-        seconds = time.perf_counter() - start
+        seconds, cpu = time.perf_counter() - start, time.process_time() - cpu
         tracemalloc.start()  # a second call: tracing slows NumPy's text reader many times
         analyse_scan(path, **options)
         peak = tracemalloc.get_traced_memory()[1]
         tracemalloc.stop()
     size = 8 * points
     print(
-        f"{label:<34} {seconds:6.1f} s ({seconds / reference:4.0f} FFTs of its size)   peak "
+        f"{label:<34} {seconds:6.1f} s, CPU {cpu:5.1f} s ({seconds / reference:4.0f} FFTs of "
+        f"its size; load {os.getloadavg()[0]:.1f})   peak "
         f"{peak / 2**20:7.0f} MiB = {peak / size:4.2f} x "
         f"the array ({size / 2**20:.0f} MiB); H {scan.fit.hurst:.3f}, range ends "
         f"{scan.q_range[1]:.3g} 1/m ({scan.limits['high']})"

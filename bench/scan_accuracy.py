@@ -9,7 +9,8 @@ the rms slope of the usable range against the truth, and the usable range's uppe
 the wavenumber where the true spectrum meets the noise.
 
 Run: ``python -m bench.scan_accuracy`` (``--profiles 8`` for eight parallel scans per case,
-``--coverage 50`` for the coverage of +-2 standard errors over 50 seeded repeats).
+``--coverage 50`` for the coverage of +-2 standard errors over 50 seeded repeats, ``--modes 64``
+for a roll-off 64 Fourier modes of the scan up instead of 16).
 """
 
 from __future__ import annotations
@@ -53,11 +54,16 @@ def c1d_self_affine(psd: fl.SelfAffinePSD, k: np.ndarray) -> np.ndarray:
     return np.where(k < q1, flat + power, 0.0)
 
 
+#: the roll-off lies this many Fourier modes of the scan up (``--modes``)
+ROLLOFF_MODES = {"modes": 16.0}
+
+
 def truth(H: float, roll: bool, dx: float, n: int) -> fl.SelfAffinePSD:
-    """The surface: 1 um rms over [2 pi / (4 L), 100 x Nyquist], q_r 16 modes up (or none)."""
+    """The surface: 1 um rms over [2 pi / (4 L), 100 x Nyquist], q_r ROLLOFF_MODES modes up
+    (16 by default, or none)."""
     L = n * dx
     q0 = 2.0 * math.pi / (4.0 * L)
-    qr = 16.0 * 2.0 * math.pi / L if roll else q0
+    qr = ROLLOFF_MODES["modes"] * 2.0 * math.pi / L if roll else q0
     return fl.SelfAffinePSD(1e-6, H, q0, qr, 100.0 * math.pi / dx)
 
 
@@ -110,6 +116,8 @@ def analyse(case, seed: int, profiles: int = 1, folder: str | None = None) -> di
         "H_bound": f.hurst_at_bound,
         "qr": f.qr / psd.qr if roll else math.nan,
         "qr_unresolved": f.qr_at_bound,
+        "qr_uncertain": f.qr_uncertain,
+        "qr_interval": (f.qr_interval[0] / psd.qr, f.qr_interval[1] / psd.qr),
         "h_rms": f.h_rms / band.h_rms,
         "slope": scan.measured.rms_slope / band.rms_slope,
         "hi": hi,
@@ -136,17 +144,21 @@ def table(profiles: int) -> list[dict]:
     return rows
 
 
-def coverage(case, repeats: int, profiles: int = 1) -> tuple[float, float, float]:
-    """(share of repeats with |H - H_true| <= 2 H_err, mean H, std of H) over seeded repeats
-    (an H held at its bound 1 counts when the truth is 1)."""
-    inside, hs = [], []
+def coverage(case, repeats: int, profiles: int = 1) -> tuple[float, float, float, float]:
+    """(share of repeats with |H - H_true| <= 2 H_err, mean H, std of H, share whose q_r
+    interval holds the truth (NaN without roll-off)) over seeded repeats (an H held at its
+    bound 1 counts when the truth is 1)."""
+    inside, hs, qr_inside = [], [], []
     folder = tempfile.mkdtemp()
     for seed in range(repeats):
         r = analyse(case, seed=1000 + seed, profiles=profiles, folder=folder)
         hs.append(r["H"])
         exact = r["H_bound"] and abs(r["H"] - case[0]) < 1e-9
         inside.append(exact or abs(r["H"] - case[0]) <= 2.0 * r["H_err"])
-    return float(np.mean(inside)), float(np.mean(hs)), float(np.std(hs, ddof=1))
+        lo, hi = r["qr_interval"]
+        qr_inside.append(lo <= 1.0 + 1e-9 and 1.0 - 1e-9 <= hi)
+    qr_share = float(np.mean(qr_inside)) if case[1] else math.nan
+    return float(np.mean(inside)), float(np.mean(hs)), float(np.std(hs, ddof=1)), qr_share
 
 
 def figure(path: str) -> None:
@@ -165,36 +177,68 @@ def figure(path: str) -> None:
     fl.plotting.plot_measured_psd(scan).savefig(path, dpi=110)
 
 
+def _qr_text(r: dict) -> str:
+    """q_r against the truth with its interval, and what the fit said of it."""
+    said = "unresolved" if r["qr_unresolved"] else "uncertain" if r["qr_uncertain"] else "measured"
+    if not r["case"][1]:
+        return f"{'none':<21}{said if r['qr_unresolved'] else 'FITTED':<9}"
+    lo, hi = r["qr_interval"]
+    return f"{r['qr']:4.2f} [{lo:4.2f}, {hi:5.2f}]{'':5}{said:<9}"
+
+
+def _row(r: dict) -> str:
+    H, roll, noise, dx, n = r["case"]
+    z = abs(r["H"] - H) / r["H_err"] if r["H_err"] > 0 else 0.0
+    return (
+        f"{H:<4} {'yes' if roll else 'no':<4} {noise:<5.1%}  {dx:<7.0e} {n:<6d} | "
+        f"{r['H']:.3f} +- {r['H_err']:.3f} {z:4.1f} | {_qr_text(r)} | {r['h_rms']:5.3f} "
+        f"{r['slope']:5.3f}         | {r['h_rms_vs_clean']:5.3f} {r['slope_vs_clean']:5.3f}  | "
+        f"{r['hi']:9.3g} {r['rule']:<17} | {r['meets']:.3g}"
+    )
+
+
+def _qr_counts(rows: list[dict]) -> None:
+    """The roll-off cases in counts: within 25 %, interval covering the truth, said uncertain
+    or unresolved, and confident but wrong (neither said, yet off by more than 25 %)."""
+    roll = [r for r in rows if r["case"][1]]
+    within = sum(abs(r["qr"] - 1.0) <= 0.25 for r in roll)
+    covers = sum(
+        r["qr_interval"][0] <= 1.0 + 1e-9 and 1.0 - 1e-9 <= r["qr_interval"][1] for r in roll
+    )
+    said = sum(r["qr_uncertain"] for r in roll)
+    wrong = sum(abs(r["qr"] - 1.0) > 0.25 and not r["qr_uncertain"] for r in roll)
+    print(
+        f"q_r, {len(roll)} roll-off cases: within 25 % {within}; interval covers the truth "
+        f"{covers}; said uncertain or unresolved {said}; confident and off by > 25 % {wrong}"
+    )
+
+
 def main(argv=None) -> None:
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     parser.add_argument("--profiles", type=int, default=1, help="parallel scans per case")
     parser.add_argument("--coverage", type=int, default=0, help="repeats for the coverage")
     parser.add_argument("--figure", metavar="PNG", help="only draw the docs' noisy-scan figure")
+    parser.add_argument("--modes", type=float, default=16.0, help="roll-off: Fourier modes up")
     args = parser.parse_args(argv)
+    ROLLOFF_MODES["modes"] = args.modes
     if args.figure:
         figure(args.figure)
         return
     print(
-        "H    q_r  noise  dx      N      | H fit (+-err)    |z| |   q_r/true | h_rms, slope "
-        "/ true    | / noise-free | top of range (1/m), rule    | true C1D meets noise"
+        "H    q_r  noise  dx      N      | H fit (+-err)    |z| | q_r/true [interval]  said     "
+        "| h_rms, slope / true | / noise-free | top of range (1/m), rule    | C1D meets noise"
     )
-    for r in table(args.profiles):
-        H, roll, noise, dx, n = r["case"]
-        z = abs(r["H"] - H) / r["H_err"] if r["H_err"] > 0 else 0.0
-        qr = "unresolved" if r["qr_unresolved"] else f"{r['qr']:.2f}"
-        qr = qr if roll else ("none: flagged" if r["qr_unresolved"] else "none: FITTED")
-        print(
-            f"{H:<4} {'yes' if roll else 'no':<4} {noise:<5.1%}  {dx:<7.0e} {n:<6d} | "
-            f"{r['H']:.3f} +- {r['H_err']:.3f} {z:4.1f} | {qr:>10} | {r['h_rms']:5.3f} "
-            f"{r['slope']:5.3f}    | {r['h_rms_vs_clean']:5.3f} {r['slope_vs_clean']:5.3f}  | "
-            f"{r['hi']:9.3g} {r['rule']:<17} | {r['meets']:.3g}"
-        )
+    rows = table(args.profiles)
+    for r in rows:
+        print(_row(r))
+    _qr_counts(rows)
     if args.coverage:
         for case in ((0.8, True, 0.01, 1e-6, 4096), (0.5, False, 0.03, 1e-6, 4096)):
-            share, mean, std = coverage(case, args.coverage, args.profiles)
+            share, mean, std, qr_share = coverage(case, args.coverage, args.profiles)
             print(
                 f"coverage {case}: {share:.0%} of {args.coverage} within +-2 errors; "
-                f"H {mean:.3f} +- {std:.3f} (scatter)"
+                f"H {mean:.3f} +- {std:.3f} (scatter); q_r interval holds the truth in "
+                f"{qr_share:.0%}"
             )
 
 

@@ -210,7 +210,7 @@ def test_micrometres_read_as_millimetres_warn_once(scans, capsys):
     d, _ = scans
     status, _, err = run(["psd", d / "rows.txt", "--dx", DX, "--units", "mm"], capsys)
     assert status == 0  # the slope is 1e3 too large: 37, implausible but computable
-    lines = warning_lines(err)
+    lines = [ln for ln in warning_lines(err) if "q_r" not in ln]  # short scans: q_r uncertain
     assert len(lines) == 1 and "rms slope" in lines[0] and "wrong unit" in lines[0]
     assert "--units" in lines[0]
 

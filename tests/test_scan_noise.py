@@ -24,6 +24,7 @@ from fastline.surfaces import analyse_scan
 from fastline.surfaces import files as files_module
 from fastline.surfaces import topography as tp
 from fastline.surfaces.profiles import non_increasing
+from fastline.surfaces.ranges import log_bins, span_bins
 
 EXPORTS = Path(__file__).parent / "data" / "exports"
 #: the targets for one profile at the defaults: H to this absolute error and within this many
@@ -32,6 +33,9 @@ EXPORTS = Path(__file__).parent / "data" / "exports"
 TOL_H, TOL_H_ERRORS, TOL_H_RMS, TOL_SLOPE = 0.05, 2.0, 0.03, 0.05
 #: the fit's +-2 standard errors hold the true H in at least this share of the repeats
 COVERAGE, REPEATS = 0.90, 50
+#: q_r of a roll-off 16 modes up, one profile of 2048 points, QR_REPEATS seeded repeats: the
+#: two-standard-error interval holds the truth in at least QR_COVERAGE of them (~0.92 expected)
+QR_COVERAGE, QR_REPEATS = 0.75, 16
 #: the found white-noise level against the true sigma^2 dx / (2 pi) (from ~1000 values: ~10 %)
 TOL_LEVEL = 0.3
 
@@ -143,6 +147,26 @@ def test_fit_errors_cover_the_truth():
         fit = _quiet(tp.fit_self_affine, _quiet(tp.psd_from_profile, row, 1e-6))
         inside += abs(fit.hurst - truth.hurst) <= 2.0 * fit.hurst_err
     assert inside >= COVERAGE * REPEATS
+
+
+def test_rolloff_few_modes_up_is_said_to_be_uncertain():
+    """A roll-off 16 modes up, one profile each: the q_r interval holds the truth in at least
+    QR_COVERAGE of the repeats, and no fit gives a q_r off by more than 25 % without saying it
+    is uncertain (``qr_uncertain``, a warning); eight such profiles together measure it."""
+    h, _, truth, _ = _scans(0.8, 16, 0.01, 2048, 1e-6, QR_REPEATS + 8, seed=23)
+    inside = 0
+    for row in h[:QR_REPEATS]:
+        with warnings.catch_warnings(record=True) as said:
+            warnings.simplefilter("always", tp.TopographyWarning)
+            fit = tp.fit_self_affine(_quiet(tp.psd_from_profile, row, 1e-6))
+        lo, hi = fit.qr_interval
+        inside += lo <= truth.qr <= hi
+        assert fit.qr_uncertain or fit.qr == pytest.approx(truth.qr, rel=0.25)
+        assert fit.qr_uncertain == any("q_r" in str(w.message) for w in said)
+    assert inside >= QR_COVERAGE * QR_REPEATS
+    fit = tp.fit_self_affine(_quiet(tp.psd_from_profile, h[QR_REPEATS:], 1e-6))
+    lo, hi = fit.qr_interval
+    assert lo <= truth.qr <= hi and fit.qr == pytest.approx(truth.qr, rel=0.25)
 
 
 def test_scan_summary_says_what_was_cut(noisy, tmp_path):
@@ -320,3 +344,61 @@ def test_long_text_in_one_pass_and_its_errors(tmp_path):
     bad.write_bytes(text.replace("2500.0,", "25oo.0,").encode())
     with pytest.raises(ValueError, match=r"bad_long.csv:5003: not a number"):
         tp.read_profile(bad)
+
+
+# ----------------------------------------------------------------------------------------------
+# big scans: the compiled passes and the half-plane map spectrum give the plain computation
+# ----------------------------------------------------------------------------------------------
+def _hann(n: int) -> np.ndarray:
+    """The periodic Hann window normalised to sum w^2 = n."""
+    return math.sqrt(8.0 / 3.0) * 0.5 * (1.0 - np.cos(2.0 * math.pi * np.arange(n) / n))
+
+
+@pytest.mark.parametrize("detrend", ["linear", "mean"])
+def test_profile_passes_equal_the_plain_computation(detrend):
+    """Two tilted profiles of an odd length: h_rms, rms slope and every periodogram value as
+    the least-squares line (numpy.polyfit), the Hann window and the explicit Fourier sum."""
+    rng = np.random.default_rng(8)
+    n, dx = 1001, 1e-7
+    h = np.cumsum(rng.standard_normal((2, n)), axis=1) * 1e-9 + 3e-7 + 1e-4 * dx * np.arange(n)
+    s = tp.psd_from_profile(h, dx, detrend=detrend, bins_per_decade=None, q_range=None)
+    j = np.arange(n)
+    deg = 1 if detrend == "linear" else 0
+    res = np.array([row - np.polyval(np.polyfit(j, row, deg), j) for row in h])
+    assert s.h_rms == pytest.approx(math.sqrt(np.mean(res**2)), rel=1e-12)
+    assert s.rms_slope == pytest.approx(math.sqrt(np.mean(np.diff(res) ** 2)) / dx, rel=1e-12)
+    C = np.mean([naive.periodogram_1d(row, dx, _hann(n))[1] for row in res], axis=0)
+    np.testing.assert_allclose(s.C1D, C, rtol=1e-9)
+
+
+@pytest.mark.parametrize(
+    ("shape", "dx", "dy"), [((48, 64), 1.3e-6, 1e-6), ((64, 49), 1e-6, 1.3e-6)]
+)
+def test_map_half_plane_equals_every_mode(shape, dx, dy):
+    """The real FFT's half plane, each column weighted by the modes it stands for, gives the
+    rings of every mode of the full plane (plane by least squares, 2D Hann window, odd and
+    even sizes, dx != dy)."""
+    ny, nx = shape
+    rng = np.random.default_rng(5)
+    h = (
+        rng.standard_normal(shape) * 1e-7
+        + 1e-8 * np.arange(nx)[None, :]
+        - 2e-8 * np.arange(ny)[:, None]
+    )
+    psd = tp.psd_from_map(h, dx, dy, q_range=None)
+    y, x = np.mgrid[0:ny, 0:nx]
+    V = np.column_stack([np.ones(h.size), x.ravel(), y.ravel()])
+    res = h - (V @ np.linalg.lstsq(V, h.ravel(), rcond=None)[0]).reshape(shape)
+    F = np.fft.fft2(res * np.outer(_hann(ny), _hann(nx)))
+    C = (dx * dy) ** 2 / ((2.0 * math.pi) ** 2 * nx * dx * ny * dy) * np.abs(F.ravel()) ** 2
+    q = np.hypot(
+        *np.meshgrid(
+            2 * math.pi * np.fft.fftfreq(ny, dy),
+            2 * math.pi * np.fft.fftfreq(nx, dx),
+            indexing="ij",
+        )
+    ).ravel()
+    lo, hi = 2.0 * math.pi / max(nx * dx, ny * dy), math.pi / max(dx, dy)
+    qb, Cb = span_bins(*log_bins(q, C, 20, lo, hi)[:2], lo, hi)
+    np.testing.assert_allclose(psd.q, qb, rtol=1e-12)
+    np.testing.assert_allclose(psd.C, Cb, rtol=1e-9)

@@ -78,6 +78,11 @@ def _c_panel(ax, scan) -> None:
     ax.loglog(measured.q, measured.C, "o", ms=3, color="C0", label=what)
     qf = np.geomspace(fit.psd.q0, min(fit.psd.q1, measured.q1) * (1 - 1e-12), 200)  # the data's
     label = f"fit: $H$ = {fit.hurst:.2f}, $q_r$ = {_times_ten(fit.qr)} 1/m"
+    if fit.qr_at_bound:
+        label = f"fit: $H$ = {fit.hurst:.2f}, $q_r$ not resolved"
+    elif fit.qr_uncertain:  # its interval at two standard errors, wider than 25 % either way
+        lo, hi = fit.qr_interval
+        label += f"\n($q_r$ uncertain: {_times_ten(lo)}-{_times_ten(hi)} 1/m)"
     ax.loglog(qf, fit.psd(qf), "-", color="C1", lw=1.2, label=label)
     hi = max(table.q1, measured.q1)
     if scan.extended_from is not None:

@@ -36,6 +36,13 @@ ROLLOFF_MARGIN = 10.0**0.2
 #: ratio above 4.2 in 1 % of 256 cases, one whose q_r lies 3x above the range's low end a
 #: median of 3-4 (such a profile barely shows it), 8x above it a median of 50.
 ROLLOFF_SIGNIFICANCE = 6.63
+#: the interval of q_r (``qr_interval``) holds the roll-offs whose profile likelihood (twice
+#: its log, over the dispersion) lies within this of the best: two standard errors
+QR_INTERVAL_LEVEL = 4.0
+#: a resolved q_r whose interval reaches beyond this factor of it on either side is uncertain
+#: (a TopographyWarning says so): one profile places a roll-off only a dozen Fourier modes above
+#: its lowest to within about 1.3x (docs/topography.md, "How far a roll-off can be measured")
+QR_TOLERANCE = 1.25
 
 
 @dataclass(frozen=True)
@@ -68,6 +75,14 @@ class SelfAffineFit:
         That improvement: the likelihood ratio (``2 ln`` of it, over the dispersion) of the
         model against a pure power law (fitted to C1D), or the F statistic of its sum of
         squares (fitted to C(q)); 0 without roll-off.
+    qr_interval : tuple of float
+        The roll-offs (1/m) the data allow at two standard errors: where twice the profile
+        log-likelihood lies within ``QR_INTERVAL_LEVEL`` of its best (fitted to C1D; it may be
+        lopsided), or ``qr exp(+-2 se)`` (fitted to C(q)). Its lower end is the lowest fitted
+        wavenumber when the data allow no roll-off at all. NaN without roll-off.
+    qr_uncertain : bool
+        The interval reaches beyond ``QR_TOLERANCE`` (25 %) of q_r on either side (a warning
+        says so), or q_r is not resolved.
     """
 
     psd: SelfAffinePSD
@@ -86,6 +101,8 @@ class SelfAffineFit:
     hurst_at_bound: bool = False
     qr_at_bound: bool = False
     rolloff_gain: float = 0.0
+    qr_interval: tuple[float, float] = (math.nan, math.nan)
+    qr_uncertain: bool = False
 
 
 def _fit_at(x, y, wts, xr):
@@ -262,7 +279,7 @@ def _profile_fit_points(spectrum, q_range):
 
 class _Fitted(NamedTuple):
     """A fit's ln C0, H, ln qr, their covariance, the rms residual of ``ln C``, the fitted
-    wavenumbers (1/m) and the roll-off's gain over a pure power law."""
+    wavenumbers (1/m), the roll-off's gain over a pure power law and the interval of ln qr."""
 
     a: float
     H: float
@@ -271,20 +288,63 @@ class _Fitted(NamedTuple):
     rms: float
     q: np.ndarray
     gain: float
+    interval: tuple[float, float] = (math.nan, math.nan)
+
+
+def _whittle_at(k, C, n, xr: float) -> float:
+    """The Whittle objective with ln qr held at xr, minimised over H (and C0, in closed
+    form): a grid over H refined by Brent's method."""
+    from scipy.optimize import minimize_scalar  # here: scipy.optimize takes ~1 s to import
+
+    Hs = np.linspace(*_HURST_BOUNDS, 100)
+    obj = _whittle(C, n, _c1d_shape(k, Hs[:, None], xr))[1]
+    j = int(np.argmin(obj))
+    res = minimize_scalar(
+        lambda H: float(_whittle(C, n, _c1d_shape(k, H, xr))[1]),
+        bounds=(Hs[max(j - 1, 0)], Hs[min(j + 1, Hs.size - 1)]),
+        method="bounded",
+        options={"xatol": 1e-6},
+    )
+    return min(float(res.fun), float(obj[j]))
+
+
+def _profile_interval(k, C, n, xr: float, best: float, dispersion: float):
+    """(lo, hi) of ln qr where twice the profile log-likelihood over the dispersion lies within
+    QR_INTERVAL_LEVEL of its best (``best``, at xr): each end found by stepping out from xr
+    to the ends of the fitted roll-offs (ln k[0], ln k[-3]) and Brent's root between steps;
+    an end that is never crossed is that limit."""
+    from scipy.optimize import brentq  # here: scipy.optimize takes ~1 s to import
+
+    def excess(g):
+        return 2.0 * (_whittle_at(k, C, n, g) - best) / dispersion - QR_INTERVAL_LEVEL
+
+    ends = []
+    for limit in (math.log(k[0]), math.log(k[-3])):
+        steps = np.linspace(xr, limit, 17)[1:]
+        inner, end = xr, limit
+        for g in steps:
+            if excess(g) > 0.0:
+                end = brentq(excess, inner, g, xtol=1e-4) if g != inner else g
+                break
+            inner = g
+        ends.append(float(end))
+    return ends[0], ends[1]
 
 
 def _fit_profile(spectrum, q_range, rolloff):
-    """(ln C0, H, ln qr, covariance, rms residual, fitted k) of the model's C1D fitted to a
-    ProfileSpectrum by the Whittle likelihood."""
+    """The model's C1D fitted to a ProfileSpectrum by the Whittle likelihood (:class:`_Fitted`;
+    the interval of ln qr from the profile likelihood)."""
     k, C, n = _profile_fit_points(spectrum, q_range)
     a, H, xr, objective = _whittle_optimum(k, C, n, rolloff)
     at_bound = H in _HURST_BOUNDS
     free = [c for c in (0, 1, 2) if not (c == 1 and at_bound) and not (c == 2 and not rolloff)]
     cov, rms, dispersion = _whittle_covariance(k, C, n, np.array([a, H, xr]), free)
-    gain = 0.0
-    if rolloff:  # the likelihood ratio against a pure power law, in units of the dispersion
-        gain = 2.0 * (_whittle_optimum(k, C, n, False)[3] - objective) / dispersion
-    return _Fitted(a, H, xr, cov, rms, k, gain)
+    if not rolloff:
+        return _Fitted(a, H, xr, cov, rms, k, 0.0)
+    # the likelihood ratio against a pure power law, in units of the dispersion
+    gain = 2.0 * (_whittle_optimum(k, C, n, False)[3] - objective) / dispersion
+    interval = _profile_interval(k, C, n, xr, objective, dispersion)
+    return _Fitted(a, H, xr, cov, rms, k, gain, interval)
 
 
 def _fit_table(psd, q_range, rolloff):
@@ -303,7 +363,9 @@ def _fit_table(psd, q_range, rolloff):
     if rolloff:  # the F statistic of the roll-off against a pure power law
         sse0 = _fit_at(x, y, wts, float(x[0]))[2]
         gain = (sse0 - sse) / max(sse / max(x.size - 3, 1), 1e-300)
-    return _Fitted(a, H, xr, cov, math.sqrt(sse / np.sum(wts)), q, gain)
+    se = math.sqrt(cov[2, 2])
+    interval = (max(xr - 2.0 * se, float(x[0])), xr + 2.0 * se) if rolloff else (math.nan,) * 2
+    return _Fitted(a, H, xr, cov, math.sqrt(sse / np.sum(wts)), q, gain, interval)
 
 
 def _model_range(psd, q0, q1) -> tuple[float, float]:
@@ -318,7 +380,25 @@ def _model_range(psd, q0, q1) -> tuple[float, float]:
     return m0, m1
 
 
-def _warn_unresolved(qr: float, lowest: float, gain: float) -> None:
+def _warn_uncertain(qr: float, interval, lowest: float, length: float | None) -> None:
+    lo, hi = interval
+    where = f"{qr / lowest:.3g} times the lowest fitted wavenumber {lowest:.3g} 1/m"
+    advice = "a larger map or more maps narrow it"
+    if length is not None:
+        where = f"{qr * length / (2.0 * math.pi):.3g} Fourier modes of the scan up ({where})"
+        advice = (
+            "one profile places a roll-off within 25 % only from about 32 (H near 1) to 128 "
+            "(H = 0.3) modes up: more profiles, a longer scan or a map narrow it"
+        )
+    topography_warning(
+        f"fit_self_affine: q_r = {qr:.3g} 1/m is uncertain: the data allow {lo:.3g}-{hi:.3g} "
+        f"1/m (two standard errors; qr_interval), more than {QR_TOLERANCE - 1.0:.0%} either "
+        f"way. The roll-off lies {where}; {advice}",
+        stacklevel=4,
+    )
+
+
+def _warn_unresolved(qr: float, lowest: float, gain: float, upper: float) -> None:
     if qr < lowest * ROLLOFF_MARGIN:
         why = f"lies within a factor {ROLLOFF_MARGIN:.3g} of the lowest fitted wavenumber"
     else:
@@ -328,16 +408,18 @@ def _warn_unresolved(qr: float, lowest: float, gain: float) -> None:
         )
     topography_warning(
         f"fit_self_affine: the roll-off is not resolved: q_r = {qr:.3g} 1/m {why} {lowest:.3g} "
-        "1/m. The roll-off may lie anywhere below; q_r, its error and the model's h_rms are not "
-        "measurements (a longer scan, more profiles or a map resolve them)",
-        stacklevel=3,
+        f"1/m. The roll-off may lie anywhere below {upper:.3g} 1/m (two standard errors); q_r, "
+        "its error and the model's h_rms are not measurements (a longer scan, more profiles or "
+        "a map resolve them)",
+        stacklevel=4,
     )
 
 
-def _fit_result(f: _Fitted, m0: float, m1: float, qr_at_bound, fitted_to: str) -> SelfAffineFit:
+def _fit_result(f: _Fitted, m0: float, m1: float, flags, fitted_to: str) -> SelfAffineFit:
     """The fitted model on ``[m0, m1]`` (1/m) with its parameters and their standard errors
     (that of h_rms from its derivatives, by central differences, and the covariance)."""
     hurst_at_bound = f.H in _HURST_BOUNDS
+    qr_at_bound, qr_uncertain = flags
     a, H, xr = f.a, f.H, max(f.xr, math.log(m0))
     p = np.array([a, H, xr])
     grad = np.array(
@@ -366,7 +448,23 @@ def _fit_result(f: _Fitted, m0: float, m1: float, qr_at_bound, fitted_to: str) -
         hurst_at_bound=bool(hurst_at_bound),
         qr_at_bound=bool(qr_at_bound),
         rolloff_gain=float(f.gain),
+        qr_interval=(float(math.exp(f.interval[0])), float(math.exp(f.interval[1]))),
+        qr_uncertain=bool(qr_uncertain),
     )
+
+
+def _qr_flags(fitted: _Fitted, length: float | None) -> tuple[bool, bool]:
+    """(q_r not resolved, q_r uncertain) of a fit with roll-off, each said by a warning;
+    ``length``: the profile's (m), None for a table."""
+    qr, lowest, gain = math.exp(fitted.xr), float(fitted.q[0]), fitted.gain
+    qr_at_bound = qr < lowest * ROLLOFF_MARGIN or gain < ROLLOFF_SIGNIFICANCE
+    lo, hi = (math.exp(v) for v in fitted.interval)
+    wide = not (qr / QR_TOLERANCE <= lo and hi <= qr * QR_TOLERANCE)
+    if qr_at_bound:
+        _warn_unresolved(qr, lowest, gain, hi)
+    elif wide:
+        _warn_uncertain(qr, (lo, hi), lowest, length)
+    return qr_at_bound, qr_at_bound or wide
 
 
 def fit_self_affine(
@@ -422,8 +520,5 @@ def fit_self_affine(
     profile = isinstance(psd, ProfileSpectrum)
     m0, m1 = _model_range(psd, q0, q1)
     fitted = (_fit_profile if profile else _fit_table)(psd, q_range, rolloff)
-    qr, lowest, gain = math.exp(fitted.xr), float(fitted.q[0]), fitted.gain
-    qr_at_bound = rolloff and (qr < lowest * ROLLOFF_MARGIN or gain < ROLLOFF_SIGNIFICANCE)
-    if qr_at_bound:
-        _warn_unresolved(qr, lowest, gain)
-    return _fit_result(fitted, m0, m1, qr_at_bound, "C1D(k)" if profile else "C(q)")
+    flags = _qr_flags(fitted, psd.length if profile else None) if rolloff else (False, False)
+    return _fit_result(fitted, m0, m1, flags, "C1D(k)" if profile else "C(q)")

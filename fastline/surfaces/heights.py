@@ -19,6 +19,7 @@ import numpy as np
 
 from fastline._lib.validate import in_span, real_array
 from fastline.errors import TopographyWarning
+from fastline.surfaces.rowkernels import hann_in_place
 
 #: fewest points per profile (and per map direction): a usable range of at least a factor 2
 MIN_POINTS = 32
@@ -221,8 +222,6 @@ def normalised_window(window, n: int) -> np.ndarray:
 
 _RECTANGULAR = ("none", "rect", "rectangular", "boxcar")
 _HANN = ("hann", "hanning")
-#: rows are windowed in pieces of this many points (no window-sized work array)
-_CHUNK = 1 << 20
 
 
 def is_hann(window) -> bool:
@@ -231,19 +230,12 @@ def is_hann(window) -> bool:
 
 
 def apply_window(row: np.ndarray, window) -> None:
-    """Multiply one row in place by the window of :func:`normalised_window`; the Hann window
-    is computed piece by piece (no work array of the row's size)."""
-    n = row.size
+    """Multiply one row (contiguous) in place by the window of :func:`normalised_window`; the
+    Hann window in one compiled pass (no work array of the row's size)."""
     if not is_hann(window):
-        row *= normalised_window(window, n)
+        row *= normalised_window(window, row.size)
         return
-    for start in range(0, n, _CHUNK):
-        w = np.arange(start, min(start + _CHUNK, n), dtype=np.float64)
-        w *= 2.0 * math.pi / n
-        np.cos(w, out=w)
-        w *= -0.5 * math.sqrt(8.0 / 3.0)
-        w += 0.5 * math.sqrt(8.0 / 3.0)
-        row[start : start + w.size] *= w
+    hann_in_place(row, math.sqrt(8.0 / 3.0))
 
 
 def window_factor(window, n: int) -> float:

@@ -48,6 +48,7 @@ from fastline.surfaces.ranges import (
     tip_cutoff,
     usable_range,
 )
+from fastline.surfaces.rowkernels import add_power, detrend_into, line_sums
 from fastline.surfaces.tables import checked_table, extend_psd, loglog_slope
 from fastline.theory.spectra import TabulatedPSD
 
@@ -132,21 +133,38 @@ class _Detrended(NamedTuple):
     slope: float
 
 
+def _line_detrended(raw: np.ndarray, how: str) -> tuple[np.ndarray, float, float]:
+    """Rows less their mean or least-squares line (a new array; compiled passes, no work
+    arrays), with the sums of the squares of the residual and of its differences."""
+    n = raw.shape[-1]
+    tt = n * (n * n - 1.0) / 12.0  # sum of (j - centre)^2
+    out = np.empty(raw.shape, dtype=np.float64)
+    squares = steps = 0.0
+    for r in range(raw.shape[0]):
+        row = np.ascontiguousarray(raw[r], dtype=np.float64)
+        total, moment = line_sums(row)
+        slope = moment / tt if how == "linear" else 0.0
+        sq, st = detrend_into(row, total / n, slope, out[r])
+        squares, steps = squares + sq, steps + st
+    return out, squares, steps
+
+
 def _detrended(rows: np.ndarray, dx: float, detrend: str, nan: str) -> _Detrended:
     """The rows with dropouts bridged (or refused) and their form removed (a new array); a
     flat profile is refused."""
     raw = fill_dropouts(rows, nan)
     if detrend in ("parabola", "circle"):  # before a form fit divides by 0
         refuse_flat(float(np.std(raw)), raw, "profile", "mean")
-    rows, radius = detrend_rows(raw, dx, detrend)
-    flat = rows.ravel()
-    h_rms = math.sqrt(float(np.dot(flat, flat)) / flat.size)
+        rows, radius = detrend_rows(raw, dx, detrend)
+        squares, steps = float(np.vdot(rows, rows)), 0.0
+        for row in rows:
+            d = np.diff(row)
+            steps += float(np.dot(d, d))
+    else:
+        (rows, squares, steps), radius = _line_detrended(raw, detrend), None
+    h_rms = math.sqrt(squares / rows.size)
     refuse_flat(h_rms, raw, "profile", detrend)
-    squares = 0.0
-    for row in rows:
-        d = np.diff(row)
-        squares += float(np.dot(d, d))
-    slope = math.sqrt(squares / (rows.shape[0] * (rows.shape[1] - 1))) / dx
+    slope = math.sqrt(steps / (rows.shape[0] * (rows.shape[1] - 1))) / dx
     return _Detrended(rows, radius, h_rms, slope)
 
 
@@ -156,15 +174,11 @@ def _periodogram(h: np.ndarray, dx: float, window):
     n = h.shape[-1]
     L = n * dx
     C = np.zeros(n // 2 + 1)
-    power = C if h.shape[0] == 1 else np.empty_like(C)
     for row in h:
         apply_window(row, window)
         F = np.fft.rfft(row)
-        np.abs(F, out=power)
+        add_power(F, C)
         del F
-        power *= power
-        if power is not C:
-            C += power
     C *= dx * dx / (2.0 * math.pi * L * h.shape[0])
     k = np.arange(C.size, dtype=np.float64)
     k *= 2.0 * math.pi / L

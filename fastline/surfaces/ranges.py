@@ -35,7 +35,7 @@ _CHUNK = 1 << 19
 QRange = Literal["auto"] | tuple[float | None, float | None] | None
 
 
-def log_bins(x: np.ndarray, y: np.ndarray, per_decade: int, lo: float, hi: float):
+def log_bins(x: np.ndarray, y: np.ndarray, per_decade: int, lo: float, hi: float, weights=None):
     """Averages of y over bins of x equally spaced in log between lo and hi.
 
     Neighbouring bins are merged (from the low end) until each holds at least MIN_PER_BIN
@@ -44,7 +44,9 @@ def log_bins(x: np.ndarray, y: np.ndarray, per_decade: int, lo: float, hi: float
     Each bin's value is the mean of its members; it is placed at ``x_eff = <x^s>^(1/s)``, where
     a power law of the local slope s (from the neighbouring bins) equals its mean, so that
     binning a power law is exact (the plain mean of x would bias C by ~0.5 % at 20 bins per
-    decade for C ~ k^-2.6). Returns ``x_eff, mean y, members`` of the bins.
+    decade for C ~ k^-2.6). ``weights`` (optional, integers): each value stands for that many
+    (a map's half plane of modes, the other half their mirror images). Returns ``x_eff, mean y,
+    members`` of the bins.
     """
     nb = max(1, math.ceil(per_decade * math.log10(hi / lo) - 1e-9))
     edges = np.geomspace(lo, hi, nb + 1)
@@ -52,18 +54,24 @@ def log_bins(x: np.ndarray, y: np.ndarray, per_decade: int, lo: float, hi: float
     if x.size > 1 and x[0] <= x[1] and bool(np.all(x[1:] >= x[:-1])):  # sorted: views
         cut = slice(*np.searchsorted(x, [lo, edges[-1]], side="left"))
         x, y = x[cut], y[cut]
+        weights = None if weights is None else weights[cut]
     idx = np.searchsorted(edges, x, side="right")
     idx -= 1
     inside = (idx >= 0) & (idx < nb)
     if not inside.all():
         x, y, idx = x[inside], y[inside], idx[inside]
+        weights = None if weights is None else weights[inside]
     del inside
-    group = _merge_groups(np.bincount(idx, minlength=nb), MIN_PER_BIN)
+    group = _merge_groups(np.rint(np.bincount(idx, weights, minlength=nb)).astype(int), MIN_PER_BIN)
     idx = group[idx]
     ng = int(group[-1]) + 1
-    counts = np.bincount(idx, minlength=ng)
-    ybar = np.bincount(idx, weights=y, minlength=ng) / counts
-    xbar = np.bincount(idx, weights=x, minlength=ng) / counts
+    counts = np.rint(np.bincount(idx, weights, minlength=ng)).astype(int)
+    wy = y if weights is None else y * weights
+    ybar = np.bincount(idx, weights=wy, minlength=ng) / counts
+    del wy
+    wx = x if weights is None else x * weights
+    xbar = np.bincount(idx, weights=wx, minlength=ng) / counts
+    del wx
     if ybar.size < 3 or np.any(ybar <= 0.0):
         return xbar, ybar, counts
     s = np.clip(np.gradient(np.log(ybar), np.log(xbar)), -8.0, 8.0)  # noise: no wild slopes
@@ -76,6 +84,8 @@ def log_bins(x: np.ndarray, y: np.ndarray, per_decade: int, lo: float, hi: float
         member = flat[j]
         power[member] = np.log(power[member])
         power[~member] **= s[j[~member]]
+        if weights is not None:
+            power *= weights[part]
         mean += np.bincount(j, weights=power, minlength=ng)
     mean /= counts
     x_eff = np.exp(mean)

@@ -30,8 +30,9 @@ import numpy as np
 
 from fastline._lib.validate import positive
 from fastline.surfaces import topography as tp
-from fastline.surfaces.heights import quiet
+from fastline.surfaces.maps import map_spectrum
 from fastline.surfaces.profiles import spectrum_and_periodogram
+from fastline.surfaces.ranges import range_rules
 from fastline.surfaces.read import read_spectrum
 from fastline.theory.spectra import TabulatedPSD
 
@@ -188,6 +189,8 @@ class ScanSpectrum:
             fit_hurst_err=f.hurst_err,
             fit_qr_1_per_m=f.qr,
             fit_qr_err_1_per_m=f.qr_err,
+            fit_qr_low_1_per_m=f.qr_interval[0],
+            fit_qr_high_1_per_m=f.qr_interval[1],
             fit_rms_residual=f.rms_residual,
         )
         if self.extended_from is not None:
@@ -202,9 +205,11 @@ def _fit_line(f: tp.SelfAffineFit) -> str:
     if f.hurst_at_bound:  # held there: no error bar
         steeper = "faster" if f.hurst >= 1.0 else "slower"
         hurst = f"H {f.hurst:g} (held at its bound: C falls {steeper} than self-affine can)"
-    qr = f"q_r {f.qr:.4g} ± {f.qr_err:.2g} 1/m"
+    lo, hi = f.qr_interval
+    qr = f"q_r {f.qr:.4g} ± {f.qr_err:.2g} 1/m ({lo:.3g}-{hi:.3g} at two standard errors"
+    qr += ": uncertain)" if f.qr_uncertain else ")"
     if f.qr_at_bound:
-        qr = f"q_r {f.qr:.4g} 1/m not resolved (the roll-off may lie anywhere below)"
+        qr = f"q_r {f.qr:.4g} 1/m not resolved (the roll-off may lie anywhere below {hi:.3g})"
     return (
         f"fit              {hurst}, {qr}, h_rms {f.h_rms:.4g} ± {f.h_rms_err:.2g} m "
         f"(self-affine with roll-off fitted to {f.fitted_to} over {f.q_range[0]:.4g}-"
@@ -358,11 +363,9 @@ def _map_limits(psd: TabulatedPSD, dx, dy, q_range, tip, noise) -> dict:
 
 def _map_stage(h, dx, dy, options) -> _Spectra:
     """The ring averages over all full rings, C(q) over the usable range, the range's rules."""
-    measured = tp.psd_from_map(h, dx, dy, **options)
-    raw_options = {**options, "q_range": None}
-    raw_options.pop("tip_radius"), raw_options.pop("noise")
-    with quiet():  # said once, by the call above
-        raw = tp.psd_from_map(h, dx, dy, **raw_options)
+    rules = range_rules(options["q_range"], options["tip_radius"], options["noise"])
+    rest = (options[key] for key in ("window", "detrend", "nan", "bins_per_decade"))
+    measured, raw = map_spectrum(h, dx, dy, *rest, rules, raw=True)
     limits = _map_limits(
         measured, dx, dy, options["q_range"], options["tip_radius"], options["noise"]
     )
