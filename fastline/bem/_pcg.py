@@ -13,10 +13,13 @@ nearly independent of the grid:
    P_c g``: the restriction of the exact inverse, the preconditioner of E. A. H. Vollebregt,
    J. Comput. Phys. 257, 333 (2014), doi:10.1016/j.jcp.2013.10.005. One convolution more per
    iteration (three in all).
-2. Conjugacy is kept across re-entries (Polonsky & Keer restart with the steepest descent
-   whenever a cell re-enters; with the preconditioner the restart costs more iterations than
-   it saves: measured 30 against 39 iterations at 256^2 cells and A/A0 = 0.3, 47 against 64 at
-   512^2, ``python -m bench.bem_scaling --variants``).
+2. Conjugacy is kept across changes of the contact set, and restarted once, along the
+   preconditioned gradient, at the first iteration after changes that changes nothing (the set
+   has settled; from there on the iterations are conjugate gradients for one linear problem).
+   Polonsky & Keer restart with the steepest descent whenever a cell re-enters; with the
+   preconditioner that costs more iterations than it saves. Full-grid iterations without
+   nested iteration at A/A0 = 0.3, ``python -m bench.bem_scaling --variants``: restart at every
+   re-entry 39 (256^2 cells) and 64 (512^2), never 30 and 47, once settled 27 and 40.
 
 Nested iteration: a start first solves the same problem on cells twice as large (``g0``
 averaged over 2 x 2 cells, the load unchanged), recursively down to ``NESTED_MIN_CELLS`` cells
@@ -99,22 +102,25 @@ def _step_length(p, g, t, r):
 
 @numba.njit(**JIT)
 def _update_pressure(p, g, t, tau, p_old, stiffness):
-    """Step, project on ``p >= 0``, let penetrating cells re-enter; return whether any did.
+    """Step, project on ``p >= 0``, let penetrating cells re-enter; return (whether any cell
+    re-entered, whether any cell left the contact set).
 
     A penetrating cell re-enters with ``-tau g`` (Polonsky & Keer), or with the local closing
     pressure ``-g stiffness`` (``stiffness`` = 1 / self coefficient) when ``tau`` is not
     positive (the gap on the contact set already uniform: a warm start at its optimum).
     """
+    left = False
     for i in range(p.size):
         p_old[i] = p[i]
         if p[i] > 0.0:
             p[i] = max(p[i] - tau * t[i], 0.0)
+            left = left or p[i] == 0.0
     entered = False
     for i in range(p.size):
         if p[i] <= 0.0 and g[i] < 0.0:
             p[i] = -(tau if tau > 0.0 else stiffness) * g[i]
             entered = True
-    return entered
+    return entered, left
 
 
 @numba.njit(**JIT)
@@ -131,8 +137,18 @@ def _rescale(p, p_old, target_sum):
     return dev / target_sum
 
 
-def pcg_solve(op: ElasticHalfSpace, g0, target_sum, tol, max_iter, p):
-    """Preconditioned iterations in place on ``p`` (1D view). Returns (iterations, residual)."""
+#: conjugacy restarts of :func:`pcg_solve`: once the contact set has settled (the default),
+#: never, or at every re-entry of a cell (Polonsky & Keer's rule)
+RESTARTS = ("settled", "never", "reentry")
+
+
+def pcg_solve(op: ElasticHalfSpace, g0, target_sum, tol, max_iter, p, restart="settled"):
+    """Preconditioned iterations in place on ``p`` (1D view). Returns (iterations, residual).
+
+    ``restart``: one of :data:`RESTARTS`. After an iteration that changed no cell of the
+    contact set, the displacement follows from the last one and the step's (two convolutions
+    instead of three).
+    """
     n = p.size
     u = np.empty(op.shape)
     r = np.empty(op.shape)
@@ -142,11 +158,12 @@ def pcg_solve(op: ElasticHalfSpace, g0, target_sum, tol, max_iter, p):
     t = np.zeros(n)
     p_old = np.empty(n)
     p2 = p.reshape(op.shape)
-    G_old, conjugate = 1.0, False
+    G_old, conjugate, changed, fresh = 1.0, False, False, False
     stiffness = 1.0 / op.self_coefficient
     residual = math.inf
     for it in range(1, max_iter + 1):
-        op.apply(p2, out=u)
+        if not fresh:
+            op.apply(p2, out=u)
         np.add(u.ravel(), g0, out=g)
         _masked_gradient(p, g, gc)
         op.apply_inverse(gc.reshape(op.shape), out=z)
@@ -158,12 +175,24 @@ def pcg_solve(op: ElasticHalfSpace, g0, target_sum, tol, max_iter, p):
             G_old = _preconditioned_direction(p, gc, z.ravel(), t, G_old, False)
             op.apply(t.reshape(op.shape), out=r)
             tau = _step_length(p, g, t, r.ravel())
-        _update_pressure(p, g, t, tau, p_old, stiffness)
-        conjugate = True
+        entered, left = _update_pressure(p, g, t, tau, p_old, stiffness)
+        settled = changed and not (entered or left)
+        changed = entered or left
+        conjugate = not (settled if restart == "settled" else restart == "reentry" and entered)
+        fresh = not changed  # then p = f (p_old - tau t): K p from K p_old and r = K t
+        if fresh:
+            _shift(u.ravel(), r.ravel(), tau, target_sum / p.sum())
         residual = _rescale(p, p_old, target_sum)
         if residual < tol:
             return it, residual
     return max_iter, residual
+
+
+@numba.njit(**JIT)
+def _shift(u, r, tau, f):
+    """``u = f (u - tau r)`` in place."""
+    for i in range(u.size):
+        u[i] = f * (u[i] - tau * r[i])
 
 
 def coarsen(a: np.ndarray) -> np.ndarray:
