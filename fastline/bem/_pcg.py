@@ -102,25 +102,29 @@ def _step_length(p, g, t, r):
 
 @numba.njit(**JIT)
 def _update_pressure(p, g, t, tau, p_old, stiffness):
-    """Step, project on ``p >= 0``, let penetrating cells re-enter; return (whether any cell
-    re-entered, whether any cell left the contact set).
+    """Step, project on ``p >= 0``, let penetrating cells re-enter; return the numbers of cells
+    that re-entered (penetrating with no pressure after the projection), that entered the
+    contact set and that left it over the step, and of cells in contact after it.
 
     A penetrating cell re-enters with ``-tau g`` (Polonsky & Keer), or with the local closing
     pressure ``-g stiffness`` (``stiffness`` = 1 / self coefficient) when ``tau`` is not
     positive (the gap on the contact set already uniform: a warm start at its optimum).
     """
-    left = False
     for i in range(p.size):
         p_old[i] = p[i]
         if p[i] > 0.0:
             p[i] = max(p[i] - tau * t[i], 0.0)
-            left = left or p[i] == 0.0
-    entered = False
+    reentered = entered = left = contact = 0
     for i in range(p.size):
         if p[i] <= 0.0 and g[i] < 0.0:
             p[i] = -(tau if tau > 0.0 else stiffness) * g[i]
-            entered = True
-    return entered, left
+            reentered += 1
+        if p[i] > 0.0:
+            contact += 1
+            entered += p_old[i] <= 0.0
+        else:
+            left += p_old[i] > 0.0
+    return reentered, entered, left, contact
 
 
 @numba.njit(**JIT)
@@ -137,12 +141,16 @@ def _rescale(p, p_old, target_sum):
     return dev / target_sum
 
 
-#: conjugacy restarts of :func:`pcg_solve`: once the contact set has settled (the default),
-#: never, or at every re-entry of a cell (Polonsky & Keer's rule)
-RESTARTS = ("settled", "never", "reentry")
+#: conjugacy restarts of :func:`pcg_solve`: "adaptive" (the default) once the contact set has
+#: settled and whenever more than ``RESTART_FRACTION`` of the contact cells re-enter at once;
+#: "settled" only the first; "never"; "reentry" at every re-entry (Polonsky & Keer's rule)
+RESTARTS = ("adaptive", "settled", "never", "reentry")
+
+#: re-entering cells, as a fraction of the contact cells, that restart the conjugacy
+RESTART_FRACTION = 0.01
 
 
-def pcg_solve(op: ElasticHalfSpace, g0, target_sum, tol, max_iter, p, restart="settled"):
+def pcg_solve(op: ElasticHalfSpace, g0, target_sum, tol, max_iter, p, restart="adaptive"):
     """Preconditioned iterations in place on ``p`` (1D view). Returns (iterations, residual).
 
     ``restart``: one of :data:`RESTARTS`. After an iteration that changed no cell of the
@@ -175,17 +183,28 @@ def pcg_solve(op: ElasticHalfSpace, g0, target_sum, tol, max_iter, p, restart="s
             G_old = _preconditioned_direction(p, gc, z.ravel(), t, G_old, False)
             op.apply(t.reshape(op.shape), out=r)
             tau = _step_length(p, g, t, r.ravel())
-        entered, left = _update_pressure(p, g, t, tau, p_old, stiffness)
-        settled = changed and not (entered or left)
-        changed = entered or left
-        conjugate = not (settled if restart == "settled" else restart == "reentry" and entered)
-        fresh = not changed  # then p = f (p_old - tau t): K p from K p_old and r = K t
+        counts = _update_pressure(p, g, t, tau, p_old, stiffness)
+        settled = changed and counts[1] + counts[2] == 0
+        changed = counts[1] + counts[2] > 0
+        conjugate = not _restarts(restart, settled, counts)
+        fresh = sum(counts[:3]) == 0  # then p = f (p_old - tau t): K p from K p_old, r = K t
         if fresh:
             _shift(u.ravel(), r.ravel(), tau, target_sum / p.sum())
         residual = _rescale(p, p_old, target_sum)
         if residual < tol:
             return it, residual
     return max_iter, residual
+
+
+def _restarts(rule, settled, counts):
+    """Whether the conjugate directions restart after a step (``rule`` in :data:`RESTARTS`,
+    ``counts`` from :func:`_update_pressure`)."""
+    reentered, entered, _, contact = counts
+    if rule == "adaptive":
+        return settled or entered > RESTART_FRACTION * contact
+    if rule == "settled":
+        return settled
+    return rule == "reentry" and reentered > 0
 
 
 @numba.njit(**JIT)

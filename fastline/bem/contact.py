@@ -258,8 +258,8 @@ def _ccg(op, g0, target_sum, tol, max_iter, p):
             _new_direction(p, g, t, 0.0)
             op.apply(t.reshape(op.shape), out=r)
             tau = _step_length(p, g, t, r.ravel())
-        entered, _ = _update_pressure(p, g, t, tau, p_old, 1.0 / op.self_coefficient)
-        conjugate = not entered
+        reentered = _update_pressure(p, g, t, tau, p_old, 1.0 / op.self_coefficient)[0]
+        conjugate = reentered == 0
         residual = _rescale(p, p_old, target_sum)
         if residual < tol:
             return it, residual
