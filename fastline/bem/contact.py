@@ -169,7 +169,8 @@ class ContactResult:
         complementarity conditions hold: ``min_pressure >= 0`` and ``max_penetration``,
         ``max_contact_gap`` both within ``gap_tolerance``.
     iterations : int
-        Iterations on the full grid (``"pcg"``: three convolutions each, ``"ccg"``: two).
+        Iterations on the full grid (``"pcg"``: three convolutions each, two after an
+        iteration that changed no contact cell; ``"ccg"``: two).
     residual : float
         Last relative pressure change ``sum |dp| / sum p``.
     max_penetration : float
@@ -308,7 +309,7 @@ def solve_contact(
         on the same surface (a warm start); it is rescaled to ``load`` and, when nested,
         starts the coarsest level as its 2 x 2 means. Default: a cold start.
     method : {"pcg", "ccg"}
-        ``"pcg"`` (default): Fourier-preconditioned iterations, three convolutions each;
+        ``"pcg"`` (default): Fourier-preconditioned iterations, two or three convolutions each;
         ``"ccg"``: Polonsky & Keer's plain iterations, two convolutions each.
     nested : bool
         Start a ``"pcg"`` solve from the solution on cells twice as large, recursively
