@@ -14,13 +14,17 @@ nearly independent of the grid:
    J. Comput. Phys. 257, 333 (2014), doi:10.1016/j.jcp.2013.10.005. One convolution more per
    iteration (three in all; two after an iteration that changed no contact cell, whose
    displacement follows from the last one and the step's).
-2. Conjugacy is kept across changes of the contact set, and restarted once, along the
-   preconditioned gradient, at the first iteration after changes that changes nothing (the set
-   has settled; from there on the iterations are conjugate gradients for one linear problem).
-   Polonsky & Keer restart with the steepest descent whenever a cell re-enters; with the
-   preconditioner that costs more iterations than it saves. Full-grid iterations without
-   nested iteration at A/A0 = 0.3, ``python -m bench.bem_scaling --variants``: restart at every
-   re-entry 39 (256^2 cells) and 64 (512^2), never 30 and 47, once settled 27 and 40.
+2. The conjugate directions are restarted along the preconditioned gradient (see
+   :data:`RESTARTS`) once the contact set has settled, i.e. at the first iteration that
+   changes no cell after ones that did (from there on the iterations are conjugate gradients
+   for one linear problem, and directions built on an earlier set only slow them down), and
+   whenever more than ``RESTART_FRACTION`` of the contact cells enter at once. Polonsky &
+   Keer restart whenever a cell re-enters, which with the preconditioner costs more than it
+   saves except from a poor start at small contact fractions. Full-grid iterations at
+   A/A0 = 0.3, 256^2 cells: nested 26 (37 never restarting, 32 only once settled); without
+   nested iteration 29, against 31 never, 42 at every re-entry (512^2: 34, 36, 51); at
+   A/A0 = 0.02 without nesting 28 against 23 at every re-entry
+   (``python -m bench.bem_scaling --variants``).
 
 Nested iteration: a start first solves the same problem on cells twice as large (``g0``
 averaged over 2 x 2 cells, the load unchanged), recursively down to ``NESTED_MIN_CELLS`` cells
@@ -28,16 +32,16 @@ per side, each level to the tolerance ``sqrt(tol)``, and starts from the coarse 
 repeated on the 2 x 2 children; the finest level then only refines the contact edges. A warm
 start (``p_init``) enters at the coarsest level as its 2 x 2 means.
 
-A warm start saves little, and no start could save much: what remains after the first few
-full-grid iterations is an error on the contact edges (about 70 % of it on the cells bordering
-the free set at 256^2 cells, 85 % of its power above a quarter of the Nyquist wavenumber), which
-the iterations reduce by about 0.5 each whatever the start, and a coarse grid cannot represent.
-From the exact solution at a load 0.1 % lower, the full grid still needs 16 iterations to
-``tol = 1e-8`` (a cold nested solve: 25); from one 24 % lower, as many as cold
+A warm start saves little, and no start could save much: each full-grid iteration reduces the
+error by about 0.5 whatever the start, and what remains after the first few is at high
+wavenumbers (about 90 % of its power above a quarter of the Nyquist wavenumber after 10
+iterations), which a coarse grid cannot represent. From the exact solution at a load 0.1 %
+lower, the full grid still needs 16 iterations to ``tol = 1e-8`` at 256^2 cells and A/A0 = 0.2
+(a cold nested solve: 25); from one 24 % lower, as many as cold
 (``python -m bench.bem_scaling --warm-steps``). Entering the full grid with the previous
-solution (without the coarse levels), with it corrected by the change of the coarse solution,
-or extrapolated from the last two solutions (secant) were measured and gained 0-4 % over the
-start from the coarsest level.
+solution (without the coarse levels), correcting it by the change of the coarse solution, or
+extrapolating from the last two solutions (secant) gained at most 3 % over the start from the
+coarsest level, or lost.
 """
 
 from __future__ import annotations
