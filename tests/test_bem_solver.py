@@ -10,6 +10,7 @@ import pytest
 
 import fastline as fl
 from fastline import bem
+from fastline.bem import contact as bem_contact
 from fastline.bem import flow as bem_flow
 from fastline.bem._pcg import RESTARTS, pcg_solve
 
@@ -169,6 +170,23 @@ def test_pcg_equals_polonsky_keer(nominal):
     assert len(pcg.stage_iterations) == 2 and pcg.stage_iterations[-1] == pcg.iterations
     assert ccg.stage_iterations == (ccg.iterations,) and ccg.convolutions == 2 * ccg.iterations + 1
     assert pcg.iterations < ccg.iterations
+
+
+@pytest.mark.parametrize("ratio", [1.2, 0.85, 3.0])
+def test_warm_start_near_load_skips_coarse_levels(ratio):
+    """A start from a load within WARM_FULL_GRID_RATIO of the new one enters the full grid
+    directly (one stage), a farther one the nested levels; both give the cold answer."""
+    grid = bem.Grid(128, 128, DX / 2, DX / 2)
+    g0 = -bem.random_surface(PSD, grid, seed=3).heights
+    load = 2e4 * grid.lx * grid.ly
+    start = bem.solve_contact(g0, grid, E_STAR, load / ratio, tol=TOL).pressure
+    warm = bem.solve_contact(g0, grid, E_STAR, load, tol=TOL, p_init=start)
+    cold = bem.solve_contact(g0, grid, E_STAR, load, tol=TOL)
+    near = max(ratio, 1.0 / ratio) <= bem_contact.WARM_FULL_GRID_RATIO
+    assert len(warm.stage_iterations) == (1 if near else 2) and len(cold.stage_iterations) == 2
+    check_complementarity(warm, g0)
+    peak = cold.pressure.max()
+    np.testing.assert_allclose(warm.pressure, cold.pressure, rtol=0.0, atol=RTOL_WARM * peak)
 
 
 def test_isolated_patch_pcg_equals_polonsky_keer():
