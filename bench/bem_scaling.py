@@ -158,6 +158,9 @@ def sequence(n, pressures, steps=15):
             f"full-grid iterations {[r.iterations for r in rs]}"
         )
     print(f"- last warm against cold pressure: max |dp| / max p = {worst:.1e}")
+    exact = bem.solve_contact(g0, grid, E_STAR, loads[-1], tol=1e-13).pressure
+    off = [np.abs(q - exact).max() / exact.max() for q in (p, cold.pressure)]
+    print(f"- against a solve to tol 1e-13: warm {off[0]:.1e}, cold {off[1]:.1e} of max p")
 
 
 def warm_steps(n=256, ratios=(1.001, 1.01, 1.05, 1.1, 1.24, 1.5)):
