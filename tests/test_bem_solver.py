@@ -174,15 +174,15 @@ def test_pcg_equals_polonsky_keer(nominal):
 
 @pytest.mark.parametrize("ratio", [1.2, 0.85, 3.0])
 def test_warm_start_near_load_skips_coarse_levels(ratio):
-    """A start from a load within WARM_FULL_GRID_RATIO of the new one enters the full grid
-    directly (one stage), a farther one the nested levels; both give the cold answer."""
+    """A start from a load within 1 + WARM_FULL_GRID_CELLS / n of the new one enters the full
+    grid directly (one stage), a farther one the nested levels; both give the cold answer."""
     grid = bem.Grid(128, 128, DX / 2, DX / 2)
     g0 = -bem.random_surface(PSD, grid, seed=3).heights
     load = 2e4 * grid.lx * grid.ly
     start = bem.solve_contact(g0, grid, E_STAR, load / ratio, tol=TOL).pressure
     warm = bem.solve_contact(g0, grid, E_STAR, load, tol=TOL, p_init=start)
     cold = bem.solve_contact(g0, grid, E_STAR, load, tol=TOL)
-    near = max(ratio, 1.0 / ratio) <= bem_contact.WARM_FULL_GRID_RATIO
+    near = max(ratio, 1.0 / ratio) <= 1.0 + bem_contact.WARM_FULL_GRID_CELLS / grid.nx
     assert len(warm.stage_iterations) == (1 if near else 2) and len(cold.stage_iterations) == 2
     check_complementarity(warm, g0)
     peak = cold.pressure.max()

@@ -30,8 +30,8 @@ Nested iteration: a start first solves the same problem on cells twice as large 
 averaged over 2 x 2 cells, the load unchanged), recursively down to ``NESTED_MIN_CELLS`` cells
 per side, each level to the tolerance ``sqrt(tol)``, and starts from the coarse pressure
 repeated on the 2 x 2 children; the finest level then only refines the contact edges. A warm
-start (``p_init``) enters at the coarsest level as its 2 x 2 means, or, from a load within 25 %
-of the new one, the full grid directly (``fastline.bem.contact.WARM_FULL_GRID_RATIO``).
+start (``p_init``) enters at the coarsest level as its 2 x 2 means, or, from a load close to
+the new one, the full grid directly (``fastline.bem.contact.WARM_FULL_GRID_CELLS``).
 
 A warm start saves little, and no start could save much: each full-grid iteration reduces the
 error by about 0.5 whatever the start, and what remains after the first few is at high
@@ -39,11 +39,11 @@ wavenumbers (about 90 % of its power above a quarter of the Nyquist wavenumber a
 iterations), which a coarse grid cannot represent. From the exact solution at a load 0.1 %
 lower, the full grid still needs 16 iterations to ``tol = 1e-8`` at 256^2 cells and A/A0 = 0.2
 (a cold nested solve: 25); from one 24 % lower, as many as cold
-(``python -m bench.bem_scaling --warm-steps``). Entering the full grid directly pays for
-steps of up to about 30 % in load (fewer full-grid-equivalent iterations over a sequence of
-steps of 24 %: 11 % at 256^2 cells, 3 % at 512^2; of 5.5 %: 22 % and 17 %); correcting the
-start by the change of the coarse solution, or extrapolating from the last two solutions
-(secant), gained at most 3 %.
+(``python -m bench.bem_scaling --warm-steps``). Entering the full grid directly pays for small
+steps, less so on finer grids (full-grid-equivalent iterations over a sequence of steps of
+24 % in load: -11 % at 256^2 cells, -3 % at 512^2, +7 % at 1024^2; of 5.5 %: -22 % and -17 %
+at 256^2 and 512^2); correcting the start by the change of the coarse solution, or
+extrapolating from the last two solutions (secant), gained at most 3-7 %.
 """
 
 from __future__ import annotations

@@ -24,7 +24,8 @@ result is reported converged only if, in addition, ``p >= 0`` and the penetratio
 on the contact cells are within ``sqrt(tol)`` of the undeformed gap's peak-to-peak.
 
 A warm start (``p_init``, e.g. the solution at another load) is rescaled to the load first;
-at a load within ``WARM_FULL_GRID_RATIO`` of its own it starts the full grid directly. A
+at a load within a factor ``1 + WARM_FULL_GRID_CELLS / n`` of its own (``n`` cells on the
+shorter side) it starts the full grid directly. A
 start at the optimum of its own contact set makes the conjugate-gradient step ``0/0``; then
 penetrating cells re-enter with their local closing pressure ``-g / K_00`` instead of
 ``-tau g``, and a conjugate direction that is not a descent direction is replaced by the
@@ -62,9 +63,10 @@ __all__ = ["ContactResult", "solve_contact", "cylinder_gap", "sphere_gap", "imag
 #: Default stopping tolerance on the relative pressure change per iteration (Polonsky & Keer).
 DEFAULT_TOL = 1e-9
 
-#: A warm start whose load is within this factor of the new load starts the full grid directly
-#: (no nested iteration): fewer iterations up to about 1.3 (``docs/performance.md``).
-WARM_FULL_GRID_RATIO = 1.25
+#: A warm start whose load is within a factor ``1 + WARM_FULL_GRID_CELLS / n`` of the new load
+#: (``n`` cells on the shorter side) starts the full grid directly, without nested iteration:
+#: 1.25 at n = 256, 1.125 at 512 (the measured break-even, ``docs/performance.md``).
+WARM_FULL_GRID_CELLS = 64
 
 
 def cylinder_gap(grid: Grid, radius: float, image_curvature: float = 0.0) -> np.ndarray:
@@ -312,9 +314,9 @@ def solve_contact(
     p_init : array_like, optional
         Starting pressure [Pa], >= 0 with a positive sum, e.g. the solution at another load
         on the same surface (a warm start); it is rescaled to ``load``. If its own load is
-        within ``WARM_FULL_GRID_RATIO`` (1.25) of ``load`` either way, it starts the full grid
-        directly; otherwise, when nested, the coarsest level as its 2 x 2 means. Default: a
-        cold start.
+        within a factor ``1 + 64 / n`` of ``load`` either way (``n`` cells on the shorter
+        side: 1.25 at 256), it starts the full grid directly; otherwise, when nested, the
+        coarsest level as its 2 x 2 means. Default: a cold start.
     method : {"pcg", "ccg"}
         ``"pcg"`` (default): Fourier-preconditioned iterations, two or three convolutions each;
         ``"ccg"``: Polonsky & Keer's plain iterations, two convolutions each.
@@ -343,7 +345,8 @@ def _solve(op, g0, grid, load, settings, p_init):
     stages: list[int] = []
     coarse_convolutions = 0
     p = None if p_init is None else _start_pressure(p_init, grid, load)
-    if p is not None and _load_ratio(p_init, grid, load) <= WARM_FULL_GRID_RATIO:
+    near = 1.0 + WARM_FULL_GRID_CELLS / min(grid.nx, grid.ny)
+    if p is not None and _load_ratio(p_init, grid, load) <= near:
         levels = 0  # a start at a nearby load: the full grid from it directly
     if levels > 0:
         p, stages, coarse_convolutions = nested_start(op, g0, load, tol, max_iter, levels, p)
