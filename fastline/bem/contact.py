@@ -25,11 +25,11 @@ on the contact cells are within ``sqrt(tol)`` of the undeformed gap's peak-to-pe
 
 A warm start (``p_init``, e.g. the solution at another load) is rescaled to the load first;
 at a load within a factor ``1 + WARM_FULL_GRID_CELLS / n`` of its own (``n`` cells on the
-shorter side) it starts the full grid directly. A
-start at the optimum of its own contact set makes the conjugate-gradient step ``0/0``; then
-penetrating cells re-enter with their local closing pressure ``-g / K_00`` instead of
-``-tau g``, and a conjugate direction that is not a descent direction is replaced by the
-gradient, so no cell can be left with a negative pressure.
+shorter side) it starts the full grid directly. A start at the optimum of its own contact set
+makes the conjugate-gradient step ``0/0``; then penetrating cells re-enter with their local
+closing pressure ``-g / K_00`` instead of ``-tau g``, and a conjugate direction that is not a
+descent direction is replaced by the gradient, so no cell can be left with a negative
+pressure.
 
 Geometry helpers return ``g0`` for the three scenes of :mod:`fastline.bem`: a cylinder of axis
 y (``x^2 / 2R``), a sphere (``r^2 / 2R``) and a nominally flat indenter (zero), each centred on
