@@ -312,11 +312,9 @@ def solve_contact(
     max_iter : int
         Iteration cap per grid level, >= 1.
     p_init : array_like, optional
-        Starting pressure [Pa], >= 0 with a positive sum, e.g. the solution at another load
-        on the same surface (a warm start); it is rescaled to ``load``. If its own load is
-        within a factor ``1 + 64 / n`` of ``load`` either way (``n`` cells on the shorter
-        side: 1.25 at 256), it starts the full grid directly; otherwise, when nested, the
-        coarsest level as its 2 x 2 means. Default: a cold start.
+        Starting pressure [Pa], >= 0 with a positive sum (a warm start, e.g. the solution at
+        another load), rescaled to ``load``. It starts the full grid if its load is within a
+        factor ``1 + 64/n`` (``n`` cells per shorter side), else (nested) the coarsest level.
     method : {"pcg", "ccg"}
         ``"pcg"`` (default): Fourier-preconditioned iterations, two or three convolutions each;
         ``"ccg"``: Polonsky & Keer's plain iterations, two convolutions each.
