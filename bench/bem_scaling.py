@@ -8,7 +8,9 @@ N = 256 (found once, by secant steps); the same pressures are used on every grid
 Times are CPU seconds of the process (``time.process_time``), best of ``--repeat``.
 
 Options: ``--sizes 256 512 1024``, ``--ccg`` (also Polonsky & Keer's plain iterations),
-``--variants`` (the preconditioner's restart choice at 256 and 512), ``--sequence N``,
+``--variants`` (the preconditioner's restart choice at 256 and 512), ``--sequence N`` (15
+warm-started pressures against cold solves), ``--warm-steps`` (a warm start's iterations
+against the load step),
 ``--flow``, ``--save FILE`` (the problem as .npz for an external solver).
 """
 
@@ -96,6 +98,32 @@ def scaling(sizes, pressures, repeat, ccg):
             print(row, flush=True)
 
 
+def variants(pressures):
+    """Full-grid iterations of the preconditioned solver without nested iteration, by its rule
+    for restarting the conjugate directions (``fastline.bem._pcg.RESTARTS``)."""
+    from fastline.bem._pcg import RESTARTS, pcg_solve
+
+    print("\n## Conjugacy restarts (no nested iteration, uniform start, tol 1e-8)\n")
+    print("| N | A/A0 | " + " | ".join(RESTARTS) + " |")
+    print("|" + "---|" * (2 + len(RESTARTS)))
+    for n in (256, 512):
+        grid, g0 = problem(n)
+        op = bem.ElasticHalfSpace(n, n, grid.dx, grid.dy, E_STAR)
+        for P in (pressures[0], pressures[-1]):
+            its = []
+            for rule in RESTARTS:
+                p = np.full(n * n, P)
+                its.append(pcg_solve(op, g0.ravel(), P * n * n, TOL, 5000, p, restart=rule)[0])
+            frac = np.mean(p > 0)
+            print(f"| {n} | {frac:.3f} | " + " | ".join(map(str, its)) + " |", flush=True)
+
+
+def equivalent(res) -> float:
+    """Full-grid-equivalent iterations: a level of ``N/2^k`` cells per side weighs ``4^-k``."""
+    k = len(res.stage_iterations) - 1
+    return sum(it / 4.0 ** (k - j) for j, it in enumerate(res.stage_iterations))
+
+
 def sequence(n, pressures, steps=15):
     """15 increasing pressures from the lowest to the highest fraction, warm-started."""
     grid, g0 = problem(n)
@@ -104,26 +132,67 @@ def sequence(n, pressures, steps=15):
     bem.solve_contact(g0, grid, E_STAR, loads[0], tol=1e-4)
     t_cold, cold = timed(1, g0, grid, E_STAR, loads[-1], tol=TOL)
     t0 = time.process_time()
-    p, its, worst = None, [], 0.0
+    p, warm = None, []
     for W in loads:
         r = bem.solve_contact(g0, grid, E_STAR, W, tol=TOL, p_init=p)
         assert r.converged, r.message
         p = r.pressure
-        its.append(r.iterations)
+        warm.append(r)
     t_seq = time.process_time() - t0
     worst = np.abs(p - cold.pressure).max() / cold.pressure.max()
     t1 = time.process_time()
-    for W in loads:
-        bem.solve_contact(g0, grid, E_STAR, W, tol=TOL)
+    colds = [bem.solve_contact(g0, grid, E_STAR, W, tol=TOL) for W in loads]
     t_cold_seq = time.process_time() - t1
-    top = cold.contact_fraction
+    top, eq = cold.contact_fraction, equivalent(cold)
     print(f"\n## Warm-started sequence, N = {n}, {steps} pressures, A/A0 up to {top:.3f}\n")
-    print(f"- one cold solve at the highest pressure: {t_cold:.2f} s ({cold.stage_iterations})")
-    print(f"- the warm sequence: {t_seq:.2f} s = {t_seq / t_cold:.1f}x that; iterations {its}")
     print(
-        f"- the same {steps} pressures solved cold: {t_cold_seq:.2f} s = {t_cold_seq / t_cold:.1f}x"
+        f"- one cold solve at the highest pressure: {t_cold:.2f} s, iterations per level "
+        f"{'/'.join(map(str, cold.stage_iterations))} ({eq:.1f} full-grid equivalent, "
+        f"{cold.convolutions} convolutions on all levels)"
     )
+    for name, rs, t in (("the warm sequence", warm, t_seq), ("the same, cold", colds, t_cold_seq)):
+        e, c = sum(map(equivalent, rs)), sum(r.convolutions for r in rs)
+        print(
+            f"- {name}: {t:.2f} s = {t / t_cold:.1f}x; {e:.0f} full-grid equivalent "
+            f"iterations = {e / eq:.1f}x ({c} convolutions on all levels); "
+            f"full-grid iterations {[r.iterations for r in rs]}"
+        )
     print(f"- last warm against cold pressure: max |dp| / max p = {worst:.1e}")
+    exact = bem.solve_contact(g0, grid, E_STAR, loads[-1], tol=1e-13).pressure
+    off = [np.abs(q - exact).max() / exact.max() for q in (p, cold.pressure)]
+    print(f"- against a solve to tol 1e-13: warm {off[0]:.1e}, cold {off[1]:.1e} of max p")
+
+
+def warm_steps(n=256, ratios=(1.001, 1.01, 1.05, 1.1, 1.24, 1.5)):
+    """Full-grid iterations of a solve at A/A0 ~ 0.2 started from the exact solution at a
+    load ``ratio`` times lower (rescaled; no nested iteration), against the cold solve; and
+    where the error is after 10 iterations (its share of power above a quarter of Nyquist)."""
+    grid, g0 = problem(n)
+    W = pressures_for([0.2], n)[0] * grid.lx * grid.ly
+    cold = bem.solve_contact(g0, grid, E_STAR, W, tol=TOL)
+    exact = bem.solve_contact(g0, grid, E_STAR, W, tol=1e-12).pressure
+    q = np.hypot(*np.meshgrid(np.fft.fftfreq(n), np.fft.fftfreq(n), indexing="ij"))
+    print(f"\n## Warm start against load step, N = {n}, A/A0 {cold.contact_fraction:.3f}\n")
+    print(f"cold (nested): iterations per level {cold.stage_iterations}, {equivalent(cold):.1f}")
+    print(
+        "\n| load ratio | cells changing contact | start's error (L1) | full-grid iterations"
+        " | error after 10 (L1) | its power above Nyquist/4 |"
+    )
+    print("|---|---|---|---|---|---|")
+    for ratio in ratios:
+        start = bem.solve_contact(g0, grid, E_STAR, W / ratio, tol=1e-12).pressure
+        r = bem.solve_contact(g0, grid, E_STAR, W, tol=TOL, p_init=start, nested=False)
+        ten = bem.solve_contact(g0, grid, E_STAR, W, p_init=start, nested=False, max_iter=10)
+        e = ten.pressure - exact
+        power = np.abs(np.fft.fft2(e)) ** 2
+        high = power[q > 0.125].sum() / power.sum()
+        changed = int(np.sum((start > 0) != (exact > 0)))
+        err = np.abs(start * ratio - exact).sum() / exact.sum()
+        print(
+            f"| {ratio} | {changed} | {err:.1e} | {r.iterations} | "
+            f"{np.abs(e).sum() / exact.sum():.1e} | {high:.2f} |",
+            flush=True,
+        )
 
 
 def main(argv=None) -> int:
@@ -131,6 +200,8 @@ def main(argv=None) -> int:
     ap.add_argument("--sizes", type=int, nargs="+", default=[256, 512, 1024])
     ap.add_argument("--repeat", type=int, default=1)
     ap.add_argument("--ccg", action="store_true")
+    ap.add_argument("--variants", action="store_true")
+    ap.add_argument("--warm-steps", action="store_true")
     ap.add_argument("--sequence", type=int, default=0, metavar="N")
     ap.add_argument("--flow", type=int, nargs="*", default=None, metavar="N")
     ap.add_argument("--save", type=int, nargs=2, default=None, metavar=("N", "FRACTION_INDEX"))
@@ -146,6 +217,10 @@ def main(argv=None) -> int:
         return 0
     if not args.skip_scaling:
         scaling(args.sizes, pressures, args.repeat, args.ccg)
+    if args.variants:
+        variants(pressures)
+    if args.warm_steps:
+        warm_steps()
     if args.sequence:
         sequence(args.sequence, pressures)
     if args.flow is not None:

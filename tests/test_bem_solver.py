@@ -10,7 +10,9 @@ import pytest
 
 import fastline as fl
 from fastline import bem
+from fastline.bem import contact as bem_contact
 from fastline.bem import flow as bem_flow
+from fastline.bem._pcg import RESTARTS, pcg_solve
 
 TOL = 1e-10  # solver tolerance (relative pressure change per iteration)
 RTOL_WARM = 1e-6  # warm against cold pressure, relative to the peak pressure
@@ -91,6 +93,53 @@ def test_warm_sequence_stays_correct(flat):
         p = warm.pressure
 
 
+def test_warm_sequence_decreasing_and_jumping(flat):
+    """Loads falling step by step, then jumping by up to 300x either way; each warm-started
+    solve must equal the cold one (a wrong answer flagged converged fails here)."""
+    grid, g0, area = flat
+    p = None
+    for nominal in [3e5, 2e5, 1e5, 5e4, 2e4, 1e3, 3e5, 2e3, 1e5]:
+        warm = bem.solve_contact(g0, grid, E_STAR, nominal * area, tol=TOL, p_init=p)
+        cold = bem.solve_contact(g0, grid, E_STAR, nominal * area, tol=TOL)
+        check_same(warm, cold, g0)
+        p = warm.pressure
+
+
+@pytest.mark.parametrize("start", ["one-cell", "noise", "outside-contact"])
+@pytest.mark.parametrize("nested", [True, False], ids=["nested", "flat"])
+def test_warm_start_from_a_poor_start(flat, start, nested):
+    """Starts far from any solution: the whole load on one cell, positive noise, and pressure
+    only where the answer has none (the complement of the cold contact set)."""
+    grid, g0, area = flat
+    load = 2e4 * area
+    cold = bem.solve_contact(g0, grid, E_STAR, load, tol=TOL)
+    p = np.zeros(grid.shape)
+    if start == "one-cell":
+        p[3, 5] = 1.0
+    elif start == "noise":
+        p = np.random.default_rng(1).random(grid.shape)
+    else:
+        p[cold.pressure == 0.0] = 1.0
+    warm = bem.solve_contact(g0, grid, E_STAR, load, tol=TOL, p_init=p, nested=nested)
+    check_same(warm, cold, g0)
+
+
+@pytest.mark.parametrize("restart", RESTARTS)
+def test_restart_rules_give_one_answer(restart):
+    """Each rule for restarting the conjugate directions (and the displacement carried over
+    between iterations that change no contact cell) converges to Polonsky & Keer's pressure."""
+    grid = bem.Grid(2 * N, 2 * N, DX / 2, DX / 2)
+    g0 = -bem.random_surface(PSD, grid, seed=5).heights
+    op = bem.ElasticHalfSpace(grid.nx, grid.ny, grid.dx, grid.dy, E_STAR)
+    nominal = 3e4
+    p = np.full(grid.nx * grid.ny, nominal)
+    its, residual = pcg_solve(op, g0.ravel(), nominal * p.size, TOL, 5000, p, restart=restart)
+    ccg = bem.solve_contact(g0, grid, E_STAR, nominal * grid.lx * grid.ly, tol=TOL, method="ccg")
+    assert residual < TOL and its < 5000
+    atol = RTOL_WARM * ccg.pressure.max()
+    np.testing.assert_allclose(p.reshape(grid.shape), ccg.pressure, rtol=0.0, atol=atol)
+
+
 def test_diagnostics_report_complementarity(flat):
     grid, g0, area = flat
     res = bem.solve_contact(g0, grid, E_STAR, 1e4 * area, tol=TOL)
@@ -121,6 +170,23 @@ def test_pcg_equals_polonsky_keer(nominal):
     assert len(pcg.stage_iterations) == 2 and pcg.stage_iterations[-1] == pcg.iterations
     assert ccg.stage_iterations == (ccg.iterations,) and ccg.convolutions == 2 * ccg.iterations + 1
     assert pcg.iterations < ccg.iterations
+
+
+@pytest.mark.parametrize("ratio", [1.2, 0.85, 3.0])
+def test_warm_start_near_load_skips_coarse_levels(ratio):
+    """A start from a load within 1 + WARM_FULL_GRID_CELLS / n of the new one enters the full
+    grid directly (one stage), a farther one the nested levels; both give the cold answer."""
+    grid = bem.Grid(128, 128, DX / 2, DX / 2)
+    g0 = -bem.random_surface(PSD, grid, seed=3).heights
+    load = 2e4 * grid.lx * grid.ly
+    start = bem.solve_contact(g0, grid, E_STAR, load / ratio, tol=TOL).pressure
+    warm = bem.solve_contact(g0, grid, E_STAR, load, tol=TOL, p_init=start)
+    cold = bem.solve_contact(g0, grid, E_STAR, load, tol=TOL)
+    near = max(ratio, 1.0 / ratio) <= 1.0 + bem_contact.WARM_FULL_GRID_CELLS / grid.nx
+    assert len(warm.stage_iterations) == (1 if near else 2) and len(cold.stage_iterations) == 2
+    check_complementarity(warm, g0)
+    peak = cold.pressure.max()
+    np.testing.assert_allclose(warm.pressure, cold.pressure, rtol=0.0, atol=RTOL_WARM * peak)
 
 
 def test_isolated_patch_pcg_equals_polonsky_keer():

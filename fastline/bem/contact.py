@@ -23,11 +23,13 @@ test is theirs: the relative pressure change ``sum |p - p_old| / sum p`` below `
 result is reported converged only if, in addition, ``p >= 0`` and the penetration and the gap
 on the contact cells are within ``sqrt(tol)`` of the undeformed gap's peak-to-peak.
 
-A warm start (``p_init``, e.g. the solution at another load) is rescaled to the load first. A
-start at the optimum of its own contact set makes the conjugate-gradient step ``0/0``; then
-penetrating cells re-enter with their local closing pressure ``-g / K_00`` instead of
-``-tau g``, and a conjugate direction that is not a descent direction is replaced by the
-gradient, so no cell can be left with a negative pressure.
+A warm start (``p_init``, e.g. the solution at another load) is rescaled to the load first;
+at a load within a factor ``1 + WARM_FULL_GRID_CELLS / n`` of its own (``n`` cells on the
+shorter side) it starts the full grid directly. A start at the optimum of its own contact set
+makes the conjugate-gradient step ``0/0``; then penetrating cells re-enter with their local
+closing pressure ``-g / K_00`` instead of ``-tau g``, and a conjugate direction that is not a
+descent direction is replaced by the gradient, so no cell can be left with a negative
+pressure.
 
 Geometry helpers return ``g0`` for the three scenes of :mod:`fastline.bem`: a cylinder of axis
 y (``x^2 / 2R``), a sphere (``r^2 / 2R``) and a nominally flat indenter (zero), each centred on
@@ -60,6 +62,11 @@ __all__ = ["ContactResult", "solve_contact", "cylinder_gap", "sphere_gap", "imag
 
 #: Default stopping tolerance on the relative pressure change per iteration (Polonsky & Keer).
 DEFAULT_TOL = 1e-9
+
+#: A warm start whose load is within a factor ``1 + WARM_FULL_GRID_CELLS / n`` of the new load
+#: (``n`` cells on the shorter side) starts the full grid directly, without nested iteration:
+#: 1.25 at n = 256, 1.125 at 512 (the measured break-even, ``docs/performance.md``).
+WARM_FULL_GRID_CELLS = 64
 
 
 def cylinder_gap(grid: Grid, radius: float, image_curvature: float = 0.0) -> np.ndarray:
@@ -169,7 +176,8 @@ class ContactResult:
         complementarity conditions hold: ``min_pressure >= 0`` and ``max_penetration``,
         ``max_contact_gap`` both within ``gap_tolerance``.
     iterations : int
-        Iterations on the full grid (``"pcg"``: three convolutions each, ``"ccg"``: two).
+        Iterations on the full grid (``"pcg"``: three convolutions each, two after an
+        iteration that changed no contact cell; ``"ccg"``: two).
     residual : float
         Last relative pressure change ``sum |dp| / sum p``.
     max_penetration : float
@@ -258,8 +266,8 @@ def _ccg(op, g0, target_sum, tol, max_iter, p):
             _new_direction(p, g, t, 0.0)
             op.apply(t.reshape(op.shape), out=r)
             tau = _step_length(p, g, t, r.ravel())
-        entered = _update_pressure(p, g, t, tau, p_old, 1.0 / op.self_coefficient)
-        conjugate = not entered
+        reentered = _update_pressure(p, g, t, tau, p_old, 1.0 / op.self_coefficient)[0]
+        conjugate = reentered == 0
         residual = _rescale(p, p_old, target_sum)
         if residual < tol:
             return it, residual
@@ -304,11 +312,11 @@ def solve_contact(
     max_iter : int
         Iteration cap per grid level, >= 1.
     p_init : array_like, optional
-        Starting pressure [Pa], >= 0 with a positive sum, e.g. the solution at another load
-        on the same surface (a warm start); it is rescaled to ``load`` and, when nested,
-        starts the coarsest level as its 2 x 2 means. Default: a cold start.
+        Starting pressure [Pa], >= 0 with a positive sum (a warm start, e.g. the solution at
+        another load), rescaled to ``load``. It starts the full grid if its load is within a
+        factor ``1 + 64/n`` (``n`` cells per shorter side), else (nested) the coarsest level.
     method : {"pcg", "ccg"}
-        ``"pcg"`` (default): Fourier-preconditioned iterations, three convolutions each;
+        ``"pcg"`` (default): Fourier-preconditioned iterations, two or three convolutions each;
         ``"ccg"``: Polonsky & Keer's plain iterations, two convolutions each.
     nested : bool
         Start a ``"pcg"`` solve from the solution on cells twice as large, recursively
@@ -335,6 +343,9 @@ def _solve(op, g0, grid, load, settings, p_init):
     stages: list[int] = []
     coarse_convolutions = 0
     p = None if p_init is None else _start_pressure(p_init, grid, load)
+    near = 1.0 + WARM_FULL_GRID_CELLS / min(grid.nx, grid.ny)
+    if p is not None and _load_ratio(p_init, grid, load) <= near:
+        levels = 0  # a start at a nearby load: the full grid from it directly
     if levels > 0:
         p, stages, coarse_convolutions = nested_start(op, g0, load, tol, max_iter, levels, p)
     elif p is None:
@@ -360,6 +371,12 @@ def _checked(g0, grid, E_star, load, tol, max_iter):
     if tol >= 0.1:
         raise ValueError(f"tol must lie in (0, 0.1), got {tol!r}")
     return g0, E_star, load, tol, integer("max_iter", max_iter, *MAX_ITER_RANGE)
+
+
+def _load_ratio(p_init, grid, load) -> float:
+    """``max(W / W0, W0 / W)`` of the load ``W`` and the load ``W0`` of a checked ``p_init``."""
+    w0 = float(np.sum(p_init)) * grid.cell_area
+    return max(load / w0, w0 / load)
 
 
 def _start_pressure(p_init, grid, load) -> np.ndarray:
