@@ -101,6 +101,32 @@ def test_calibrated_law_reproduces_a_tabulated_law_fed_its_own_points(theory):
     )
 
 
+def test_joins_continue_the_fit_with_its_own_end_slopes(theory):
+    """A known law of another shape than Persson's, ``u = A u_P(p)^m`` (m = 1/2: the flatter
+    u(p) of a boundary-element ensemble at low pressure), fed its points on 1e2-1e5 Pa: the
+    calibrated law reproduces it outside the range too, and a cylinder whose flanks lie below
+    the range comes out as with the known law tabulated densely (the value-only join of
+    Persson's u_P, slope 1/m times too steep below the range, widened it)."""
+    A, m = 0.8e-3, 0.5
+    p_all = np.geomspace(1e-3, 1e7, 81)
+    known = fl.TabulatedLaw(A * theory.separation(p_all) ** m, p_all)
+    p = np.geomspace(1e2, 1e5, 10)
+    u = A * theory.separation(p) ** m
+    a = theory.contact_area(p)
+    g = theory.critical_gap(p).u_c
+    pts = CalibrationPoints(p, u, 1e-4 * u, a, 0 * p, g, 0.02 * g, g, 0.02 * g)
+    law = fl.CalibratedLaw(pts, PSD, E_STAR)
+    v = np.linspace(math.log(1e-2), math.log(1e6), 601)
+    np.testing.assert_allclose(
+        law.separation_and_slope(v)[0], known.separation_and_slope(v)[0], rtol=INTERPOLATION
+    )
+    f = 0.5  # N/m: Hertz p0 7 kPa, the flanks of the profile below 1e2 Pa
+    a, b = (fl.solve_line_contact(PSD, E_STAR, 0.0328, f, model=x, n=256) for x in (law, known))
+    assert np.any(a.pressure[a.pressure > 0.0] < p[0])
+    assert a.s == pytest.approx(b.s, rel=INTERPOLATION)
+    assert a.p0 == pytest.approx(b.p0, rel=INTERPOLATION)
+
+
 def test_rise_beyond_the_errors_is_refused_and_within_them_pooled(theory):
     p = np.geomspace(1e3, 1e5, 5)
     pts = _points(theory, p)

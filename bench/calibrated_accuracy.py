@@ -1,0 +1,189 @@
+"""Where a calibrated law gains or loses accuracy on the narrow-band cylinder scene of
+docs/validation.md ("A calibrated law on the paper-like scene"): the cylinder BEM computed once
+and cached, then any number of laws compared against it at theory speed.
+
+    python -m bench.calibrated_accuracy reference --cache DIR --alphas 1 3 10 --realizations 40
+    python -m bench.calibrated_accuracy flat --out flat.npz [--periods 4] [--realizations 8] \
+        [--p-min 2 --p-max 1e5 --pressures 24] [--seed 0]
+    python -m bench.calibrated_accuracy compare --cache DIR --law law.npz [law2.npz ...] \
+        [--flat flat.npz ...] [--alphas 1 3 10]
+
+``reference``: the cylinder BEM ensemble (:func:`fastline.bem.run_ensemble`, the page's grid:
+2 longest wavelengths along the axis, 4 cells per 2 pi/q1, seed 0) at each alpha, pickled to
+``DIR/bem_alpha{alpha}_n{realizations}.pkl`` (an existing file is kept). ``flat``: flat-contact
+BEM u(p) of ``--realizations`` surfaces carried from pressure to pressure as
+:func:`fastline.calibrate` carries them (warm starts, the same seeds), contact only (no flow):
+per surface the mean gap, the contact fraction and the mean gap over the open cells. ``compare``:
+for each law file its :class:`fastline.CalibratedLaw` and the :class:`fastline.TabulatedLaw` of
+its own points, for each flat file the TabulatedLaw of its mean u(p) and the jackknife error of
+p0 and s over its surfaces; Persson's law and the Greenwood-Williamson law beside; p0, s and
+w/s against the largest cached reference of each alpha (relative and in BEM standard errors).
+"""
+
+from __future__ import annotations
+
+import argparse
+import concurrent.futures as cf
+import glob
+import math
+import os
+import pickle
+import time
+
+import numpy as np
+
+import fastline as fl
+from bench.calibrated_validation import E_STAR, PSD, RADIUS, load_of
+from fastline import bem
+from fastline.bem.compare import compare_line_contact
+from fastline.theory.asperity import GreenwoodWilliamsonLaw
+
+
+def cmd_reference(args) -> None:
+    os.makedirs(args.cache, exist_ok=True)
+    for a in args.alphas:
+        out = os.path.join(args.cache, f"bem_alpha{a:g}_n{args.realizations}.pkl")
+        if os.path.exists(out):
+            continue
+        scene = bem.line_contact_scene(PSD, E_STAR, RADIUS, load_of(a), periods=2.0)
+        t0 = time.perf_counter()
+        ens = bem.run_ensemble(scene, args.realizations, 0, workers=args.workers, progress=False)
+        with open(out, "wb") as f:
+            pickle.dump(ens, f)
+        print(f"alpha {a:g}: {args.realizations} surfaces, {time.perf_counter() - t0:.0f} s, "
+              f"grid {scene.grid.nx} x {scene.grid.ny}, {ens.iterations.sum()} CCG iterations; "
+              f"p0/p0_H {ens.p0_ratio:.4f} +- {ens.p0_ratio_error:.4f}, s {ens.s * 1e6:.2f} +- "
+              f"{ens.s_error * 1e6:.2f} um, w/s {ens.w_over_s:.3f} +- {ens.w_over_s_error:.3f}; "
+              f"load average {os.getloadavg()}", flush=True)  # fmt: skip
+
+
+def _flat_surface(job) -> np.ndarray:
+    """(mean gap [m], contact fraction, mean open gap [m], CCG iterations) per pressure."""
+    seed, periods, pressures = job
+    grid = bem.spectral_grid(PSD, points_per_wavelength=4.0, periods=periods)
+    g0 = -bem.random_surface(PSD, grid, seed).heights
+    out = np.zeros((4, pressures.size))
+    warm = None
+    for i, p in enumerate(pressures):
+        r = bem.solve_contact(g0, grid, E_STAR, float(p) * grid.lx * grid.ly, p_init=warm)
+        if i + 1 < pressures.size:
+            warm = np.maximum(r.pressure, 0.0) * (pressures[i + 1] / p)
+        out[:, i] = (r.gap.mean(), r.contact_fraction, r.gap[r.gap > 0.0].mean(), r.iterations)
+    return out
+
+
+def cmd_flat(args) -> None:
+    p = np.geomspace(args.p_min, args.p_max, args.pressures)
+    seeds = np.random.SeedSequence(args.seed).spawn(args.realizations)
+    t0 = time.perf_counter()
+    with cf.ProcessPoolExecutor(args.workers) as ex:
+        runs = np.array(list(ex.map(_flat_surface, [(s, args.periods, p) for s in seeds])))
+    np.savez(args.out, p=p, u=runs[:, 0], area=runs[:, 1], u_open=runs[:, 2], periods=args.periods)
+    print(f"{args.out}: {args.realizations} surfaces x {p.size} pressures, periods "
+          f"{args.periods:g}, {time.perf_counter() - t0:.0f} s, {runs[:, 3].sum():.0f} CCG "
+          f"iterations, load average {os.getloadavg()}")  # fmt: skip
+    u, e = runs[:, 0].mean(0), runs[:, 0].std(0, ddof=1) / math.sqrt(len(runs))
+    for k in range(p.size):
+        print(f"  p {p[k]:9.4g} Pa: u {u[k] * 1e6:.4f} +- {e[k] * 1e6:.4f} um, "
+              f"A/A0 {runs[:, 1, k].mean():.3e}, open-cell mean gap / u - 1 "
+              f"{runs[:, 2, k].mean() / u[k] - 1:+.2e}")  # fmt: skip
+
+
+def _references(cache) -> dict:
+    """alpha -> the cached ensemble with the most realisations."""
+    out: dict = {}
+    for path in glob.glob(os.path.join(cache, "bem_alpha*_n*.pkl")):
+        with open(path, "rb") as f:
+            e = pickle.load(f)
+        a = round(PSD.h_rms / e.delta, 6)
+        if a not in out or e.realizations > out[a].realizations:
+            out[a] = e
+    return out
+
+
+def _solve(law, alpha):
+    return fl.LineContact(PSD, E_STAR, RADIUS, model=law, n=1024, warn=False).solve(load_of(alpha))
+
+
+def _flat_laws(path) -> tuple[str, fl.TabulatedLaw, list]:
+    """The TabulatedLaw of a flat file's mean u(p) and its jackknife laws (one surface out)."""
+    d = np.load(path)
+    u, p = d["u"], d["p"]
+    n = u.shape[0]
+    jack = [fl.TabulatedLaw(np.delete(u, k, axis=0).mean(0), p) for k in range(n)]
+    name = f"flat {os.path.basename(path)}"
+    return name, fl.TabulatedLaw(u.mean(0), p), jack
+
+
+def _row(name, r, e, jack_err=None) -> str:
+    c = compare_line_contact(r, e)
+    cells = []
+    for d in (c.p0, c.s, c.w_over_s):
+        cells.append(f"{100 * d.relative:+.1f} % (z {d.z:+.1f})")
+    extra = ""
+    if jack_err is not None:
+        extra = f" | ±{100 * jack_err[0]:.1f} % / ±{100 * jack_err[1]:.1f} %"
+    return f"| | {name} | {' | '.join(cells)} | {c.chi2_per_bin:.2f}{extra} |"
+
+
+def cmd_compare(args) -> None:
+    refs = _references(args.cache)
+    laws: list = []
+    for path in args.law:
+        law = fl.CalibratedLaw.load(path, psd=PSD, E_star=E_STAR)
+        tag = os.path.basename(path)
+        laws.append((f"calibrated {tag}", law, None))
+        table = fl.TabulatedLaw(law.points.u, law.points.p)
+        laws.append(("TabulatedLaw of its points", table, None))
+    for path in args.flat or []:
+        laws.append(_flat_laws(path))
+    laws.append(("persson (yang-persson-energy)", "persson", None))
+    laws.append(("greenwood-williamson", GreenwoodWilliamsonLaw.from_psd(PSD, E_STAR), None))
+    print("| alpha | law | p0 | s | w/s | chi2/bin | calibration's own error of p0 / s |")
+    print("|---|---|---|---|---|---|---|")
+    for a in args.alphas:
+        e = refs.get(round(a, 6))
+        if e is None:
+            print(f"| {a:g} | no cached reference in {args.cache} | | | | | |")
+            continue
+        print(f"| {a:g} | BEM, {e.realizations} surfaces | p0/p0_H {e.p0_ratio:.3f} ± "
+              f"{e.p0_ratio_error:.3f} | {e.s * 1e6:.1f} ± {e.s_error * 1e6:.1f} µm | "
+              f"{e.w_over_s:.2f} ± {e.w_over_s_error:.2f} | | |")  # fmt: skip
+        for name, law, jack in laws:
+            r = _solve(law, a)
+            err = None
+            if jack:
+                js = np.array([(x.p0, x.s) for x in (_solve(j, a) for j in jack)])
+                n = len(jack)
+                err = np.sqrt((n - 1) * js.var(axis=0)) / np.array([r.p0, r.s])
+            print(_row(name, r, e, err), flush=True)
+
+
+def main() -> None:
+    ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    sub = ap.add_subparsers(dest="cmd", required=True)
+    r = sub.add_parser("reference")
+    r.add_argument("--cache", required=True)
+    r.add_argument("--alphas", type=float, nargs="+", default=[1.0, 3.0, 10.0])
+    r.add_argument("--realizations", type=int, default=40)
+    r.add_argument("--workers", type=int, default=2)
+    f = sub.add_parser("flat")
+    f.add_argument("--out", required=True)
+    f.add_argument("--periods", type=float, default=4.0)
+    f.add_argument("--realizations", type=int, default=8)
+    f.add_argument("--p-min", type=float, default=2.0)
+    f.add_argument("--p-max", type=float, default=1e5)
+    f.add_argument("--pressures", type=int, default=24)
+    f.add_argument("--seed", type=int, default=0)
+    f.add_argument("--workers", type=int, default=2)
+    c = sub.add_parser("compare")
+    c.add_argument("--cache", required=True)
+    c.add_argument("--law", nargs="*", default=[])
+    c.add_argument("--flat", nargs="*", default=[])
+    c.add_argument("--alphas", type=float, nargs="+", default=[1.0, 3.0, 10.0])
+    args = ap.parse_args()
+    {"reference": cmd_reference, "flat": cmd_flat, "compare": cmd_compare}[args.cmd](args)
+
+
+if __name__ == "__main__":
+    main()
