@@ -6,7 +6,7 @@ and cached, then any number of laws compared against it at theory speed.
     python -m bench.calibrated_accuracy flat --out flat.npz [--periods 4] [--realizations 8] \
         [--p-min 2 --p-max 1e5 --pressures 24] [--seed 0]
     python -m bench.calibrated_accuracy compare --cache DIR --law law.npz [law2.npz ...] \
-        [--flat flat.npz ...] [--alphas 1 3 10]
+        [--flat flat.npz flat_a.npz+flat_b.npz ...] [--alphas 1 3 10]
 
 ``reference``: the cylinder BEM ensemble (:func:`fastline.bem.run_ensemble`, the page's grid:
 2 longest wavelengths along the axis, 4 cells per 2 pi/q1, seed 0) at each alpha, pickled to
@@ -42,12 +42,15 @@ from fastline.theory.asperity import GreenwoodWilliamsonLaw
 def cmd_reference(args) -> None:
     os.makedirs(args.cache, exist_ok=True)
     for a in args.alphas:
-        out = os.path.join(args.cache, f"bem_alpha{a:g}_n{args.realizations}.pkl")
+        name = f"bem_alpha{a:g}_n{args.realizations}" + (f"_seed{args.seed}" if args.seed else "")
+        out = os.path.join(args.cache, name + ".pkl")
         if os.path.exists(out):
             continue
         scene = bem.line_contact_scene(PSD, E_STAR, RADIUS, load_of(a), periods=2.0)
         t0 = time.perf_counter()
-        ens = bem.run_ensemble(scene, args.realizations, 0, workers=args.workers, progress=False)
+        ens = bem.run_ensemble(
+            scene, args.realizations, args.seed, workers=args.workers, progress=False
+        )
         with open(out, "wb") as f:
             pickle.dump(ens, f)
         print(f"alpha {a:g}: {args.realizations} surfaces, {time.perf_counter() - t0:.0f} s, "
@@ -90,14 +93,27 @@ def cmd_flat(args) -> None:
 
 
 def _references(cache) -> dict:
-    """alpha -> the cached ensemble with the most realisations."""
+    """alpha -> the cached ensembles (one per seed: the largest of each seed)."""
     out: dict = {}
-    for path in glob.glob(os.path.join(cache, "bem_alpha*_n*.pkl")):
+    for path in sorted(glob.glob(os.path.join(cache, "bem_alpha*_n*.pkl"))):
         with open(path, "rb") as f:
             e = pickle.load(f)
-        a = round(PSD.h_rms / e.delta, 6)
-        if a not in out or e.realizations > out[a].realizations:
-            out[a] = e
+        seed = path.rsplit("_seed", 1)[1][:-4] if "_seed" in path else "0"
+        d = out.setdefault(round(PSD.h_rms / e.delta, 6), {})
+        if seed not in d or e.realizations > d[seed].realizations:
+            d[seed] = e
+    return {a: list(d.values()) for a, d in out.items()}
+
+
+def _pooled(ensembles) -> dict:
+    """name -> (value, standard error) of p0, s and w/s over independent ensembles (weights:
+    their realisations)."""
+    n = np.array([e.realizations for e in ensembles], dtype=float)
+    out = {}
+    for name in ("p0", "s", "w_over_s"):
+        v = np.array([getattr(e, name) for e in ensembles])
+        se = np.array([getattr(e, name + "_error") for e in ensembles])
+        out[name] = (float(n @ v / n.sum()), float(np.sqrt(((n * se) ** 2).sum()) / n.sum()))
     return out
 
 
@@ -106,24 +122,51 @@ def _solve(law, alpha):
 
 
 def _flat_laws(path) -> tuple[str, fl.TabulatedLaw, list]:
-    """The TabulatedLaw of a flat file's mean u(p) and its jackknife laws (one surface out)."""
-    d = np.load(path)
-    u, p = d["u"], d["p"]
+    """The TabulatedLaw of a flat file's mean u(p) and its jackknife laws (one surface out);
+    ``a.npz+b.npz`` pools the surfaces of files of the same pressures."""
+    files = [np.load(f) for f in path.split("+")]
+    u, p = np.concatenate([d["u"] for d in files]), files[0]["p"]
     n = u.shape[0]
     jack = [fl.TabulatedLaw(np.delete(u, k, axis=0).mean(0), p) for k in range(n)]
-    name = f"flat {os.path.basename(path)}"
+    name = "flat " + "+".join(os.path.basename(f) for f in path.split("+"))
     return name, fl.TabulatedLaw(u.mean(0), p), jack
 
 
-def _row(name, r, e, jack_err=None) -> str:
-    c = compare_line_contact(r, e)
+def _row(name, r, ensembles, jack_err=None) -> str:
+    """One law's p0, s and w/s against the (pooled) reference, and its chi2/bin (one
+    reference) or the mean of the references' (several)."""
+    comps = [compare_line_contact(r, e) for e in ensembles]
+    pooled = _pooled(ensembles)
     cells = []
-    for d in (c.p0, c.s, c.w_over_s):
-        cells.append(f"{100 * d.relative:+.1f} % (z {d.z:+.1f})")
+    for stat in ("p0", "s", "w_over_s"):
+        theory = getattr(comps[0], stat).theory
+        v, se = pooled[stat]
+        cells.append(f"{100 * (theory / v - 1):+.1f} % (z {(theory - v) / se:+.1f})")
+    chi2 = np.mean([c.chi2_per_bin for c in comps])
     extra = ""
     if jack_err is not None:
         extra = f" | ±{100 * jack_err[0]:.1f} % / ±{100 * jack_err[1]:.1f} %"
-    return f"| | {name} | {' | '.join(cells)} | {c.chi2_per_bin:.2f}{extra} |"
+    return f"| | {name} | {' | '.join(cells)} | {chi2:.2f}{extra} |"
+
+
+def _reference_rows(a, ensembles) -> list[str]:
+    rows = []
+    for e in ensembles:
+        rows.append(
+            f"| {a:g} | BEM, {e.realizations} surfaces | p0/p0_H {e.p0_ratio:.3f} ± "
+            f"{e.p0_ratio_error:.3f} | {e.s * 1e6:.1f} ± {e.s_error * 1e6:.1f} µm | "
+            f"{e.w_over_s:.2f} ± {e.w_over_s_error:.2f} | | |"
+        )
+    if len(ensembles) > 1:
+        pooled = _pooled(ensembles)
+        (p0, p0e), (sv, se), (ws, wse) = pooled["p0"], pooled["s"], pooled["w_over_s"]
+        ph = ensembles[0].p0_hertz
+        n = sum(e.realizations for e in ensembles)
+        rows.append(
+            f"| {a:g} | BEM, pooled {n} surfaces | p0/p0_H {p0 / ph:.3f} ± {p0e / ph:.3f} | "
+            f"{sv * 1e6:.1f} ± {se * 1e6:.1f} µm | {ws:.2f} ± {wse:.2f} | | |"
+        )
+    return rows
 
 
 def cmd_compare(args) -> None:
@@ -146,9 +189,7 @@ def cmd_compare(args) -> None:
         if e is None:
             print(f"| {a:g} | no cached reference in {args.cache} | | | | | |")
             continue
-        print(f"| {a:g} | BEM, {e.realizations} surfaces | p0/p0_H {e.p0_ratio:.3f} ± "
-              f"{e.p0_ratio_error:.3f} | {e.s * 1e6:.1f} ± {e.s_error * 1e6:.1f} µm | "
-              f"{e.w_over_s:.2f} ± {e.w_over_s_error:.2f} | | |")  # fmt: skip
+        print("\n".join(_reference_rows(a, e)))
         for name, law, jack in laws:
             r = _solve(law, a)
             err = None
@@ -166,6 +207,7 @@ def main() -> None:
     r.add_argument("--cache", required=True)
     r.add_argument("--alphas", type=float, nargs="+", default=[1.0, 3.0, 10.0])
     r.add_argument("--realizations", type=int, default=40)
+    r.add_argument("--seed", type=int, default=0)
     r.add_argument("--workers", type=int, default=2)
     f = sub.add_parser("flat")
     f.add_argument("--out", required=True)
