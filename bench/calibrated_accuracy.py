@@ -5,6 +5,7 @@ and cached, then any number of laws compared against it at theory speed.
     python -m bench.calibrated_accuracy reference --cache DIR --alphas 1 3 10 --realizations 40
     python -m bench.calibrated_accuracy flat --out flat.npz [--periods 4] [--realizations 8] \
         [--p-min 2 --p-max 1e5 --pressures 24] [--seed 0]
+    python -m bench.calibrated_accuracy plot --cache DIR --law law.npz --out fig.png
     python -m bench.calibrated_accuracy compare --cache DIR --law law.npz [law2.npz ...] \
         [--flat flat.npz flat_a.npz+flat_b.npz ...] [--alphas 1 3 10]
 
@@ -17,7 +18,8 @@ per surface the mean gap, the contact fraction and the mean gap over the open ce
 for each law file its :class:`fastline.CalibratedLaw` and the :class:`fastline.TabulatedLaw` of
 its own points, for each flat file the TabulatedLaw of its mean u(p) and the jackknife error of
 p0 and s over its surfaces; Persson's law and the Greenwood-Williamson law beside; p0, s and
-w/s against the largest cached reference of each alpha (relative and in BEM standard errors).
+w/s against the cached references of each alpha pooled (relative and in BEM standard errors).
+``plot``: each cached reference's p_bar(x) (± 2 standard errors) against the first law's.
 """
 
 from __future__ import annotations
@@ -92,8 +94,9 @@ def cmd_flat(args) -> None:
               f"{runs[:, 2, k].mean() / u[k] - 1:+.2e}")  # fmt: skip
 
 
-def _references(cache) -> dict:
-    """alpha -> the cached ensembles (one per seed: the largest of each seed)."""
+def _references(cache, by_seed: bool = False) -> dict:
+    """alpha -> the cached ensembles (one per seed: the largest of each seed; by_seed: a dict
+    seed -> ensemble)."""
     out: dict = {}
     for path in sorted(glob.glob(os.path.join(cache, "bem_alpha*_n*.pkl"))):
         with open(path, "rb") as f:
@@ -102,7 +105,7 @@ def _references(cache) -> dict:
         d = out.setdefault(round(PSD.h_rms / e.delta, 6), {})
         if seed not in d or e.realizations > d[seed].realizations:
             d[seed] = e
-    return {a: list(d.values()) for a, d in out.items()}
+    return {a: list(d.values()) for a, d in out.items()} if not by_seed else out
 
 
 def _pooled(ensembles) -> dict:
@@ -200,6 +203,41 @@ def cmd_compare(args) -> None:
             print(_row(name, r, e, err), flush=True)
 
 
+def cmd_plot(args) -> None:
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    refs = _references(args.cache, by_seed=True)
+    law = fl.CalibratedLaw.load(args.law[0], psd=PSD, E_star=E_STAR)
+    fig, axs = plt.subplots(1, len(args.alphas), figsize=(4.6 * len(args.alphas), 3.8))
+    for ax, a in zip(np.atleast_1d(axs), args.alphas, strict=True):
+        r = _solve(law, a)
+        top = 0.0
+        for k, (seed, e) in enumerate(refs[round(a, 6)].items()):
+            colour = ("k", "tab:blue", "tab:green")[k % 3]
+            x, p, pe = e.coordinate * 1e6, e.pressure / 1e3, e.pressure_error / 1e3
+            ax.fill_between(x, p - 2 * pe, p + 2 * pe, color=colour, alpha=0.15, lw=0)
+            label = (
+                f"BEM, {e.realizations} surfaces, seed {seed}: "
+                f"p0/p0_H {e.p0_ratio:.2f} ± {e.p0_ratio_error:.2f}"
+            )
+            ax.plot(x, p, ".-", color=colour, ms=2.5, lw=0.8, label=label)
+            top = max(top, float(np.max(p + 2 * pe)))
+        theory = compare_line_contact(r, e).theory_pressure / 1e3
+        label = f"calibrated law (8 surfaces): {r.p0 / e.p0_hertz:.2f}"
+        ax.plot(x, theory, color="tab:red", lw=1.6, label=label)
+        ax.set_xlim(-4.2 * r.s * 1e6, 4.2 * r.s * 1e6)
+        ax.set_ylim(-0.03 * top, 1.5 * top)
+        ax.set_xlabel("x (µm)")
+        ax.set_ylabel("nominal pressure p̄ (kPa)")
+        ax.set_title(f"alpha = {a:g}")
+        ax.legend(fontsize=6.5, loc="upper left")
+    fig.tight_layout()
+    fig.savefig(args.out, dpi=110)
+
+
 def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     sub = ap.add_subparsers(dest="cmd", required=True)
@@ -223,8 +261,14 @@ def main() -> None:
     c.add_argument("--law", nargs="*", default=[])
     c.add_argument("--flat", nargs="*", default=[])
     c.add_argument("--alphas", type=float, nargs="+", default=[1.0, 3.0, 10.0])
+    g = sub.add_parser("plot")
+    g.add_argument("--cache", required=True)
+    g.add_argument("--law", nargs=1, required=True)
+    g.add_argument("--out", required=True)
+    g.add_argument("--alphas", type=float, nargs="+", default=[1.0, 3.0, 10.0])
     args = ap.parse_args()
-    {"reference": cmd_reference, "flat": cmd_flat, "compare": cmd_compare}[args.cmd](args)
+    cmds = {"reference": cmd_reference, "flat": cmd_flat, "compare": cmd_compare, "plot": cmd_plot}
+    cmds[args.cmd](args)
 
 
 if __name__ == "__main__":
