@@ -17,8 +17,10 @@ BEM u(p) of ``--realizations`` surfaces carried from pressure to pressure as
 per surface the mean gap, the contact fraction and the mean gap over the open cells. ``compare``:
 for each law file its :class:`fastline.CalibratedLaw` and the :class:`fastline.TabulatedLaw` of
 its own points, for each flat file the TabulatedLaw of its mean u(p) and the jackknife error of
-p0 and s over its surfaces; Persson's law and the Greenwood-Williamson law beside; p0, s and
-w/s against the cached references of each alpha pooled (relative and in BEM standard errors).
+p0 and s over its surfaces (with ``--fixed-gap`` also the law of the surfaces' mean pressure
+at a fixed mean gap: :func:`_fixed_gap`); Persson's law and the Greenwood-Williamson law
+beside; p0, s and w/s against the cached references of each alpha pooled (relative and in BEM
+standard errors).
 ``plot``: each cached reference's p_bar(x) (± 2 standard errors) against the first law's.
 """
 
@@ -124,15 +126,37 @@ def _solve(law, alpha):
     return fl.LineContact(PSD, E_STAR, RADIUS, model=law, n=1024, warn=False).solve(load_of(alpha))
 
 
-def _flat_laws(path) -> tuple[str, fl.TabulatedLaw, list]:
+def _fixed_gap(u: np.ndarray, p: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """(u_k, p_bar_k): the surfaces' mean gap at each pressure and the mean over surfaces of
+    the pressure each surface needs for that gap (its own u(p), linear in ln p, extended with
+    its end slopes): the ensemble's mean pressure at a fixed mean gap."""
+    v = np.log(p)
+    um = u.mean(0)
+    out = []
+    for ui in u:
+        x, y = ui[::-1], v[::-1]
+        lv = np.interp(um, x, y)
+        lo, hi = um < x[0], um > x[-1]
+        lv[lo] = y[0] + (um[lo] - x[0]) * (y[1] - y[0]) / (x[1] - x[0])
+        lv[hi] = y[-1] + (um[hi] - x[-1]) * (y[-1] - y[-2]) / (x[-1] - x[-2])
+        out.append(np.exp(lv))
+    return um, np.mean(out, axis=0)
+
+
+def _flat_table(u, p, fixed_gap) -> fl.TabulatedLaw:
+    return fl.TabulatedLaw(*_fixed_gap(u, p)) if fixed_gap else fl.TabulatedLaw(u.mean(0), p)
+
+
+def _flat_laws(path, fixed_gap=False) -> tuple[str, fl.TabulatedLaw, list]:
     """The TabulatedLaw of a flat file's mean u(p) and its jackknife laws (one surface out);
     ``a.npz+b.npz`` pools the surfaces of files of the same pressures."""
     files = [np.load(f) for f in path.split("+")]
     u, p = np.concatenate([d["u"] for d in files]), files[0]["p"]
     n = u.shape[0]
-    jack = [fl.TabulatedLaw(np.delete(u, k, axis=0).mean(0), p) for k in range(n)]
+    jack = [_flat_table(np.delete(u, k, axis=0), p, fixed_gap) for k in range(n)]
     name = "flat " + "+".join(os.path.basename(f) for f in path.split("+"))
-    return name, fl.TabulatedLaw(u.mean(0), p), jack
+    name += ", mean p at fixed u" if fixed_gap else ""
+    return name, _flat_table(u, p, fixed_gap), jack
 
 
 def _row(name, r, ensembles, jack_err=None) -> str:
@@ -183,6 +207,8 @@ def cmd_compare(args) -> None:
         laws.append(("TabulatedLaw of its points", table, None))
     for path in args.flat or []:
         laws.append(_flat_laws(path))
+        if args.fixed_gap:
+            laws.append(_flat_laws(path, fixed_gap=True))
     laws.append(("persson (yang-persson-energy)", "persson", None))
     laws.append(("greenwood-williamson", GreenwoodWilliamsonLaw.from_psd(PSD, E_STAR), None))
     print("| alpha | law | p0 | s | w/s | chi2/bin | calibration's own error of p0 / s |")
@@ -261,6 +287,7 @@ def main() -> None:
     c.add_argument("--law", nargs="*", default=[])
     c.add_argument("--flat", nargs="*", default=[])
     c.add_argument("--alphas", type=float, nargs="+", default=[1.0, 3.0, 10.0])
+    c.add_argument("--fixed-gap", action="store_true")
     g = sub.add_parser("plot")
     g.add_argument("--cache", required=True)
     g.add_argument("--law", nargs=1, required=True)
