@@ -30,9 +30,9 @@ Reynolds effective gap ``(12 eta K)^(1/3)`` of the gap fields for flow along x a
    the law is continuous and C1 across the joins, and the slopes of the cells on either side
    of a join agree. (A BEM ensemble's u(p) flattens at low pressure, where a finite cell holds
    few contact spots: on the narrow band of docs/validation.md its log-slope at the bottom of
-   the range is 0.4 times Persson's; scaling Persson's u by value alone put a slope 2.5 times
-   too steep below the range and widened a cylinder whose flanks lie there by 2 %.) Beyond the
-   outermost nodes it continues exponentially (as every :class:`TabulatedLaw`).
+   the range is 0.4-0.6 times Persson's; scaling Persson's u by value alone put a slope up to
+   2.5 times too steep below the range and widened a cylinder whose flanks lie there by 2 %.)
+   Beyond the outermost nodes it continues exponentially (as every :class:`TabulatedLaw`).
 
 The hydraulic gap follows the same rule in ln g against ln p (isotonic, then piecewise linear
 in log-log; joined to Persson's critical gap ``u_c(p)`` scaled at the ends). A pressure at
