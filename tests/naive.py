@@ -883,3 +883,36 @@ def gaussian_profiles(c1d, n: int, dx: float, count: int, seed: int) -> np.ndarr
     z = rng.standard_normal((count, m.size)) + 1j * rng.standard_normal((count, m.size))
     z[:, -1] = z[:, -1].real * math.sqrt(2.0)  # real at Nyquist, the same variance
     return np.fft.irfft(z * np.sqrt(0.5 * power), n, axis=-1)
+
+
+def fixed_gap_mean(u, pressures):
+    """The ensemble's mean gap at each pressure, averaged at a fixed gap, by loops: for the
+    mean gap u_k at pressure k, the mean over surfaces of the pressure each surface needs for
+    u_k (linear in ln p between its own points, its end cells extended), then that curve read
+    back at the pressures (linear in ln p, end cells extended)."""
+    u = np.asarray(u, dtype=float)
+    v = [math.log(p) for p in pressures]
+    n_s, n_p = u.shape
+    um = [sum(u[i, k] for i in range(n_s)) / n_s for k in range(n_p)]
+
+    def cell(xs, x):  # the cell j of a monotone sequence xs holding x (end cells outside)
+        for j in range(len(xs) - 1):
+            if min(xs[j], xs[j + 1]) <= x <= max(xs[j], xs[j + 1]):
+                return j
+        return 0 if abs(x - xs[0]) < abs(x - xs[-1]) else len(xs) - 2
+
+    def line(x0, y0, x1, y1, x):
+        return y0 + (x - x0) * (y1 - y0) / (x1 - x0)
+
+    P = []
+    for k in range(n_p):
+        total = 0.0
+        for i in range(n_s):
+            j = cell(list(u[i]), um[k])
+            total += math.exp(line(u[i, j], v[j], u[i, j + 1], v[j + 1], um[k]))
+        P.append(math.log(total / n_s))
+    out = []
+    for k in range(n_p):
+        j = cell(P, v[k])
+        out.append(line(P[j], um[j], P[j + 1], um[j + 1], v[k]))
+    return np.array(out)

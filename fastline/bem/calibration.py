@@ -8,7 +8,10 @@ gap field the mean gap, the contact fraction and the Reynolds effective gap
 solved by multigrid-preconditioned conjugate gradients from the last pressure's fluid field:
 :mod:`fastline.bem.pcg_flow`). The ensemble
 means with their standard errors become a :class:`~fastline.theory.calibrated.CalibratedLaw`:
-a monotone fit joined to Persson's law outside the simulated range (docs/calibration.md).
+a monotone fit joined to Persson's law outside the simulated range (docs/calibration.md). The
+mean gap is averaged over the surfaces at a fixed gap (:func:`fixed_gap_mean`: the pressure a
+rigid body needs for a given gap is the surfaces' mean), the other quantities at a fixed
+pressure.
 
 One task is one surface through every pressure, so the realisations run wherever
 :func:`fastline.sweep` runs its tasks (:func:`~fastline.bem.ensemble.ensemble_executor`: this
@@ -237,9 +240,51 @@ def _effective_gap(K, viscosity) -> tuple[np.ndarray, np.ndarray]:
     return g, g_se
 
 
+def _log_pressure_at(u_i: np.ndarray, v: np.ndarray, u: np.ndarray) -> np.ndarray:
+    """ln p at which one surface (mean gaps ``u_i`` [m] at ``v = ln p``, decreasing) has the
+    mean gaps ``u``: linear in ln p between its pressures, extended with its end slopes."""
+    x, y = u_i[::-1], v[::-1]
+    out = np.interp(u, x, y)
+    for m, a, b in ((u < x[0], 0, 1), (u > x[-1], -1, -2)):
+        out[m] = y[a] + (u[m] - x[a]) * (y[b] - y[a]) / (x[b] - x[a])
+    return out
+
+
+def fixed_gap_mean(u: np.ndarray, pressures: np.ndarray) -> np.ndarray:
+    """The ensemble's mean gap at each pressure [m], averaged at a fixed gap.
+
+    ``u[i, k]`` is surface i's mean gap at ``pressures[k]``. A rigid body on the rough surface
+    sets the gap, not the pressure, and its nominal pressure is the mean over surfaces at a
+    fixed gap. So for the mean gaps ``u_k = mean_i u[i, k]`` the law's pressure is
+    ``P_k = mean_i p_i(u_k)`` (each surface's own u(p), linear in ln p); the result is the
+    curve ``(P_k, u_k)`` read at ``pressures`` (linear in ln p, extended at its ends). On a
+    cell that holds many contact spots it equals the mean at a fixed pressure; on a small cell
+    at low pressure it is larger (docs/calibration.md). One surface, or surfaces whose u(p) is
+    not strictly decreasing: the plain mean.
+    """
+    um = u.mean(axis=0)
+    if u.shape[0] < 2 or np.any(np.diff(u, axis=1) >= 0.0):
+        return um
+    v = np.log(pressures)
+    P = np.mean([np.exp(_log_pressure_at(ui, v, um)) for ui in u], axis=0)
+    V = np.log(P)
+    if np.any(np.diff(V) <= 0.0):
+        return um
+    return _gap_at(V, um, v)
+
+
+def _gap_at(V: np.ndarray, U: np.ndarray, v: np.ndarray) -> np.ndarray:
+    """U (decreasing) at nodes V (increasing) read at v: linear, extended with the end slopes."""
+    out = np.interp(v, V, U)
+    for m, a, b in ((v < V[0], 0, 1), (v > V[-1], -1, -2)):
+        out[m] = U[a] + (v[m] - V[a]) * (U[b] - U[a]) / (V[b] - V[a])
+    return out
+
+
 def _points(task, runs) -> CalibrationPoints:
     stack = {k: np.array([r[k] for r in runs]) for k in ("u", "area", "gx", "gy")}
-    u, u_se = _mean_se(stack["u"])
+    _, u_se = _mean_se(stack["u"])
+    u = fixed_gap_mean(stack["u"], task.pressures)
     a, a_se = _mean_se(stack["area"])
     gx, gx_se = _effective_gap(stack["gx"], task.viscosity)
     gy, gy_se = _effective_gap(stack["gy"], task.viscosity)
