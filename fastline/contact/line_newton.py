@@ -53,7 +53,7 @@ from fastline.elastic.line import (
     compiled_tables,
     compiled_workspace,
 )
-from fastline.elastic.pcg import CGSettings, solve_newton_system
+from fastline.elastic.pcg import CGSettings, call_system, system_address
 from fastline.elastic.pcg import workspace_size as _system_workspace
 from fastline.theory.laws import hermite
 from fastline.theory.tables import solver_law
@@ -88,7 +88,8 @@ class Law(NamedTuple):
 
 
 class NewtonSettings(NamedTuple):
-    """When :func:`newton_line` stops, and the size of its preconditioner's coarse level."""
+    """When :func:`newton_line` stops, the size of its preconditioner's coarse level, and the
+    Newton systems' solver it calls."""
 
     #: tolerance on the largest residual, in units of ``u_ref`` (dimensionless)
     tol: float
@@ -96,6 +97,8 @@ class NewtonSettings(NamedTuple):
     max_iter: int
     #: most coarse aggregates (:func:`fastline.elastic.line.coarse_aggregates`)
     nc: int
+    #: address of the compiled Newton-system solver (:func:`fastline.elastic.pcg.system_address`)
+    system: int
 
 
 class NewtonOutputs(NamedTuple):
@@ -249,7 +252,7 @@ def newton_line(fft, tables, op, scene, pressure_law, v_io, settings, out):
     scale, K00 = op
     gap, w, load = scene
     law, u_ref = pressure_law
-    tol, max_iter, nc = settings
+    tol, max_iter, nc, system = settings
     hist, u_out, ws = out
     n = v_io.shape[0]
     a, c, state, trial, D, dp, tail = _newton_views(ws, n)  # trial: the line search's
@@ -273,9 +276,8 @@ def newton_line(fft, tables, op, scene, pressure_law, v_io, settings, out):
         _newton_diagonal(state[_P], state[_DU], u_ref, D)
         eta = min(_forcing(res, res_prev, eta, tol_eff), eta_cap)
         res_prev = res
-        du1, its, ka, ci = solve_newton_system(
-            fft, tables, op, D, w, state[_R], CGSettings(eta, MAX_CG, nc), dp, tail
-        )
+        sys_args = (fft, tables, op, D, w, state[_R], CGSettings(eta, MAX_CG, nc), dp, tail)
+        du1, its, ka, ci = call_system(system, sys_args)
         cg_total += its
         kapps += ka
         circ += ci
@@ -388,15 +390,21 @@ def solve_compiled(
     u = np.empty(op.n)
     N = 2 * op.n
     fft = fftw.acquire(N)
+    tables = compiled_tables(op.n)
     try:
         u1, res, status, steps, cg, kapps, circ, tol_eff = newton_line(
             fft,
-            compiled_tables(op.n),
+            tables,
             op.kernel_scale,
             Scene(gap, w, float(load)),
             Law(law_form, float(u_ref)),
             v,
-            NewtonSettings(float(tol), int(max_iter), coarse_aggregates(op.n)),
+            NewtonSettings(
+                float(tol),
+                int(max_iter),
+                coarse_aggregates(op.n),
+                system_address(fft, tables, op.kernel_scale, w),
+            ),
             NewtonOutputs(hist, u, compiled_workspace(workspace_size(op.n))),
         )
     finally:

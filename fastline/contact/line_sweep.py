@@ -54,6 +54,7 @@ from fastline.contact.line_newton import workspace_size as _newton_workspace
 from fastline.contact.model import CORE_DEPTH, PREDICTOR_MAX_STEP, SWEEP_PREDICTOR_ORDER
 from fastline.elastic import line as elastic
 from fastline.elastic.convolution import KernelScale
+from fastline.elastic.pcg import system_address
 
 #: columns of the per-load statistics a sweep returns
 STATS = (
@@ -310,10 +311,12 @@ def run_sweep(
     cylinder = Cylinder(elastic.KHAT0, float(E_star), 2.0 * radius)
     series = SweepLoads(loads, halves, cold)
     pressure_law = Law(law_form, float(u_ref))
-    settings = NewtonSettings(float(tol), int(max_iter), elastic.coarse_aggregates(n))
     step = m if progress is None else 1
     fft = _fftw.acquire(2 * n)
     try:
+        # the arguments' types count: w is a C-contiguous view into ws in sweep_line
+        system = system_address(fft, tables, KernelScale(1.0, 1.0), np.empty(1))
+        settings = NewtonSettings(float(tol), int(max_iter), elastic.coarse_aggregates(n), system)
         ws = elastic.compiled_workspace(workspace_size(n))
         for k0 in range(0, m, step):
             k1 = min(m, k0 + step)

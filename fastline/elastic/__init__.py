@@ -23,7 +23,13 @@ __getattr__, __dir__, __all__ = _lazy.attach(
             "prefix_sums",
         ],
         "preconditioner": ["TwoLevel", "CORE_THETA", "WIDE_THETA", "EDGE_SHARE", "FROZEN_THETA"],
-        "pcg": ["CGSettings", "workspace_size", "solve_newton_system"],
+        "pcg": [
+            "CGSettings",
+            "workspace_size",
+            "solve_newton_system",
+            "system_address",
+            "call_system",
+        ],
         "line": [
             "LogKernelOperator",
             "influence_coefficients",

@@ -162,6 +162,7 @@ import numpy as np
 
 from fastline._lib.fftw import ALIGN_PAD, aligned_size, aligned_views
 from fastline._lib.jit import JIT
+from fastline._lib.native import caller, native_address
 from fastline.elastic.convolution import convolve
 from fastline.elastic.preconditioner import TwoLevel, _coarse_level, _precondition, _smoother
 
@@ -171,7 +172,13 @@ if TYPE_CHECKING:
 #: interleaved partial sums of the reductions (strip length)
 _STRIP = 64
 
-__all__ = ["CGSettings", "workspace_size", "solve_newton_system"]
+__all__ = [
+    "CGSettings",
+    "workspace_size",
+    "solve_newton_system",
+    "system_address",
+    "call_system",
+]
 
 
 #: CG stops when its residual has not improved for this many iterations (round-off)
@@ -236,7 +243,7 @@ def workspace_size(n: int) -> int:
     return aligned_size(2 * n) + (3 * n + min(n, _STRIP)) + (3 * n + 1) + (4 * n + 1) + 8 * n
 
 
-@numba.njit(**JIT, inline="always")
+@numba.njit(**JIT)
 def solve_newton_system(
     fft: tuple,
     tables: KernelTables,
@@ -297,6 +304,51 @@ def solve_newton_system(
     its, kapps, circ_loop = _pcg(w, kspec, rtol, maxit, (s_m1, s_jac, r0), prec, fft, bufs, cg, dp)
     du1 = _pcg_finish(D, w, minv, s_m1, s_jac, work, cg, dp)
     return du1, its, kapps, circ + circ_loop
+
+
+#: what :func:`solve_newton_system` returns: ``(du1, iterations, k_applications,
+#: circulant_solves)``
+_SYSTEM_RETURN = numba.types.Tuple((numba.float64, numba.int64, numba.int64, numba.int64))
+#: the work arrays a compiled caller passes (``D, rhs, dp, ws``: views into its work space)
+_VECTOR = numba.types.Array(numba.float64, 1, "C")
+#: argument positions of those arrays in :func:`solve_newton_system`
+_VECTOR_ARGS = (3, 5, 7, 8)
+#: argument types -> address of the compiled :func:`solve_newton_system` in this process
+_addresses: dict = {}
+
+
+def _check_system_args(argtypes: list) -> str:
+    """Why a compiled caller's arguments do not fit :func:`system_address`'s kernel ("" if they
+    do)."""
+    wrong = [k for k in _VECTOR_ARGS if argtypes[k] != _VECTOR]
+    if len(argtypes) != 9 or wrong:
+        return f"call_system: arguments {wrong} must be {_VECTOR} (got {argtypes})"
+    return ""
+
+
+#: ``call_system(address, (fft, tables, op, D, w, rhs, settings, dp, ws))``: call
+#: :func:`solve_newton_system` compiled at ``address`` (:func:`system_address`) from another
+#: kernel; returns what it returns
+call_system = caller(_SYSTEM_RETURN, _check_system_args)
+
+
+def system_address(fft: tuple, tables: KernelTables, op: KernelScale, w: np.ndarray) -> int:
+    """The address of :func:`solve_newton_system` compiled (or loaded from the cache) for the
+    arguments a compiled caller passes it with these FFT plans, tables, kernel scale and
+    weights (``D, rhs, dp, ws`` C-contiguous float64 views), for :data:`call_system`.
+
+    Called this way, the Newton system's solver is compiled once, on its own: the Newton
+    kernel that calls it does not link its code in and optimise it again, and the two compile
+    independently (:mod:`fastline._lib.native`)."""
+    key = (numba.typeof(w), len(fft))
+    address = _addresses.get(key)
+    if address is None:
+        vec = np.empty(1)
+        argtypes = numba.typeof((fft, tables, op, vec, w, vec, CGSettings(0.0, 0, 0), vec, vec))
+        address = _addresses[key] = native_address(
+            solve_newton_system, tuple(argtypes.types), _SYSTEM_RETURN
+        )
+    return address
 
 
 @numba.njit(**JIT, inline="always")
