@@ -54,21 +54,28 @@ _ev.register("numba:compile", _Compile())
 _ev.register("numba:llvm_lock", _Llvm())
 """
 TAIL = """
+import resource
+_kids = resource.getrusage(resource.RUSAGE_CHILDREN)
 sys.stdout.flush()
-print("PROFILE " + json.dumps(dict(rows=_rows, cpu=time.process_time() - _t0,
-                                  llvm=_llvm[0])))
+print("PROFILE " + json.dumps(dict(rows=_rows, cpu=time.process_time() - _t0, llvm=_llvm[0],
+                                  helper_cpu=_kids.ru_utime + _kids.ru_stime)))
 """
 
 
-def profile(script: str = FIRST_ANSWER) -> dict:
-    """One fresh process with an empty cache: ``{rows, cpu, llvm, wall}`` (module docstring)."""
+def profile(script: str = FIRST_ANSWER, package: str | None = None) -> dict:
+    """One fresh process with an empty cache: ``{rows, cpu, llvm, helper_cpu, wall}`` (module
+    docstring); ``package``: the directory holding the fastline to import (default: the
+    current directory's)."""
     with tempfile.TemporaryDirectory(prefix="numba-") as cache:
         env = dict(os.environ, NUMBA_CACHE_DIR=cache)
         env.pop("FASTLINE_NUMBA_CACHE", None)
+        if package:
+            env["PYTHONPATH"] = package
         t = time.perf_counter()
         out = subprocess.run(
             [sys.executable, "-c", PROBE + script + TAIL],
             env=env,
+            cwd=package,
             capture_output=True,
             text=True,
             check=True,
@@ -102,7 +109,8 @@ def table(result: dict) -> list[str]:
     L = [
         f"{len(rows)} compilations of {len({r['name'] for r in rows})} kernels: "
         f"{top:.2f} s CPU in compilation ({llvm:.2f} s LLVM, {top - llvm:.2f} s typing and "
-        f"lowering); the process {result['cpu']:.2f} s CPU, {result['wall']:.2f} s wall, "
+        f"lowering); the process {result['cpu']:.2f} s CPU (its second process "
+        f"{result['helper_cpu']:.2f} s), {result['wall']:.2f} s wall, "
         f"load {os.getloadavg()[0]:.1f}",
         f"{'kernel (own seconds, callees out)':<58} {'CPU':>6} {'LLVM':>6} {'with callees':>12}",
     ]
@@ -120,6 +128,12 @@ def main(argv=None):
     parser.add_argument("--runs", type=int, default=1)
     parser.add_argument("--script", help="a Python file run as the first answer instead")
     parser.add_argument("--json", metavar="FILE", help="write the last run's rows to FILE")
+    parser.add_argument(
+        "--package",
+        action="append",
+        help="a directory holding another fastline to profile in turn (repeatable; "
+        "default: the current directory's)",
+    )
     args = parser.parse_args(argv)
     script = FIRST_ANSWER
     if args.script:
@@ -127,15 +141,19 @@ def main(argv=None):
             script = f.read()
     print(f"load average at start: {os.getloadavg()[0]:.1f} ({os.cpu_count()} CPUs)")
     result = None
-    for k in range(args.runs):
-        result = profile(script)
+    packages = args.package or [None]
+    for k in range(args.runs * len(packages)):
+        package = packages[k % len(packages)]
+        result = profile(script, package)
         rows = result["rows"]
         top = sum(r["cpu"] for r in rows if r["depth"] == 0)
         llvm = sum(r["llvm"] for r in rows if r["depth"] == 0)
         print(
-            f"run {k + 1}: {len(rows)} compilations, {top:.2f} s CPU compiling "
-            f"({llvm:.2f} LLVM), process {result['cpu']:.2f} s CPU, {result['wall']:.2f} s "
-            f"wall, load {os.getloadavg()[0]:.1f}",
+            f"run {k // len(packages) + 1} ({package or 'here'}): {len(rows)} compilations, "
+            f"{top:.2f} s CPU compiling "
+            f"({llvm:.2f} LLVM), process {result['cpu']:.2f} s CPU (second process "
+            f"{result['helper_cpu']:.2f} s), {result['wall']:.2f} s wall, "
+            f"load {os.getloadavg()[0]:.1f}",
             flush=True,
         )
     print("\n".join(table(result)))

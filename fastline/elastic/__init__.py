@@ -28,6 +28,7 @@ __getattr__, __dir__, __all__ = _lazy.attach(
             "workspace_size",
             "solve_newton_system",
             "system_address",
+            "system_types",
             "call_system",
         ],
         "line": [

@@ -45,6 +45,7 @@ pyFFTW state is changed.
 from __future__ import annotations
 
 import math
+import os
 import threading
 from collections import OrderedDict
 
@@ -52,11 +53,14 @@ import numpy as np
 from numpy.typing import ArrayLike
 
 from fastline._lib import fftw as _fftw
+from fastline._lib.jit import on_first_compile
+from fastline._lib.native import compile_elsewhere
 from fastline._lib.validate import finite_scalar, integer, positive
 from fastline.elastic.convolution import KernelScale, KernelTables, apply_kernel, prefix_sums
 from fastline.elastic.pcg import (
     CGSettings,
     solve_newton_system,
+    system_types,
     workspace_size,
 )
 
@@ -262,6 +266,32 @@ def compiled_workspace(size: int) -> np.ndarray:
     if ws is None or ws.size < size:
         ws = _local.compiled_ws = np.empty(size)
     return ws[:size]
+
+
+#: the directory that holds the fastline package (for a second process to import the same one)
+_PACKAGE_PARENT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
+#: what a second process runs to compile the Newton systems' solver into the cache, for the
+#: argument types of :func:`_system_types` (:func:`fastline.elastic.pcg.system_address`)
+_SYSTEM_ELSEWHERE = """
+import numpy as np
+from fastline.elastic.convolution import KernelScale
+from fastline.elastic.line import compiled_tables
+from fastline.elastic.pcg import system_address
+system_address((0, 0, 0, 0), compiled_tables(16), KernelScale(1.0, 1.0), np.empty(1))
+"""
+
+
+def _compile_system_elsewhere() -> None:
+    """When this process starts compiling kernels and the cache lacks the line contact's
+    Newton-system solver (the largest of them, ~40% of the line contact's compilation), compile
+    it in a second process meanwhile (:func:`fastline._lib.native.compile_elsewhere`): the
+    compiled Newton kernel calls it by address, so the two compile independently."""
+    fft, tables, op = (0, 0, 0, 0), compiled_tables(16), KernelScale(1.0, 1.0)
+    argtypes = system_types(fft, tables, op, np.empty(1))
+    compile_elsewhere(solve_newton_system, argtypes, _SYSTEM_ELSEWHERE, _PACKAGE_PARENT)
+
+
+on_first_compile(_compile_system_elsewhere)
 
 
 def _workspace(n: int):

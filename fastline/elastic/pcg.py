@@ -177,6 +177,7 @@ __all__ = [
     "workspace_size",
     "solve_newton_system",
     "system_address",
+    "system_types",
     "call_system",
 ]
 
@@ -332,22 +333,27 @@ def _check_system_args(argtypes: list) -> str:
 call_system = caller(_SYSTEM_RETURN, _check_system_args)
 
 
+def system_types(fft: tuple, tables: KernelTables, op: KernelScale, w: np.ndarray) -> tuple:
+    """The Numba types of the arguments a compiled caller passes :func:`solve_newton_system`
+    with these FFT plans, tables, kernel scale and weights (``D, rhs, dp, ws`` C-contiguous
+    float64 views into its work space)."""
+    vec = np.empty(1)
+    return numba.typeof((fft, tables, op, vec, w, vec, CGSettings(0.0, 0, 0), vec, vec)).types
+
+
 def system_address(fft: tuple, tables: KernelTables, op: KernelScale, w: np.ndarray) -> int:
     """The address of :func:`solve_newton_system` compiled (or loaded from the cache) for the
-    arguments a compiled caller passes it with these FFT plans, tables, kernel scale and
-    weights (``D, rhs, dp, ws`` C-contiguous float64 views), for :data:`call_system`.
+    arguments of :func:`system_types`, for :data:`call_system`.
 
     Called this way, the Newton system's solver is compiled once, on its own: the Newton
     kernel that calls it does not link its code in and optimise it again, and the two compile
-    independently (:mod:`fastline._lib.native`)."""
-    key = (numba.typeof(w), len(fft))
+    independently, in two processes when neither is cached (:mod:`fastline._lib.native`)."""
+    flags = w.flags  # the key: what sets w's Numba type (cheaper than typing it)
+    key = (w.dtype.char, w.ndim, flags.c_contiguous, flags.f_contiguous, flags.writeable, len(fft))
     address = _addresses.get(key)
     if address is None:
-        vec = np.empty(1)
-        argtypes = numba.typeof((fft, tables, op, vec, w, vec, CGSettings(0.0, 0, 0), vec, vec))
-        address = _addresses[key] = native_address(
-            solve_newton_system, tuple(argtypes.types), _SYSTEM_RETURN
-        )
+        argtypes = system_types(fft, tables, op, w)
+        address = _addresses[key] = native_address(solve_newton_system, argtypes, _SYSTEM_RETURN)
     return address
 
 
