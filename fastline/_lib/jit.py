@@ -57,15 +57,7 @@ import hashlib
 import logging
 import os
 
-__all__ = [
-    "JIT",
-    "JIT_SUMS",
-    "CACHE_ENV",
-    "NOTICE",
-    "package_stamp",
-    "compile_notice_given",
-    "on_first_compile",
-]
+__all__ = ["JIT", "JIT_SUMS", "CACHE_ENV", "NOTICE", "package_stamp", "compile_notice_given"]
 
 #: the package's directory (the parent of _lib): kernels defined below it get the package-wide stamp
 _ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
@@ -181,37 +173,12 @@ def _why(dispatcher) -> str:
     return " (the compiled kernels found were built for another CPU, Numba, Python or source)"
 
 
-#: called once, at the process's first compilation of a fastline kernel (:func:`on_first_compile`)
-_first_compile_hooks: list = []
-
-
-def on_first_compile(hook) -> None:
-    """Call ``hook()`` when this process first compiles a fastline kernel (a cache miss), after
-    the notice; at once if that has happened. For work that pays only when kernels are being
-    compiled, such as compiling others in a second process (:mod:`fastline._lib.native`).
-    Errors in a hook are logged at level DEBUG and otherwise ignored."""
-    if _notice["given"]:
-        _run_hook(hook)
-    else:
-        _first_compile_hooks.append(hook)
-
-
-def _run_hook(hook) -> None:
-    try:
-        hook()
-    except Exception:  # a hook only speeds compilation up: never fail the caller for it
-        _log.debug("first-compile hook %r failed", hook, exc_info=True)
-
-
 def _on_compile(dispatcher) -> None:
-    """Announce the process's first compilation of a fastline kernel, once (module docstring),
-    and run the hooks of :func:`on_first_compile`."""
+    """Announce the process's first compilation of a fastline kernel, once (module docstring)."""
     if _notice["given"] or not dispatcher.py_func.__module__.startswith("fastline."):
         return
     _notice["given"] = True
     _log.warning(NOTICE.format(seconds=COMPILE_SECONDS, why=_why(dispatcher)))
-    while _first_compile_hooks:
-        _run_hook(_first_compile_hooks.pop(0))
 
 
 def _install_notice() -> None:

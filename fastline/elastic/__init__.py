@@ -39,6 +39,7 @@ __getattr__, __dir__, __all__ = _lazy.attach(
             "coarse_aggregates",
             "compiled_tables",
             "compiled_workspace",
+            "compile_system_elsewhere",
             "KHAT0",
         ],
         "ring": [

@@ -53,7 +53,6 @@ import numpy as np
 from numpy.typing import ArrayLike
 
 from fastline._lib import fftw as _fftw
-from fastline._lib.jit import on_first_compile
 from fastline._lib.native import compile_elsewhere
 from fastline._lib.validate import finite_scalar, integer, positive
 from fastline.elastic.convolution import KernelScale, KernelTables, apply_kernel, prefix_sums
@@ -72,6 +71,7 @@ __all__ = [
     "coarse_aggregates",
     "compiled_tables",
     "compiled_workspace",
+    "compile_system_elsewhere",
     "KHAT0",
 ]
 
@@ -281,17 +281,18 @@ system_address((0, 0, 0, 0), compiled_tables(16), KernelScale(1.0, 1.0), np.empt
 """
 
 
-def _compile_system_elsewhere() -> None:
-    """When this process starts compiling kernels and the cache lacks the line contact's
-    Newton-system solver (the largest of them, ~40% of the line contact's compilation), compile
-    it in a second process meanwhile (:func:`fastline._lib.native.compile_elsewhere`): the
-    compiled Newton kernel calls it by address, so the two compile independently."""
+def compile_system_elsewhere() -> bool:
+    """Start compiling the line contact's Newton-system solver (the largest of its kernels,
+    ~40% of its compilation) in a second process, into the on-disk cache, if neither this
+    process nor the cache has it (:func:`fastline._lib.native.compile_elsewhere`: more than one
+    CPU, the cache on). Called when a line contact is set up, before its first kernels compile:
+    the compiled Newton kernel calls the solver by address, so this process compiles the rest
+    meanwhile and then loads the solver from the cache. Returns whether a process started."""
+    if solve_newton_system.overloads:  # compiled or loaded in this process already
+        return False
     fft, tables, op = (0, 0, 0, 0), compiled_tables(16), KernelScale(1.0, 1.0)
     argtypes = system_types(fft, tables, op, np.empty(1))
-    compile_elsewhere(solve_newton_system, argtypes, _SYSTEM_ELSEWHERE, _PACKAGE_PARENT)
-
-
-on_first_compile(_compile_system_elsewhere)
+    return compile_elsewhere(solve_newton_system, argtypes, _SYSTEM_ELSEWHERE, _PACKAGE_PARENT)
 
 
 def _workspace(n: int):
