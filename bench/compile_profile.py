@@ -30,7 +30,7 @@ from bench.coldstart import SCRIPT as FIRST_ANSWER
 PROBE = """
 import json, time, sys
 from numba.core import event as _ev
-_t0 = time.process_time()
+_t0, _w0 = time.process_time(), time.perf_counter()
 _stack, _rows, _llvm = [], [], [0.0, None]
 class _Compile(_ev.Listener):
     def on_start(self, e):
@@ -40,7 +40,7 @@ class _Compile(_ev.Listener):
                        _llvm[0], len(_stack)])
     def on_end(self, e):
         name, args, w, c, l, depth = _stack.pop()
-        _rows.append(dict(name=name, args=args, depth=depth,
+        _rows.append(dict(name=name, args=args, depth=depth, start=w - _w0,
                           wall=time.perf_counter() - w, cpu=time.process_time() - c,
                           llvm=_llvm[0] - l))
 class _Llvm(_ev.Listener):

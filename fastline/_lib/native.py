@@ -26,11 +26,18 @@ import subprocess
 import sys
 import threading
 
-from numba import types
+from numba import typeof, types
 from numba.core import cgutils, errors
 from numba.extending import intrinsic
 
-__all__ = ["native_address", "caller", "cache_serves", "compile_elsewhere", "PARALLEL_ENV"]
+__all__ = [
+    "native_address",
+    "caller",
+    "cache_serves",
+    "compile_elsewhere",
+    "compile_meanwhile",
+    "PARALLEL_ENV",
+]
 
 #: environment variable that switches compiling in a second process off when set to 0/false/no/off
 PARALLEL_ENV = "FASTLINE_PARALLEL_COMPILE"
@@ -143,3 +150,11 @@ def compile_elsewhere(kernel, argtypes: tuple, statement: str, package_parent: s
             stderr=subprocess.DEVNULL,
         )
         return True
+
+
+def compile_meanwhile(kernel, args: tuple) -> None:
+    """While a second process compiles a kernel that :func:`native_address` will wait for,
+    compile ``kernel`` (the one that calls it by address) for the types of the values ``args``
+    now, without calling it, so that the two compile at once; nothing when no process runs."""
+    if _elsewhere:
+        kernel.compile(tuple(typeof(a) for a in args))

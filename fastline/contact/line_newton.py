@@ -28,6 +28,7 @@ import numpy as np
 from fastline._lib import fftw
 from fastline._lib.fftw import ALIGN_PAD, aligned_size, aligned_views
 from fastline._lib.jit import JIT
+from fastline._lib.native import compile_meanwhile
 from fastline.contact.core import (
     DV_MAX,
     ETA_FLOOR,
@@ -44,7 +45,9 @@ from fastline.contact.kernels import (
     LN_TINY,
     largest,
     largest_abs,
+    line_measures,
     normalise_pressure_into,
+    pressure_into,
 )
 from fastline.elastic.convolution import convolve, segment_sum
 from fastline.elastic.line import (
@@ -392,21 +395,21 @@ def solve_compiled(
     fft = fftw.acquire(N)
     tables = compiled_tables(op.n)
     try:
-        u1, res, status, steps, cg, kapps, circ, tol_eff = newton_line(
+        args = [
             fft,
             tables,
             op.kernel_scale,
             Scene(gap, w, float(load)),
             Law(law_form, float(u_ref)),
             v,
-            NewtonSettings(
-                float(tol),
-                int(max_iter),
-                coarse_aggregates(op.n),
-                system_address(fft, tables, op.kernel_scale, w),
-            ),
+            NewtonSettings(float(tol), int(max_iter), coarse_aggregates(op.n), 0),
             NewtonOutputs(hist, u, compiled_workspace(workspace_size(op.n))),
-        )
+        ]
+        compile_meanwhile(newton_line, args)  # while the system's solver compiles elsewhere,
+        compile_meanwhile(pressure_into, (u, u))  # and what makes the answer of its result
+        compile_meanwhile(line_measures, (u, u, 1.0))
+        args[6] = args[6]._replace(system=system_address(fft, tables, op.kernel_scale, w))
+        u1, res, status, steps, cg, kapps, circ, tol_eff = newton_line(*args)
     finally:
         fftw.release(N)
     op.convolutions += kapps + circ

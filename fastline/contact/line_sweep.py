@@ -35,6 +35,7 @@ import numpy as np
 
 from fastline._lib import fftw as _fftw
 from fastline._lib.jit import JIT
+from fastline._lib.native import compile_meanwhile
 from fastline.contact.kernels import (
     cold_start_normalised,
     hermite_accumulate,
@@ -314,24 +315,17 @@ def run_sweep(
     step = m if progress is None else 1
     fft = _fftw.acquire(2 * n)
     try:
+        ws = elastic.compiled_workspace(workspace_size(n))
+        settings = NewtonSettings(float(tol), int(max_iter), elastic.coarse_aggregates(n), 0)
+        args = [fft, tables, cylinder, series, pressure_law, settings, predictor]
+        args += [(scal, cells, count), (0, m), SweepOutputs(U, P, stats, hist, ws)]
+        compile_meanwhile(sweep_line, args)  # while the system's solver compiles elsewhere
         # the arguments' types count: w is a C-contiguous view into ws in sweep_line
         system = system_address(fft, tables, KernelScale(1.0, 1.0), np.empty(1))
-        settings = NewtonSettings(float(tol), int(max_iter), elastic.coarse_aggregates(n), system)
-        ws = elastic.compiled_workspace(workspace_size(n))
+        args[5] = settings._replace(system=system)
         for k0 in range(0, m, step):
-            k1 = min(m, k0 + step)
-            sweep_line(
-                fft,
-                tables,
-                cylinder,
-                series,
-                pressure_law,
-                settings,
-                predictor,
-                (scal, cells, count),
-                (k0, k1),
-                SweepOutputs(U, P, stats, hist, ws),
-            )
+            args[8] = (k0, min(m, k0 + step))
+            sweep_line(*args)
             if progress is not None:
                 progress()
     finally:
