@@ -55,12 +55,14 @@ def native_address(kernel, argtypes: tuple, return_type) -> int:
     address for it."""
     argtypes = tuple(argtypes)
     with _lock:
-        proc = _elsewhere.pop((kernel, argtypes), None)
+        proc = _elsewhere.get((kernel, argtypes))
     if proc is not None:  # compiled there, into the cache: wait, then load it from the cache
         try:
             proc.wait(WAIT_SECONDS)
         except subprocess.TimeoutExpired:  # pragma: no cover - a stuck process: compile here
             proc.kill()
+        with _lock:  # after the wait: other threads asking meanwhile wait for it too
+            _elsewhere.pop((kernel, argtypes), None)
     kernel.compile(argtypes)
     result = kernel.overloads[argtypes]
     if result.signature.return_type != return_type:

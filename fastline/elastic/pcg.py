@@ -292,8 +292,13 @@ def solve_newton_system(
         ws[o + 7 * n : o + 8 * n],  # its residual
     )
     bufs, pre = (a, c, work), (minv, S, cinv, Tc)
-    span, e = np.zeros(5, np.int64), np.empty(nc_max + 1, np.int64)
-    L, g = np.empty((nc_max, nc_max)), np.empty(2 * nc_max + 2)
+    # the coarse level's small arrays in one allocation (each np.zeros / np.empty variant is a
+    # kernel of its own to compile): L, g, then the edges e and the span as int64 views
+    o2, o3 = nc_max * nc_max, nc_max * nc_max + 2 * nc_max + 2
+    small = np.empty(o3 + nc_max + 6)
+    L, g = small[:o2].reshape((nc_max, nc_max)), small[o2:o3]
+    ints = small[o3:].view(np.int64)
+    e, span = ints[: nc_max + 1], ints[nc_max + 1 :]
     for i in range(2 * n, 3 * n):
         work[i] = 1.0  # the ones segment
     # -- set-up, then PCG --------------------------------------------------------------------
