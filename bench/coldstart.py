@@ -168,7 +168,7 @@ when that is set. A new process starts in one of three ways:
   call needs compile at its first use, and the process says so once, on stderr, before it waits:
 
 ```text
-fastline: compiling the solver for this machine, once: ~12 s (`fastline compile` ...)
+fastline: compiling the solver for this machine, once: ~15 s (`fastline compile` ...)
 ```
 
   On a machine with more than one core, the line contact's largest kernel, the solver of its

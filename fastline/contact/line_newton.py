@@ -248,9 +248,10 @@ def newton_line(fft, tables, op, scene, pressure_law, v_io, settings, out):
     ws)``: per step (residual, CG iterations, step), the law's separation at the end (m), work
     space of :func:`workspace_size` ``(n)`` elements. Returns ``(u1, residual, status, steps,
     cg_iterations, k_applications, circulant_solves, tol_effective)``. Each step: the Newton
-    system (:func:`fastline.elastic.pcg.solve_newton_system`) to the forcing of
-    :func:`_forcing`, a step guard on ln p (:func:`_step_guard`), Armijo backtracking on ||r||
-    (:func:`_line_search`), all inlined (``inline="always"``: less cold compile time)."""
+    system (:func:`fastline.elastic.pcg.solve_newton_system`, called at the address
+    ``settings.system``: compiled on its own) to the forcing of :func:`_forcing`, a step guard
+    on ln p (:func:`_step_guard`), Armijo backtracking on ||r|| (:func:`_line_search`), the
+    last two inlined (``inline="always"``: less cold compile time)."""
     kspec, strang, prefix = tables
     scale, K00 = op
     gap, w, load = scene

@@ -271,7 +271,7 @@ def compiled_workspace(size: int) -> np.ndarray:
 #: the directory that holds the fastline package (for a second process to import the same one)
 _PACKAGE_PARENT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 #: what a second process runs to compile the Newton systems' solver into the cache, for the
-#: argument types of :func:`_system_types` (:func:`fastline.elastic.pcg.system_address`)
+#: argument types of :func:`fastline.elastic.pcg.system_types` (its ``system_address``)
 _SYSTEM_ELSEWHERE = """
 import numpy as np
 from fastline.elastic.convolution import KernelScale

@@ -130,10 +130,13 @@ mixed tuples, took 18 s to compile cold). The solve's stages (:func:`_smoother`,
 cost ~2 s more of cold compilation (each is linked into its callers and optimised again there),
 inlined the same as one long function (CPU time of the first answer, empty cache, two
 interleaved rounds: 17.1-19.1 s before the split, 17.9-18.9 s inlined, 19.2-20.7 s not).
-:func:`solve_newton_system` is in turn inlined into the line contact's Newton kernel, which
-saves compiling (and linking and optimising again) a copy of its own there (CPU of the
-compilations of the first answer, empty cache, Numba's event API: 23.0 s against 24.0 s);
-called from Python, it compiles on its own.
+The line contact's Newton kernel calls :func:`solve_newton_system` through the address of its
+compiled code (:func:`system_address`, :data:`call_system`; :mod:`fastline._lib.native`): it is
+compiled once, on its own, and not linked into the Newton kernel and optimised there again (as a
+Numba call would, and as inlining it did); the two compile independently, in two processes when
+the cache holds neither. CPU of the first answer's compilations, empty cache, Numba's event API
+(``python -m bench.compile_profile``, one run each at load 9-12): 25.5 s in one process with the
+solver inlined; 10.5 s in the first process and 14.4 s in the second with it called by address.
 
 Where the time goes (surface 1, alpha = 1e-2, per solve; a C clock around the stages, same
 run as the version before the count target). n = 4096 (6 Newton systems, 57 FFT convolutions, 22 CG
