@@ -262,15 +262,13 @@ def solve_newton_system(
     """Solve ``(D + K) dp + du1 = rhs``, ``sum(w dp) = 0`` (module docstring) into ``dp``.
 
     ``fft``: FFT plans of length 2n (:func:`fastline._lib.fftw.acquire`); ``tables``, ``op``:
-    the kernel's :class:`~fastline.elastic.convolution.KernelTables` and
-    :class:`~fastline.elastic.convolution.KernelScale` (m/Pa); ``D`` (m/Pa), ``w`` (m), ``rhs``
-    (m): the system; ``settings``: :class:`CGSettings`; ``dp`` (Pa): the solution, written.
-    Stages: :func:`_smoother`, :func:`_coarse_level`, :func:`_pcg_start`, :func:`_pcg`,
-    :func:`_pcg_finish`. Returns ``(du1, iterations, k_applications, circulant_solves)``.
-    ``ws``: work space of :func:`workspace_size` ``(n)`` elements, contents irrelevant: every
-    work array is a view into it, so a caller that keeps it (one per thread) solves without
-    allocating (fresh pages took 35-45% of a solve at n >= 4096); plain loops and homogeneous
-    tuples of arrays, since every NumPy convenience costs compile time."""
+    :class:`~fastline.elastic.convolution.KernelTables`, ``KernelScale`` (m/Pa); ``D`` (m/Pa),
+    ``w`` (m), ``rhs`` (m): the system; ``settings``: :class:`CGSettings`; ``dp`` (Pa): the
+    solution. Stages: :func:`_smoother`, :func:`_coarse_level`, :func:`_pcg_start`, :func:`_pcg`,
+    :func:`_pcg_finish`. Returns ``(du1, iterations, k_applications, circulant_solves)``. ``ws``:
+    work space of :func:`workspace_size` ``(n)`` elements, its contents irrelevant: every work
+    array is a view into it (a caller keeps one per thread: fresh pages took 35-45% of a solve
+    at n >= 4096); plain loops, homogeneous tuples of arrays (NumPy costs compile time)."""
     kspec, strang, prefix = tables
     scale, K00 = op
     rtol, maxit, nc_max = settings
@@ -295,12 +293,9 @@ def solve_newton_system(
         ws[o + 7 * n : o + 8 * n],  # its residual
     )
     bufs, pre = (a, c, work), (minv, S, cinv, Tc)
-    # the coarse level's small arrays in one allocation (each np.zeros / np.empty variant is a
-    # kernel of its own to compile): L, g, then the edges e and the span as int64 views
-    o2, o3 = nc_max * nc_max, nc_max * nc_max + 2 * nc_max + 2
-    small = np.empty(o3 + nc_max + 6)
-    L, g = small[:o2].reshape((nc_max, nc_max)), small[o2:o3]
-    ints = small[o3:].view(np.int64)
+    o2, o3 = nc_max * nc_max, nc_max * nc_max + 2 * nc_max + 2  # one allocation (one np.empty
+    small = np.empty(o3 + nc_max + 6)  # to compile): L, g, then e and span as int64 views
+    L, g, ints = small[:o2].reshape((nc_max, nc_max)), small[o2:o3], small[o3:].view(np.int64)
     e, span = ints[: nc_max + 1], ints[nc_max + 1 :]
     for i in range(2 * n, 3 * n):
         work[i] = 1.0  # the ones segment
