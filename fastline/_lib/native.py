@@ -83,7 +83,7 @@ def caller(return_type, argtypes_check=None):
     types are not those the kernel is compiled for (a typing error then)."""
 
     @intrinsic
-    def call(typingctx, address, args):
+    def call(typingctx: object, address: types.Type, args: types.Type) -> tuple | None:
         if not isinstance(address, types.Integer) or not isinstance(args, types.BaseTuple):
             return None
         argtys = list(args.types)
