@@ -168,8 +168,16 @@ when that is set. A new process starts in one of three ways:
   call needs compile at its first use, and the process says so once, on stderr, before it waits:
 
 ```text
-fastline: compiling the solver for this machine, once: ~20 s (`fastline compile` ...)
+fastline: compiling the solver for this machine, once: ~15 s (`fastline compile` ...)
 ```
+
+  On a machine with more than one core, the line contact's largest kernel, the solver of its
+  Newton systems (`elastic/pcg.py`), then compiles in a second Python process meanwhile, into
+  the cache, from which the first process loads it: the Newton kernel calls it through its
+  machine-code address, so neither waits for the other to be compiled, and its code is compiled
+  once instead of once more inside the Newton kernel. `FASTLINE_PARALLEL_COMPILE=0` keeps the
+  compilation in the one process (the second process needs the cache on, and is started with
+  the same Python and environment).
 
 In Python the notice is a message of level WARNING on the logger `"fastline"` (printed on stderr
 when logging is not configured). A program that embeds fastline silences it with

@@ -23,9 +23,12 @@ import subprocess
 import sys
 from pathlib import Path
 
+import numba
+import numpy as np
 import pytest
 
 import fastline as fl
+from fastline.elastic.pcg import call_system
 
 SCRIPT = """
 import gc, json
@@ -50,6 +53,7 @@ print(json.dumps(sigs))
 #: kernels the scenes above must reach (the check below would pass vacuously without them)
 REACHED = (
     "fastline.contact.line_newton.newton_line",
+    "fastline.elastic.pcg.solve_newton_system",
     "fastline.contact.line_sweep.sweep_line",
     "fastline.contact.kernels.line_measures",
 )
@@ -151,6 +155,66 @@ def test_compile_builds_every_group_then_nothing_compiles():
     assert [r.error for r in first] == [""] * len(first)
     again = fl.compile_kernels()
     assert {r.name: r.compiled for r in again} == {r.name: 0 for r in first}
+
+
+# --- kernels called by address, compiled in a second process
+
+#: in a fresh interpreter with an empty cache: compile a small kernel in a second process, then
+#: ask for its address; prints whether a process started, the compilations this process made,
+#: whether the cache then serves the kernel, and whether a second request starts nothing
+ELSEWHERE = """
+import sys, numba, numpy as np
+from numba.core import event
+from fastline._lib.native import cache_serves, compile_elsewhere, native_address
+from fastline.contact.kernels import largest
+compiled = []
+class Count(event.Listener):
+    def on_start(self, e): compiled.append(e.data["dispatcher"].py_func.__name__)
+    def on_end(self, e): pass
+event.register("numba:compile", Count())
+argtypes = (numba.typeof(np.empty(3)), numba.float64)
+served_before = cache_serves(largest, argtypes)
+there = "import numpy as np\\nfrom fastline.contact.kernels import largest as f\\n"
+there += "f(np.empty(3), 0.0)"
+started = compile_elsewhere(largest, argtypes, there, sys.argv[1])
+address = native_address(largest, argtypes, numba.float64)
+again = compile_elsewhere(largest, argtypes, there, sys.argv[1])
+print(served_before, started, compiled, cache_serves(largest, argtypes), address > 0, again)
+"""
+
+
+@pytest.mark.skipif((os.cpu_count() or 1) < 2, reason="a second process only with 2+ CPUs")
+def test_a_kernel_compiled_in_a_second_process_is_loaded_not_compiled(tmp_path):
+    """With an empty cache, :func:`compile_elsewhere` starts a process that compiles the kernel
+    into the cache; :func:`native_address` waits for it and loads the kernel: this process
+    compiles nothing. Once loaded, no second process starts."""
+    parent = os.path.dirname(os.path.dirname(fl.__file__))
+    env = dict(os.environ, NUMBA_CACHE_DIR=str(tmp_path))
+    for name in ("FASTLINE_NUMBA_CACHE", "FASTLINE_PARALLEL_COMPILE"):
+        env.pop(name, None)
+    out = subprocess.run(
+        [sys.executable, "-c", ELSEWHERE, parent],
+        capture_output=True,
+        text=True,
+        env=env,
+        cwd=parent,
+        timeout=300,
+    )
+    assert out.returncode == 0, out.stderr
+    assert out.stdout.split() == ["False", "True", "[]", "True", "True", "False"], out.stdout
+
+
+def test_call_by_address_refuses_other_array_layouts():
+    """The Newton kernel's call of the Newton-system solver by address is typed against the
+    argument types the solver is compiled for: a strided work array is a typing error, not a
+    call with the wrong memory layout."""
+
+    @numba.njit
+    def calls(a):
+        return call_system(0, (a, a, a, a, a, a[::2], a, a, a))
+
+    with pytest.raises(numba.core.errors.TypingError, match="call_system"):
+        calls(np.empty(4))
 
 
 def test_compile_command_refuses_bad_jobs():

@@ -4,8 +4,9 @@ Every kernel is decorated with ``@numba.njit(**JIT)``:
 
 * ``cache`` - compiled machine code is kept on disk next to the sources (or under
   ``NUMBA_CACHE_DIR``), so only the first call in the first process pays the compilation
-  (20-25 s for the line solver on a 2-core machine, once per installation; ``fastline
-  compile`` pays it ahead of time, for every kernel, at once). Set the
+  (~25 s of CPU for the line solver, split between two processes on a machine with more
+  than one core (:mod:`fastline._lib.native`), once per installation; ``fastline compile``
+  pays it ahead of time, for every kernel, at once). Set the
   environment variable ``FASTLINE_NUMBA_CACHE=0`` before importing fastline to switch the
   on-disk cache off, e.g. on a read-only file system or when many processes start at once on
   a shared network drive. Processes of a pool share the cache safely (Numba writes its index
@@ -149,9 +150,10 @@ NOTICE = (
     "fastline: compiling the solver for this machine, once: ~{seconds} s{why} "
     "(`fastline compile` does it ahead of time; docs/performance.md, cold start)"
 )
-#: seconds of the line contact's first compilation (22-24 s of CPU measured on a loaded 2-core
-#: x86-64 machine by Numba's event API, ``python -m bench.coldstart``): the notice's estimate
-COMPILE_SECONDS = 20
+#: seconds of the line contact's first compilation, the notice's estimate: ~25 s of CPU measured
+#: on a loaded 2-core x86-64 machine by Numba's event API (``python -m bench.compile_profile``),
+#: split between two processes on more than one core (the longer ~10-13 s), in one on one core
+COMPILE_SECONDS = 15
 _log = logging.getLogger("fastline")
 _notice = {"given": False}
 

@@ -51,7 +51,11 @@ from fastline.contact.model import (  # noqa: F401 (METHODS ... shared_theory: i
     std,
 )
 from fastline.contact.result import ContactResult
-from fastline.elastic.line import LogKernelOperator, log_reference_shift_unchecked
+from fastline.elastic.line import (
+    LogKernelOperator,
+    compile_system_elsewhere,
+    log_reference_shift_unchecked,
+)
 from fastline.theory.laws import PressureLaw
 from fastline.theory.limits import (
     HertzLineContact,
@@ -316,6 +320,8 @@ class LineContact(ContactModel):
         accuracy: float | None = None,
     ) -> None:
         self._check_settings(E_star, radius, method, DEFAULT_N if n is None else n)
+        if method == "newton" and not (isinstance(model, str) and model == "hertz"):
+            compile_system_elsewhere()  # only when nothing has it yet: a fresh installation
         self._n_given = None if n is None else self.n  # with accuracy=, the first grid tried
         self.accuracy = resolution.check_accuracy(accuracy)
         self.half_width = self._check_extent("half_width", half_width)

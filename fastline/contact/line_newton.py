@@ -28,6 +28,7 @@ import numpy as np
 from fastline._lib import fftw
 from fastline._lib.fftw import ALIGN_PAD, aligned_size, aligned_views
 from fastline._lib.jit import JIT
+from fastline._lib.native import compile_meanwhile
 from fastline.contact.core import (
     DV_MAX,
     ETA_FLOOR,
@@ -44,7 +45,9 @@ from fastline.contact.kernels import (
     LN_TINY,
     largest,
     largest_abs,
+    line_measures,
     normalise_pressure_into,
+    pressure_into,
 )
 from fastline.elastic.convolution import convolve, segment_sum
 from fastline.elastic.line import (
@@ -53,7 +56,7 @@ from fastline.elastic.line import (
     compiled_tables,
     compiled_workspace,
 )
-from fastline.elastic.pcg import CGSettings, solve_newton_system
+from fastline.elastic.pcg import CGSettings, call_system, system_address
 from fastline.elastic.pcg import workspace_size as _system_workspace
 from fastline.theory.laws import hermite
 from fastline.theory.tables import solver_law
@@ -88,7 +91,8 @@ class Law(NamedTuple):
 
 
 class NewtonSettings(NamedTuple):
-    """When :func:`newton_line` stops, and the size of its preconditioner's coarse level."""
+    """When :func:`newton_line` stops, the size of its preconditioner's coarse level, and the
+    Newton systems' solver it calls."""
 
     #: tolerance on the largest residual, in units of ``u_ref`` (dimensionless)
     tol: float
@@ -96,6 +100,8 @@ class NewtonSettings(NamedTuple):
     max_iter: int
     #: most coarse aggregates (:func:`fastline.elastic.line.coarse_aggregates`)
     nc: int
+    #: address of the compiled Newton-system solver (:func:`fastline.elastic.pcg.system_address`)
+    system: int
 
 
 class NewtonOutputs(NamedTuple):
@@ -242,14 +248,15 @@ def newton_line(fft, tables, op, scene, pressure_law, v_io, settings, out):
     ws)``: per step (residual, CG iterations, step), the law's separation at the end (m), work
     space of :func:`workspace_size` ``(n)`` elements. Returns ``(u1, residual, status, steps,
     cg_iterations, k_applications, circulant_solves, tol_effective)``. Each step: the Newton
-    system (:func:`fastline.elastic.pcg.solve_newton_system`) to the forcing of
-    :func:`_forcing`, a step guard on ln p (:func:`_step_guard`), Armijo backtracking on ||r||
-    (:func:`_line_search`), all inlined (``inline="always"``: less cold compile time)."""
+    system (:func:`fastline.elastic.pcg.solve_newton_system`, called at the address
+    ``settings.system``: compiled on its own) to the forcing of :func:`_forcing`, a step guard
+    on ln p (:func:`_step_guard`), Armijo backtracking on ||r|| (:func:`_line_search`), the
+    last two inlined (``inline="always"``: less cold compile time)."""
     kspec, strang, prefix = tables
     scale, K00 = op
     gap, w, load = scene
     law, u_ref = pressure_law
-    tol, max_iter, nc = settings
+    tol, max_iter, nc, system = settings
     hist, u_out, ws = out
     n = v_io.shape[0]
     a, c, state, trial, D, dp, tail = _newton_views(ws, n)  # trial: the line search's
@@ -273,9 +280,8 @@ def newton_line(fft, tables, op, scene, pressure_law, v_io, settings, out):
         _newton_diagonal(state[_P], state[_DU], u_ref, D)
         eta = min(_forcing(res, res_prev, eta, tol_eff), eta_cap)
         res_prev = res
-        du1, its, ka, ci = solve_newton_system(
-            fft, tables, op, D, w, state[_R], CGSettings(eta, MAX_CG, nc), dp, tail
-        )
+        sys_args = (fft, tables, op, D, w, state[_R], CGSettings(eta, MAX_CG, nc), dp, tail)
+        du1, its, ka, ci = call_system(system, sys_args)
         cg_total += its
         kapps += ka
         circ += ci
@@ -388,17 +394,23 @@ def solve_compiled(
     u = np.empty(op.n)
     N = 2 * op.n
     fft = fftw.acquire(N)
+    tables = compiled_tables(op.n)
     try:
-        u1, res, status, steps, cg, kapps, circ, tol_eff = newton_line(
+        args = [
             fft,
-            compiled_tables(op.n),
+            tables,
             op.kernel_scale,
             Scene(gap, w, float(load)),
             Law(law_form, float(u_ref)),
             v,
-            NewtonSettings(float(tol), int(max_iter), coarse_aggregates(op.n)),
+            NewtonSettings(float(tol), int(max_iter), coarse_aggregates(op.n), 0),
             NewtonOutputs(hist, u, compiled_workspace(workspace_size(op.n))),
-        )
+        ]
+        compile_meanwhile(newton_line, args)  # while the system's solver compiles elsewhere,
+        compile_meanwhile(pressure_into, (u, u))  # and what makes the answer of its result
+        compile_meanwhile(line_measures, (u, u, 1.0))
+        args[6] = args[6]._replace(system=system_address(fft, tables, op.kernel_scale, w))
+        u1, res, status, steps, cg, kapps, circ, tol_eff = newton_line(*args)
     finally:
         fftw.release(N)
     op.convolutions += kapps + circ

@@ -35,6 +35,7 @@ import numpy as np
 
 from fastline._lib import fftw as _fftw
 from fastline._lib.jit import JIT
+from fastline._lib.native import compile_meanwhile
 from fastline.contact.kernels import (
     cold_start_normalised,
     hermite_accumulate,
@@ -54,6 +55,7 @@ from fastline.contact.line_newton import workspace_size as _newton_workspace
 from fastline.contact.model import CORE_DEPTH, PREDICTOR_MAX_STEP, SWEEP_PREDICTOR_ORDER
 from fastline.elastic import line as elastic
 from fastline.elastic.convolution import KernelScale
+from fastline.elastic.pcg import system_address
 
 #: columns of the per-load statistics a sweep returns
 STATS = (
@@ -310,25 +312,20 @@ def run_sweep(
     cylinder = Cylinder(elastic.KHAT0, float(E_star), 2.0 * radius)
     series = SweepLoads(loads, halves, cold)
     pressure_law = Law(law_form, float(u_ref))
-    settings = NewtonSettings(float(tol), int(max_iter), elastic.coarse_aggregates(n))
     step = m if progress is None else 1
     fft = _fftw.acquire(2 * n)
     try:
         ws = elastic.compiled_workspace(workspace_size(n))
+        settings = NewtonSettings(float(tol), int(max_iter), elastic.coarse_aggregates(n), 0)
+        args = [fft, tables, cylinder, series, pressure_law, settings, predictor]
+        args += [(scal, cells, count), (0, m), SweepOutputs(U, P, stats, hist, ws)]
+        compile_meanwhile(sweep_line, args)  # while the system's solver compiles elsewhere
+        # the arguments' types count: w is a C-contiguous view into ws in sweep_line
+        system = system_address(fft, tables, KernelScale(1.0, 1.0), np.empty(1))
+        args[5] = settings._replace(system=system)
         for k0 in range(0, m, step):
-            k1 = min(m, k0 + step)
-            sweep_line(
-                fft,
-                tables,
-                cylinder,
-                series,
-                pressure_law,
-                settings,
-                predictor,
-                (scal, cells, count),
-                (k0, k1),
-                SweepOutputs(U, P, stats, hist, ws),
-            )
+            args[8] = (k0, min(m, k0 + step))
+            sweep_line(*args)
             if progress is not None:
                 progress()
     finally:

@@ -23,7 +23,14 @@ __getattr__, __dir__, __all__ = _lazy.attach(
             "prefix_sums",
         ],
         "preconditioner": ["TwoLevel", "CORE_THETA", "WIDE_THETA", "EDGE_SHARE", "FROZEN_THETA"],
-        "pcg": ["CGSettings", "workspace_size", "solve_newton_system"],
+        "pcg": [
+            "CGSettings",
+            "workspace_size",
+            "solve_newton_system",
+            "system_address",
+            "system_types",
+            "call_system",
+        ],
         "line": [
             "LogKernelOperator",
             "influence_coefficients",
@@ -32,6 +39,7 @@ __getattr__, __dir__, __all__ = _lazy.attach(
             "coarse_aggregates",
             "compiled_tables",
             "compiled_workspace",
+            "compile_system_elsewhere",
             "KHAT0",
         ],
         "ring": [

@@ -45,6 +45,7 @@ pyFFTW state is changed.
 from __future__ import annotations
 
 import math
+import os
 import threading
 from collections import OrderedDict
 
@@ -52,11 +53,13 @@ import numpy as np
 from numpy.typing import ArrayLike
 
 from fastline._lib import fftw as _fftw
+from fastline._lib.native import compile_elsewhere
 from fastline._lib.validate import finite_scalar, integer, positive
 from fastline.elastic.convolution import KernelScale, KernelTables, apply_kernel, prefix_sums
 from fastline.elastic.pcg import (
     CGSettings,
     solve_newton_system,
+    system_types,
     workspace_size,
 )
 
@@ -68,6 +71,7 @@ __all__ = [
     "coarse_aggregates",
     "compiled_tables",
     "compiled_workspace",
+    "compile_system_elsewhere",
     "KHAT0",
 ]
 
@@ -262,6 +266,33 @@ def compiled_workspace(size: int) -> np.ndarray:
     if ws is None or ws.size < size:
         ws = _local.compiled_ws = np.empty(size)
     return ws[:size]
+
+
+#: the directory that holds the fastline package (for a second process to import the same one)
+_PACKAGE_PARENT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
+#: what a second process runs to compile the Newton systems' solver into the cache, for the
+#: argument types of :func:`fastline.elastic.pcg.system_types` (its ``system_address``)
+_SYSTEM_ELSEWHERE = """
+import numpy as np
+from fastline.elastic.convolution import KernelScale
+from fastline.elastic.line import compiled_tables
+from fastline.elastic.pcg import system_address
+system_address((0, 0, 0, 0), compiled_tables(16), KernelScale(1.0, 1.0), np.empty(1))
+"""
+
+
+def compile_system_elsewhere() -> bool:
+    """Start compiling the line contact's Newton-system solver (the largest of its kernels,
+    ~40% of its compilation) in a second process, into the on-disk cache, if neither this
+    process nor the cache has it (:func:`fastline._lib.native.compile_elsewhere`: more than one
+    CPU, the cache on). Called when a line contact is set up, before its first kernels compile:
+    the compiled Newton kernel calls the solver by address, so this process compiles the rest
+    meanwhile and then loads the solver from the cache. Returns whether a process started."""
+    if solve_newton_system.overloads:  # compiled or loaded in this process already
+        return False
+    fft, tables, op = (0, 0, 0, 0), compiled_tables(16), KernelScale(1.0, 1.0)
+    argtypes = system_types(fft, tables, op, np.empty(1))
+    return compile_elsewhere(solve_newton_system, argtypes, _SYSTEM_ELSEWHERE, _PACKAGE_PARENT)
 
 
 def _workspace(n: int):

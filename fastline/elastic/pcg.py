@@ -130,10 +130,13 @@ mixed tuples, took 18 s to compile cold). The solve's stages (:func:`_smoother`,
 cost ~2 s more of cold compilation (each is linked into its callers and optimised again there),
 inlined the same as one long function (CPU time of the first answer, empty cache, two
 interleaved rounds: 17.1-19.1 s before the split, 17.9-18.9 s inlined, 19.2-20.7 s not).
-:func:`solve_newton_system` is in turn inlined into the line contact's Newton kernel, which
-saves compiling (and linking and optimising again) a copy of its own there (CPU of the
-compilations of the first answer, empty cache, Numba's event API: 23.0 s against 24.0 s);
-called from Python, it compiles on its own.
+The line contact's Newton kernel calls :func:`solve_newton_system` through the address of its
+compiled code (:func:`system_address`, :data:`call_system`; :mod:`fastline._lib.native`): it is
+compiled once, on its own, and not linked into the Newton kernel and optimised there again (as a
+Numba call would, and as inlining it did); the two compile independently, in two processes when
+the cache holds neither. CPU of the first answer's compilations, empty cache, Numba's event API
+(``python -m bench.compile_profile``, one run each at load 9-12): 25.5 s in one process with the
+solver inlined; 10.5 s in the first process and 14.4 s in the second with it called by address.
 
 Where the time goes (surface 1, alpha = 1e-2, per solve; a C clock around the stages, same
 run as the version before the count target). n = 4096 (6 Newton systems, 57 FFT convolutions, 22 CG
@@ -162,6 +165,7 @@ import numpy as np
 
 from fastline._lib.fftw import ALIGN_PAD, aligned_size, aligned_views
 from fastline._lib.jit import JIT
+from fastline._lib.native import caller, native_address
 from fastline.elastic.convolution import convolve
 from fastline.elastic.preconditioner import TwoLevel, _coarse_level, _precondition, _smoother
 
@@ -171,7 +175,14 @@ if TYPE_CHECKING:
 #: interleaved partial sums of the reductions (strip length)
 _STRIP = 64
 
-__all__ = ["CGSettings", "workspace_size", "solve_newton_system"]
+__all__ = [
+    "CGSettings",
+    "workspace_size",
+    "solve_newton_system",
+    "system_address",
+    "system_types",
+    "call_system",
+]
 
 
 #: CG stops when its residual has not improved for this many iterations (round-off)
@@ -236,7 +247,7 @@ def workspace_size(n: int) -> int:
     return aligned_size(2 * n) + (3 * n + min(n, _STRIP)) + (3 * n + 1) + (4 * n + 1) + 8 * n
 
 
-@numba.njit(**JIT, inline="always")
+@numba.njit(**JIT)
 def solve_newton_system(
     fft: tuple,
     tables: KernelTables,
@@ -251,15 +262,13 @@ def solve_newton_system(
     """Solve ``(D + K) dp + du1 = rhs``, ``sum(w dp) = 0`` (module docstring) into ``dp``.
 
     ``fft``: FFT plans of length 2n (:func:`fastline._lib.fftw.acquire`); ``tables``, ``op``:
-    the kernel's :class:`~fastline.elastic.convolution.KernelTables` and
-    :class:`~fastline.elastic.convolution.KernelScale` (m/Pa); ``D`` (m/Pa), ``w`` (m), ``rhs``
-    (m): the system; ``settings``: :class:`CGSettings`; ``dp`` (Pa): the solution, written.
-    Stages: :func:`_smoother`, :func:`_coarse_level`, :func:`_pcg_start`, :func:`_pcg`,
-    :func:`_pcg_finish`. Returns ``(du1, iterations, k_applications, circulant_solves)``.
-    ``ws``: work space of :func:`workspace_size` ``(n)`` elements, contents irrelevant: every
-    work array is a view into it, so a caller that keeps it (one per thread) solves without
-    allocating (fresh pages took 35-45% of a solve at n >= 4096); plain loops and homogeneous
-    tuples of arrays, since every NumPy convenience costs compile time."""
+    :class:`~fastline.elastic.convolution.KernelTables`, ``KernelScale`` (m/Pa); ``D`` (m/Pa),
+    ``w`` (m), ``rhs`` (m): the system; ``settings``: :class:`CGSettings`; ``dp`` (Pa): the
+    solution. Stages: :func:`_smoother`, :func:`_coarse_level`, :func:`_pcg_start`, :func:`_pcg`,
+    :func:`_pcg_finish`. Returns ``(du1, iterations, k_applications, circulant_solves)``. ``ws``:
+    work space of :func:`workspace_size` ``(n)`` elements, its contents irrelevant: every work
+    array is a view into it (a caller keeps one per thread: fresh pages took 35-45% of a solve
+    at n >= 4096); plain loops, homogeneous tuples of arrays (NumPy costs compile time)."""
     kspec, strang, prefix = tables
     scale, K00 = op
     rtol, maxit, nc_max = settings
@@ -284,8 +293,10 @@ def solve_newton_system(
         ws[o + 7 * n : o + 8 * n],  # its residual
     )
     bufs, pre = (a, c, work), (minv, S, cinv, Tc)
-    span, e = np.zeros(5, np.int64), np.empty(nc_max + 1, np.int64)
-    L, g = np.empty((nc_max, nc_max)), np.empty(2 * nc_max + 2)
+    o2, o3 = nc_max * nc_max, nc_max * nc_max + 2 * nc_max + 2  # one allocation (one np.empty
+    small = np.empty(o3 + nc_max + 6)  # to compile): L, g, then e and span as int64 views
+    L, g, ints = small[:o2].reshape((nc_max, nc_max)), small[o2:o3], small[o3:].view(np.int64)
+    e, span = ints[: nc_max + 1], ints[nc_max + 1 :]
     for i in range(2 * n, 3 * n):
         work[i] = 1.0  # the ones segment
     # -- set-up, then PCG --------------------------------------------------------------------
@@ -297,6 +308,56 @@ def solve_newton_system(
     its, kapps, circ_loop = _pcg(w, kspec, rtol, maxit, (s_m1, s_jac, r0), prec, fft, bufs, cg, dp)
     du1 = _pcg_finish(D, w, minv, s_m1, s_jac, work, cg, dp)
     return du1, its, kapps, circ + circ_loop
+
+
+#: what :func:`solve_newton_system` returns: ``(du1, iterations, k_applications,
+#: circulant_solves)``
+_SYSTEM_RETURN = numba.types.Tuple((numba.float64, numba.int64, numba.int64, numba.int64))
+#: the work arrays a compiled caller passes (``D, rhs, dp, ws``: views into its work space)
+_VECTOR = numba.types.Array(numba.float64, 1, "C")
+#: argument positions of those arrays in :func:`solve_newton_system`
+_VECTOR_ARGS = (3, 5, 7, 8)
+#: argument types -> address of the compiled :func:`solve_newton_system` in this process
+_addresses: dict = {}
+
+
+def _check_system_args(argtypes: list) -> str:
+    """Why a compiled caller's arguments do not fit :func:`system_address`'s kernel ("" if they
+    do)."""
+    wrong = [k for k in _VECTOR_ARGS if argtypes[k] != _VECTOR]
+    if len(argtypes) != 9 or wrong:
+        return f"call_system: arguments {wrong} must be {_VECTOR} (got {argtypes})"
+    return ""
+
+
+#: ``call_system(address, (fft, tables, op, D, w, rhs, settings, dp, ws))``: call
+#: :func:`solve_newton_system` compiled at ``address`` (:func:`system_address`) from another
+#: kernel; returns what it returns
+call_system = caller(_SYSTEM_RETURN, _check_system_args)
+
+
+def system_types(fft: tuple, tables: KernelTables, op: KernelScale, w: np.ndarray) -> tuple:
+    """The Numba types of the arguments a compiled caller passes :func:`solve_newton_system`
+    with these FFT plans, tables, kernel scale and weights (``D, rhs, dp, ws`` C-contiguous
+    float64 views into its work space)."""
+    vec = np.empty(1)
+    return numba.typeof((fft, tables, op, vec, w, vec, CGSettings(0.0, 0, 0), vec, vec)).types
+
+
+def system_address(fft: tuple, tables: KernelTables, op: KernelScale, w: np.ndarray) -> int:
+    """The address of :func:`solve_newton_system` compiled (or loaded from the cache) for the
+    arguments of :func:`system_types`, for :data:`call_system`.
+
+    Called this way, the Newton system's solver is compiled once, on its own: the Newton
+    kernel that calls it does not link its code in and optimise it again, and the two compile
+    independently, in two processes when neither is cached (:mod:`fastline._lib.native`)."""
+    flags = w.flags  # the key: what sets w's Numba type (cheaper than typing it)
+    key = (w.dtype.char, w.ndim, flags.c_contiguous, flags.f_contiguous, flags.writeable, len(fft))
+    address = _addresses.get(key)
+    if address is None:
+        argtypes = system_types(fft, tables, op, w)
+        address = _addresses[key] = native_address(solve_newton_system, argtypes, _SYSTEM_RETURN)
+    return address
 
 
 @numba.njit(**JIT, inline="always")
