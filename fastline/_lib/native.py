@@ -145,7 +145,13 @@ def compile_elsewhere(kernel, argtypes: tuple, statement: str, package_parent: s
             p for p in (package_parent, env.get("PYTHONPATH", "")) if p
         )
         _elsewhere[(kernel, argtypes)] = subprocess.Popen(
-            [sys.executable, "-c", statement],
+            # the path set first in the script: ``-c`` puts the working directory ahead of
+            # PYTHONPATH, where another fastline (a source checkout) may lie
+            [
+                sys.executable,
+                "-c",
+                f"import sys\nsys.path.insert(0, {package_parent!r})\n{statement}",
+            ],
             env=env,
             stdin=subprocess.DEVNULL,
             stdout=subprocess.DEVNULL,
