@@ -265,15 +265,25 @@ def reynolds_flow(
     nx, ny = g.shape
     tx, ty, t_in, t_out = _transmissibilities(g**3 / (12.0 * eta), dx, dy)
     keep = _percolating_cells(tx, ty, t_in, t_out, nx, ny)
-    pressure = np.full((nx, ny), np.nan)
     if not keep.any():
-        return FlowResult(0.0, 0.0, 0.0, False, 0.0, 0.0, pressure, eta, dp, "none")
+        return FlowResult(
+            0.0, 0.0, 0.0, False, 0.0, 0.0, np.full((nx, ny), np.nan), eta, dp, "none"
+        )
     D, tx, ty, b, t_in, t_out, scale = _system(tx, ty, t_in, t_out, keep)
     x, used, iterations = _solve(D, tx, ty, b, keep, solver, start)
+    faces = (tx / scale, ty / scale, t_in, t_out)
+    return _result(x, keep, faces, nx * dx / (ny * dy), eta, dp, used, iterations)
+
+
+def _result(x, keep, faces, aspect, eta, dp, used, iterations) -> FlowResult:
+    """The :class:`FlowResult` of the unit-drop solution ``x``; ``faces`` = the unscaled
+    ``(tx, ty, t_in, t_out)``, ``aspect`` = ``Lx / Ly``."""
+    pressure = np.full(keep.shape, np.nan)
     pressure[keep] = dp * x[keep]
+    t_in, t_out = faces[2], faces[3]
     q_in = float(np.sum(t_in * (1.0 - x[0]))) * dp
     q_out = float(np.sum(t_out * x[-1])) * dp
-    sigma = _dissipation(x, tx / scale, ty / scale, t_in, t_out) * (nx * dx) / (ny * dy)
+    sigma = _dissipation(x, *faces) * aspect
     return FlowResult(
         conductance=sigma,
         effective_gap=(12.0 * eta * sigma) ** (1.0 / 3.0),
