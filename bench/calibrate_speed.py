@@ -35,6 +35,7 @@ def main() -> None:
     h = random_surface(psd, g, 1).heights
     ps = np.geomspace(1e3, 3e5, args.pressures)
     solve_contact(-h, g, 10e6, ps[0] * g.lx * g.ly, max_iter=2)  # compile
+    reynolds_flow(h[:64, :64] - h.min() + 1e-7, g.dx, g.dy, solver="iterative")  # compile
     warm = sx = sy = None
     t_solve, t_flow, its, flow_its, n_direct, kinds = 0.0, 0.0, [], [], 0, ""
     print(f"grid {g.nx} x {g.ny}; {ps.size} pressures 1e3-3e5 Pa, E* 10 MPa")

@@ -75,6 +75,7 @@ FLOW_TOL = 1e-8
 #: measured ratio of the direct solve's time to one iteration's (``python -m bench.bem_flow``)
 ITERATION_BUDGET = 100
 #: below this many cells on the flow path ``solver="auto"`` takes the direct solve at once
+#: (about 100 x 100: there the budget is under 20 iterations and the LU takes milliseconds)
 DIRECT_BELOW = 10_000
 #: iteration cap of ``solver="iterative"`` (beyond it, the direct solve)
 MAX_ITER = 5000
@@ -323,7 +324,7 @@ def _solve(D, tx, ty, b, keep, solver, start):
     if solver == "direct" or (solver == "auto" and active < DIRECT_BELOW):
         return _direct(D, tx, ty, b, keep), "direct", 0
     nx = keep.shape[0]
-    if start is None:
+    if start is None or not start.percolating:
         x = np.repeat(1.0 - (np.arange(nx) + 0.5)[:, None] / nx, keep.shape[1], axis=1)
     else:
         x = np.nan_to_num(start.pressure / start.pressure_drop)
