@@ -18,9 +18,9 @@ remaining system is symmetric positive definite and has one solver path (``solve
 1. Conjugate gradients preconditioned by a geometric aggregation multigrid
    (:mod:`fastline.bem.pcg_flow`), started from ``start`` (a previous result, e.g. the last
    pressure's of a load sequence) to a relative residual ``FLOW_TOL``, within a budget of
-   iterations worth about one direct solve (``ITERATION_BUDGET``, scaled with the system's
-   size). Every few iterations the budget is checked against the total predicted from the
-   residual's rate, so a hopeless solve stops after a handful of iterations. This is the fast
+   iterations worth about one direct solve (``ITERATION_BUDGET`` times the fraction of cells on
+   the flow path). Every few iterations the budget is checked against the total predicted from
+   the residual's rate, so a hopeless solve stops after a handful of iterations. This is the fast
    path at low contact fractions, where the open cells form a broad network.
 2. Otherwise, or below ``DIRECT_BELOW`` cells on the flow path, SciPy's sparse LU (SuperLU,
    J. W. Demmel et al., SIAM J. Matrix Anal. Appl. 20, 720 (1999), doi:10.1137/S0895479895291765)
@@ -72,10 +72,10 @@ __all__ = ["FlowResult", "reynolds_flow", "FLOW_TOL", "SOLVERS"]
 #: conductance, taken from the dissipation, is then within a few 1e-9 of the direct solve's
 #: (``python -m bench.bem_flow``)
 FLOW_TOL = 1e-8
-#: CG iterations allowed on a 512 x 512 grid with every cell on the flow path, about the cost
-#: of one direct solve there (the ratio of a direct solve's time to one iteration's: 87-130 at
-#: A/A0 0.05-0.16 in a calibration's sequence); scaled by ``(active / cells) (cells /
-#: 2^18)^(1/2)`` as that ratio (``python -m bench.bem_flow``)
+#: CG iterations allowed with every cell on the flow path, about the cost of one direct solve
+#: (the measured ratio of a direct solve's time to one CG iteration's: 87-130 at A/A0
+#: 0.05-0.16 in a calibration's sequence at 512^2; 102-118 at A/A0 0.1 at 512^2 and 1024^2);
+#: scaled by the fraction of the cells on the flow path (``python -m bench.bem_flow``)
 ITERATION_BUDGET = 120
 #: below this many cells on the flow path ``solver="auto"`` takes the direct solve at once
 #: (about 100 x 100: there the budget is under 20 iterations and the LU takes milliseconds)
@@ -227,7 +227,7 @@ def _direct(D, tx, ty, b, keep):
 
 def _budget(active: int, cells: int) -> float:
     """CG iterations worth one direct solve of ``active`` unknowns on a grid of ``cells``."""
-    return ITERATION_BUDGET * (active / cells) * math.sqrt(cells / 2.0**18)
+    return ITERATION_BUDGET * active / cells
 
 
 def reynolds_flow(
@@ -332,7 +332,8 @@ def _solve(D, tx, ty, b, keep, solver, start):
     else:
         x = np.nan_to_num(start.pressure / start.pressure_drop)
     budget = MAX_ITER if solver == "iterative" else _budget(active, keep.size)
-    iterations, converged = iterate(D, tx, ty, b, keep, x, FLOW_TOL, budget)
+    warm = start is not None and start.percolating
+    iterations, converged = iterate(D, tx, ty, b, keep, x, FLOW_TOL, budget, warm)
     if converged:
         return x, "iterative", iterations
     return _direct(D, tx, ty, b, keep), "direct", iterations
