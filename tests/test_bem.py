@@ -350,6 +350,27 @@ def test_flow_strips_in_series_and_parallel():
     assert res.conductance == approx(np.mean(gy**3 / (12 * ETA)), rel=RTOL_EXACT)
 
 
+RTOL_FLOW_CG = 1e-9  # conductance of the CG (residual 1e-8; error ~ its square) vs closed forms
+RTOL_BALANCE_CG = 1e-4  # inlet vs outlet flux of a CG iterate at residual 1e-8 (measured 5e-6)
+
+
+@pytest.mark.parametrize("solver", ["iterative", "direct"])
+def test_flow_closed_forms_on_multigrid_sized_maps(solver):
+    """Poiseuille, series and parallel strips on 64 x 48 cells (three multigrid levels), the flow
+    rate balanced between inlet and outlet."""
+    rng = np.random.default_rng(1)
+    g = 1.5e-6
+    res = bem.reynolds_flow(np.full((64, 48), g), 1e-6, 2e-6, viscosity=ETA, solver=solver)
+    assert res.conductance == approx(g**3 / (12 * ETA), rel=RTOL_EXACT)
+    gx = rng.uniform(0.2e-6, 3e-6, 64)
+    res = bem.reynolds_flow(np.repeat(gx[:, None], 48, axis=1), 1e-6, viscosity=ETA, solver=solver)
+    assert res.solver == solver and res.balance_error < RTOL_BALANCE_CG
+    assert res.conductance == approx(1.0 / np.mean(12 * ETA / gx**3), rel=RTOL_FLOW_CG)
+    gy = rng.uniform(0.2e-6, 3e-6, 48)
+    res = bem.reynolds_flow(np.repeat(gy[None, :], 64, axis=0), 1e-6, viscosity=ETA, solver=solver)
+    assert res.conductance == approx(np.mean(gy**3 / (12 * ETA)), rel=RTOL_FLOW_CG)
+
+
 def test_flow_blocked_channel_is_zero():
     g = np.full((10, 7), 2e-6)
     g[4, :] = 0.0

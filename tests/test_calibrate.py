@@ -20,15 +20,14 @@ import pytest
 
 import fastline as fl
 from fastline import bem
-from fastline.bem import pcg_flow
 from fastline.cli.app import main
 from fastline.theory.calibrated import CalibrationPoints, isotonic_decreasing
 
 #: warm-started and cold CCG solves of one surface (tol 1e-9 on the pressure change)
 SOLVER_AGREEMENT = 1e-6
-#: the multigrid-preconditioned CG flow (relative residual 1e-10; the conditioning near
-#: percolation costs two digits) against the sparse LU
-FLOW_AGREEMENT = 1e-6
+#: the warm-started flow of a calibration (CG to a relative residual 1e-8, conductance from the
+#: dissipation) against the sparse LU
+FLOW_AGREEMENT = 1e-7
 #: the same Hermite cells evaluated twice (round-off of ln p -> p -> ln p)
 ROUND_OFF = 1e-12
 #: a law through 3 points per decade of another smooth law, between its nodes
@@ -336,9 +335,10 @@ def test_iterative_flow_equals_the_direct_solve():
     for p in (1e3, 3e4, 3e5, 3e6):  # the last seals (no channel percolates)
         res = bem.solve_contact(-heights, grid, E_STAR, p * grid.lx * grid.ly)
         for gap, d in ((res.gap, (grid.dx, grid.dy)), (res.gap.T, (grid.dy, grid.dx))):
-            K, field, _ = pcg_flow.conductance(gap, *d, 1e-3, start if gap is res.gap else None)
-            direct = bem.reynolds_flow(gap, *d, viscosity=1e-3)
-            assert K == pytest.approx(direct.conductance, rel=FLOW_AGREEMENT, abs=0.0)
+            warm = start if gap is res.gap else None
+            it = bem.reynolds_flow(gap, *d, viscosity=1e-3, solver="iterative", start=warm)
+            direct = bem.reynolds_flow(gap, *d, viscosity=1e-3, solver="direct")
+            assert it.conductance == pytest.approx(direct.conductance, rel=FLOW_AGREEMENT, abs=0.0)
             if gap is res.gap:
-                start = field
-    assert K == 0.0 and not direct.percolating
+                start = it
+    assert it.conductance == 0.0 and not direct.percolating and it.solver == "none"

@@ -8,7 +8,7 @@ Reynolds flow through the gap of a nominally flat contact.
 Modules: :mod:`~fastline.bem.surface` (grids, random surfaces, spectrum estimate),
 :mod:`~fastline.bem.halfspace` (Love's influence coefficients, FFT convolution),
 :mod:`~fastline.bem.contact` (the CCG solver), :mod:`~fastline.bem.flow` (Reynolds flow),
-:mod:`~fastline.bem.pcg_flow` (its conductance by multigrid-preconditioned CG),
+:mod:`~fastline.bem.pcg_flow` (the flow's iterative stage: multigrid-preconditioned CG),
 :mod:`~fastline.bem.scene` (scenes and their default grids),
 :mod:`~fastline.bem.ensemble` (realisations, ensembles),
 :mod:`~fastline.bem.compare` (theory against the ensemble in units of its error bar),

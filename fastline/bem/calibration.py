@@ -4,9 +4,9 @@
 rigid flat on each at every pressure of a range (the same surface carried from pressure to
 pressure, each solve warm-started from the last one's pressure field), and measures on every
 gap field the mean gap, the contact fraction and the Reynolds effective gap
-``(12 eta K)^(1/3)`` for flow along x and along y (the system of :mod:`fastline.bem.flow`,
-solved by multigrid-preconditioned conjugate gradients from the last pressure's fluid field:
-:mod:`fastline.bem.pcg_flow`). The ensemble
+``(12 eta K)^(1/3)`` for flow along x and along y (:func:`fastline.bem.flow.reynolds_flow`,
+its conjugate gradients started from the last pressure's fluid field, or its direct solve
+where that is cheaper). The ensemble
 means with their standard errors become a :class:`~fastline.theory.calibrated.CalibratedLaw`:
 a monotone fit joined to Persson's law outside the simulated range (docs/calibration.md). The
 mean gap is averaged over the surfaces at a fixed gap (:func:`fixed_gap_mean`: the pressure a
@@ -43,7 +43,7 @@ from fastline._lib.validate import integer, positive, positive_array
 from fastline._lib.version import __version__
 from fastline.bem.contact import DEFAULT_TOL, solve_contact
 from fastline.bem.ensemble import ensemble_executor
-from fastline.bem.pcg_flow import conductance
+from fastline.bem.flow import reynolds_flow
 from fastline.bem.surface import Grid, random_surface, spectral_grid
 from fastline.errors import CalibrationWarning
 from fastline.theory.calibrated import CalibratedLaw, CalibrationPoints
@@ -89,7 +89,8 @@ def _one_surface(seed, task: _Task) -> dict:
     grid = task.grid
     g0 = -random_surface(task.psd, grid, seed).heights
     n = task.pressures.size
-    out = {k: np.zeros(n) for k in ("u", "area", "gx", "gy", "iterations", "flow_iterations")}
+    keys = ("u", "area", "gx", "gy", "iterations", "flow_iterations", "flow_direct")
+    out = {k: np.zeros(n) for k in keys}
     out["converged"] = np.zeros(n, dtype=bool)
     warm = sx = sy = None
     for i, p in enumerate(task.pressures):
@@ -99,9 +100,11 @@ def _one_surface(seed, task: _Task) -> dict:
         )  # fmt: skip
         if i + 1 < n:  # the next start: this field scaled to the next load
             warm = np.maximum(res.pressure, 0.0) * (task.pressures[i + 1] / p)
-        out["gx"][i], sx, kx = conductance(res.gap, grid.dx, grid.dy, task.viscosity, sx)
-        out["gy"][i], sy, ky = conductance(res.gap.T, grid.dy, grid.dx, task.viscosity, sy)
-        out["flow_iterations"][i] = kx + ky
+        sx = reynolds_flow(res.gap, grid.dx, grid.dy, viscosity=task.viscosity, start=sx)
+        sy = reynolds_flow(res.gap.T, grid.dy, grid.dx, viscosity=task.viscosity, start=sy)
+        out["gx"][i], out["gy"][i] = sx.conductance, sy.conductance
+        out["flow_iterations"][i] = sx.iterations + sy.iterations
+        out["flow_direct"][i] = (sx.solver == "direct") + (sy.solver == "direct")
         out["u"][i] = res.gap.mean()
         out["area"][i] = res.contact_fraction
         out["iterations"][i] = res.iterations
@@ -310,6 +313,7 @@ def _solve_record(runs, seconds) -> dict:
         "iterations": int(it.sum()),
         "iterations_max": int(it.max()),
         "flow_iterations": int(sum(r["flow_iterations"].sum() for r in runs)),
+        "flow_direct_solves": int(sum(r["flow_direct"].sum() for r in runs)),
         "unconverged": int((~conv).sum()),
         "converged": bool(conv.all()),
         "seconds": seconds,

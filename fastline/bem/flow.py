@@ -13,16 +13,34 @@ is discretised with conservative finite volumes on the cells of the gap map:
 Cells that are not connected to both the inlet and the outlet (closed islands, or everything
 when no channel percolates) are removed before the solve with
 :func:`scipy.sparse.csgraph.connected_components`; without them the matrix is singular.  The
-remaining system is symmetric positive definite. Two solvers: conjugate gradients
-preconditioned with one V-cycle of smoothed-aggregation algebraic multigrid (P. Vanek, J. Mandel,
-M. Brezina, Computing 56, 179 (1996), doi:10.1007/BF02238511; the ``pyamg`` package, the
-optional extra ``fastline-contact[flow]``) to a relative residual ``AMG_RTOL``, and SciPy's
-sparse LU (:func:`scipy.sparse.linalg.spsolve`). They agree to ``1e-8`` relative in the
-conductance (``tests/test_bem_solver.py``; measured 4e-11-7e-11). LU was the faster on the
-measured grids (2.2 s against 3.8 s at 512^2 cells, 15.6 s against 19.1 s at 1024^2; the
-multigrid's CG iterations grow, 33 to 53, because ``g^3`` spans many decades near contact:
-``docs/performance.md``), so ``solver="auto"`` takes LU up to ``AMG_MIN_CELLS`` active cells
-and the multigrid above, where LU's fill-in makes its memory the limit, if pyamg is installed.
+remaining system is symmetric positive definite and has one solver path (``solver="auto"``):
+
+1. Conjugate gradients preconditioned by a geometric aggregation multigrid
+   (:mod:`fastline.bem.pcg_flow`), started from ``start`` (a previous result, e.g. the last
+   pressure's of a load sequence) to a relative residual ``FLOW_TOL``, within a budget of
+   iterations worth about one direct solve (``ITERATION_BUDGET`` times the fraction of cells on
+   the flow path). Every few iterations the budget is checked against the total predicted from
+   the residual's rate, so a hopeless solve stops after a handful of iterations. This is the fast
+   path at low contact fractions, where the open cells form a broad network.
+2. Otherwise, or below ``DIRECT_BELOW`` cells on the flow path, SciPy's sparse LU (SuperLU,
+   J. W. Demmel et al., SIAM J. Matrix Anal. Appl. 20, 720 (1999), doi:10.1137/S0895479895291765)
+   with the minimum-degree ordering of ``A + A^T`` and symmetric mode (diagonal pivots): half
+   the time of :func:`~scipy.sparse.linalg.spsolve` (column ordering) at A/A0 0.01, about the
+   same at 0.1-0.3, and 1.3-3x less fill than a nested dissection of the grid. Near the
+   percolation threshold, where the cluster is thin and tortuous, it beats the iterations.
+
+``solver="direct"`` always takes step 2, ``solver="iterative"`` step 1 without the budget
+(up to ``MAX_ITER`` iterations, or until the rate shows that more would be needed, then step 2).
+
+The conductance is the dissipation ``sum t (P_i - P_j)^2 / dP^2`` over all faces (inlet and
+outlet included): by the power balance it equals ``Q / dP`` at the solution, and since the
+pressure minimises the dissipation, its error at an iterate is of the order of the squared
+error of the pressure. The iterations' conductance thus agrees with the direct solve's to a few
+1e-9 at ``FLOW_TOL`` = 1e-8 where they converge fast (``tests/test_bem_solver.py`` asserts
+1e-7), and to 7e-7 near the percolation threshold (where ``auto`` solves directly);
+``balance_error`` (inlet against outlet flux) shows the residual itself (up to ~1e-5 for the
+iterations).
+Measured times and iterations: ``docs/performance.md``.
 
 Exact for piecewise-constant gaps: a uniform gap ``g`` gives ``Q = (Ly / Lx) g^3/(12 eta) dP``
 (plane Poiseuille); strips across the flow give the harmonic mean of ``c`` (resistances in
@@ -43,21 +61,29 @@ import numpy as np
 import scipy.sparse as sp
 from numpy.typing import ArrayLike
 from scipy.sparse.csgraph import connected_components
-from scipy.sparse.linalg import spsolve
+from scipy.sparse.linalg import splu
 
 from fastline._lib.validate import finite_array, positive
+from fastline.bem.pcg_flow import iterate
 
-__all__ = ["FlowResult", "reynolds_flow"]
+__all__ = ["FlowResult", "reynolds_flow", "FLOW_TOL", "SOLVERS"]
 
-#: relative residual ``|b - A x| / |b|`` at which the multigrid-preconditioned CG stops
-AMG_RTOL = 1e-12
-#: strength-of-connection threshold of the aggregation (0.1: 28 CG iterations on a 256^2 gap at
-#: A/A0 = 0.1, against 74 at pyamg's default 0; ``python -m bench.bem_scaling --flow``)
-AMG_THETA = 0.1
-#: active cells from which ``solver="auto"`` takes the multigrid (when pyamg is installed)
-AMG_MIN_CELLS = 2_000_000
-#: the sparse solvers of :func:`reynolds_flow`
-SOLVERS = ("auto", "amg", "direct")
+#: relative residual ``|b - A x| / |b|`` at which the conjugate gradients stop; the
+#: conductance, taken from the dissipation, is then within a few 1e-9 of the direct solve's
+#: (``python -m bench.bem_flow``)
+FLOW_TOL = 1e-8
+#: CG iterations allowed with every cell on the flow path, about the cost of one direct solve
+#: (the measured ratio of a direct solve's time to one CG iteration's: 87-130 at A/A0
+#: 0.05-0.16 in a calibration's sequence at 512^2; 102-118 at A/A0 0.1 at 512^2 and 1024^2);
+#: scaled by the fraction of the cells on the flow path (``python -m bench.bem_flow``)
+ITERATION_BUDGET = 120
+#: below this many cells on the flow path ``solver="auto"`` takes the direct solve at once
+#: (about 100 x 100: there the budget is under 20 iterations and the LU takes milliseconds)
+DIRECT_BELOW = 10_000
+#: iteration cap of ``solver="iterative"`` (beyond it, the direct solve)
+MAX_ITER = 5000
+#: the solvers of :func:`reynolds_flow`
+SOLVERS = ("auto", "iterative", "direct")
 
 
 @dataclass(frozen=True)
@@ -77,15 +103,17 @@ class FlowResult:
     active_fraction : float
         Fraction of cells in the cluster connected to both inlet and outlet.
     balance_error : float
-        ``|Q_in - Q_out| / Q`` (round-off of the solve; 0 if not percolating).
+        ``|Q_in - Q_out| / Q`` (round-off of the solve, or the residual of the iterations;
+        0 if not percolating).
     pressure : ndarray, shape (nx, ny)
         Fluid pressure [Pa] on the active cells, NaN elsewhere.
     viscosity, pressure_drop : float
         As given [Pa s], [Pa].
     solver : str
-        ``"amg"`` (multigrid-preconditioned CG) or ``"direct"`` (sparse LU).
+        What gave the answer: ``"iterative"`` (multigrid-preconditioned CG) or ``"direct"``
+        (sparse LU); ``"none"`` when nothing percolates.
     iterations : int
-        CG iterations of the ``"amg"`` solve (0 for ``"direct"``).
+        CG iterations made (also those before a switch to the direct solve).
     """
 
     conductance: float
@@ -137,33 +165,69 @@ def _percolating_cells(tx, ty, t_in, t_out, nx, ny):
     return (label[:n] == label[n]).reshape(nx, ny)
 
 
-def _assemble(tx, ty, t_in, t_out, keep, pressure_drop):
-    """Finite-volume matrix and right-hand side on the kept cells (local numbering)."""
+def _system(tx, ty, t_in, t_out, keep):
+    """``(D, tx, ty, b, t_in, t_out, scale)``: the system for a unit pressure drop on the cells
+    on the flow path (the others decoupled: ``D = 1``, ``b = 0``), scaled by ``scale`` to a unit
+    mean diagonal (``t_in``, ``t_out`` unscaled)."""
+    tx = np.where(keep[:-1] & keep[1:], tx, 0.0)
+    ty = np.where(keep & np.roll(keep, -1, axis=1), ty, 0.0)
+    t_in, t_out = t_in * keep[0], t_out * keep[-1]
+    D = np.zeros(keep.shape)
+    D[:-1] += tx
+    D[1:] += tx
+    D += ty + np.roll(ty, 1, axis=1)
+    D[0] += t_in
+    D[-1] += t_out
+    s = 1.0 / float(np.mean(D[keep]))
+    D *= s
+    D[~keep] = 1.0
+    b = np.zeros(keep.shape)
+    b[0] = t_in * s
+    return D, tx * s, ty * s, b, t_in, t_out, s
+
+
+def _dissipation(x, tx, ty, t_in, t_out):
+    """``sum t (p_i - p_j)^2`` over all faces for the unit-drop pressure ``x``: the flow rate
+    ``Q`` for ``dP = 1`` (power balance). At the solution it equals the outlet flux; at an
+    approximate one its error is of the order of the residual squared (the pressure minimises
+    the dissipation), so the iterations' conductance is as good as the direct solve's."""
+    out = float(np.sum(tx * np.diff(x, axis=0) ** 2))
+    out += float(np.sum(ty * (np.roll(x, -1, axis=1) - x) ** 2))
+    return out + float(np.sum(t_in * (1.0 - x[0]) ** 2) + np.sum(t_out * x[-1] ** 2))
+
+
+def _direct(D, tx, ty, b, keep):
+    """The exact solve of the system on the kept cells (sparse LU): the full-grid solution."""
     nx, ny = keep.shape
     local = np.full(nx * ny, -1)
     local[keep.ravel()] = np.arange(np.count_nonzero(keep))
     (ax, bx), (ay, by) = _face_pairs(nx, ny)
-    a = np.concatenate([ax.ravel(), ay.ravel()])
-    b = np.concatenate([bx.ravel(), by.ravel()])
+    a = local[np.concatenate([ax.ravel(), ay.ravel()])]
+    c = local[np.concatenate([bx.ravel(), by.ravel()])]
     t = np.concatenate([tx.ravel(), ty.ravel()])
-    live = (t > 0.0) & (local[a] >= 0) & (local[b] >= 0)
-    a, b, t = local[a[live]], local[b[live]], t[live]
-    m = int(keep.sum())
-    diag = np.zeros(m)
-    np.add.at(diag, a, t)
-    np.add.at(diag, b, t)
-    first = local[np.arange(ny)]
-    last = local[(nx - 1) * ny + np.arange(ny)]
-    rhs = np.zeros(m)
-    on = first >= 0
-    diag[first[on]] += t_in[on]
-    rhs[first[on]] += t_in[on] * pressure_drop
-    on = last >= 0
-    diag[last[on]] += t_out[on]
-    rows = np.concatenate([np.arange(m), a, b])
-    cols = np.concatenate([np.arange(m), b, a])
-    vals = np.concatenate([diag, -t, -t])
-    return sp.csr_matrix((vals, (rows, cols)), shape=(m, m)), rhs, first, last
+    live = (t > 0.0) & (a >= 0) & (c >= 0)
+    a, c, t = a[live], c[live], t[live]
+    m = int(np.count_nonzero(keep))
+    diag = np.arange(m)
+    A = sp.csc_matrix(
+        (
+            np.concatenate([D[keep], -t, -t]),
+            (np.concatenate([diag, a, c]), np.concatenate([diag, c, a])),
+        ),
+        shape=(m, m),
+    )
+    x = np.zeros((nx, ny))
+    if m == 1:
+        x[keep] = b[keep] / D[keep]
+        return x
+    lu = splu(A, permc_spec="MMD_AT_PLUS_A", options={"SymmetricMode": True})
+    x[keep] = lu.solve(b[keep])
+    return x
+
+
+def _budget(active: int, cells: int) -> float:
+    """CG iterations worth one direct solve of ``active`` unknowns on a grid of ``cells``."""
+    return ITERATION_BUDGET * active / cells
 
 
 def reynolds_flow(
@@ -174,6 +238,7 @@ def reynolds_flow(
     viscosity: float = 1e-3,
     pressure_drop: float = 1.0,
     solver: str = "auto",
+    start: FlowResult | None = None,
 ) -> FlowResult:
     """Flow across x through the gap map ``gap`` (module docstring).
 
@@ -181,37 +246,48 @@ def reynolds_flow(
     ----------
     gap : array_like, shape (nx, ny)
         Gap [m], >= 0 (0 marks contact), nx >= 2, ny >= 1; e.g. ``ContactResult.gap``.
+        For the flow along y, pass ``gap.T`` with ``dx`` and ``dy`` swapped.
     dx, dy : float
         Cell size [m], > 0 (``dy`` defaults to ``dx``).
     viscosity : float
         Dynamic viscosity ``eta`` [Pa s], > 0 (default 1e-3, water at 20 C).
     pressure_drop : float
         ``dP`` between inlet and outlet [Pa], > 0.
-    solver : {"auto", "amg", "direct"}
-        ``"amg"``: CG with an algebraic-multigrid preconditioner (needs pyamg, the extra
-        ``fastline-contact[flow]``); ``"direct"``: sparse LU; ``"auto"`` (default):
-        ``"amg"`` from ``AMG_MIN_CELLS`` active cells if pyamg is installed, else ``"direct"``.
+    solver : {"auto", "iterative", "direct"}
+        ``"auto"`` (default): conjugate gradients while they are cheaper than a direct solve,
+        else sparse LU; ``"direct"``: sparse LU; ``"iterative"``: conjugate gradients to
+        convergence (module docstring).
+    start : FlowResult, optional
+        A result on a gap map of the same shape (e.g. the previous pressure's): its fluid
+        pressure starts the iterations.
 
     Returns
     -------
     FlowResult
     """
-    g, dx, dy, eta, dp = _checked(gap, dx, dy, viscosity, pressure_drop, solver)
+    g, dx, dy, eta, dp = _checked(gap, dx, dy, viscosity, pressure_drop, solver, start)
     nx, ny = g.shape
-    c = g**3 / (12.0 * eta)
-    tx, ty, t_in, t_out = _transmissibilities(c, dx, dy)
+    tx, ty, t_in, t_out = _transmissibilities(g**3 / (12.0 * eta), dx, dy)
     keep = _percolating_cells(tx, ty, t_in, t_out, nx, ny)
-    pressure = np.full((nx, ny), np.nan)
     if not keep.any():
-        return FlowResult(0.0, 0.0, 0.0, False, 0.0, 0.0, pressure, eta, dp)
-    A, rhs, first, last = _assemble(tx, ty, t_in, t_out, keep, dp)
-    sol, used, iterations = _solve(A, rhs, solver)
-    pressure[keep] = sol
-    on_in, on_out = first >= 0, last >= 0
-    q_in = float(np.sum(t_in[on_in] * (dp - sol[first[on_in]])))
-    q_out = float(np.sum(t_out[on_out] * sol[last[on_out]]))
-    lx, ly = nx * dx, ny * dy
-    sigma = q_out * lx / (ly * dp)
+        return FlowResult(
+            0.0, 0.0, 0.0, False, 0.0, 0.0, np.full((nx, ny), np.nan), eta, dp, "none"
+        )
+    D, tx, ty, b, t_in, t_out, scale = _system(tx, ty, t_in, t_out, keep)
+    x, used, iterations = _solve(D, tx, ty, b, keep, solver, start)
+    faces = (tx / scale, ty / scale, t_in, t_out)
+    return _result(x, keep, faces, nx * dx / (ny * dy), eta, dp, used, iterations)
+
+
+def _result(x, keep, faces, aspect, eta, dp, used, iterations) -> FlowResult:
+    """The :class:`FlowResult` of the unit-drop solution ``x``; ``faces`` = the unscaled
+    ``(tx, ty, t_in, t_out)``, ``aspect`` = ``Lx / Ly``."""
+    pressure = np.full(keep.shape, np.nan)
+    pressure[keep] = dp * x[keep]
+    t_in, t_out = faces[2], faces[3]
+    q_in = float(np.sum(t_in * (1.0 - x[0]))) * dp
+    q_out = float(np.sum(t_out * x[-1])) * dp
+    sigma = _dissipation(x, *faces) * aspect
     return FlowResult(
         conductance=sigma,
         effective_gap=(12.0 * eta * sigma) ** (1.0 / 3.0),
@@ -227,7 +303,7 @@ def reynolds_flow(
     )
 
 
-def _checked(gap, dx, dy, viscosity, pressure_drop, solver):
+def _checked(gap, dx, dy, viscosity, pressure_drop, solver, start):
     """The inputs of :func:`reynolds_flow` checked: ``(gap, dx, dy, eta, dP)``."""
     g = finite_array("gap", gap, ndim=2)
     if g.shape[0] < 2 or g.shape[1] < 1:
@@ -240,31 +316,24 @@ def _checked(gap, dx, dy, viscosity, pressure_drop, solver):
     dp = positive("pressure_drop", pressure_drop, "Pa")
     if solver not in SOLVERS:
         raise ValueError(f"solver must be one of {SOLVERS}, got {solver!r}")
+    if start is not None and (not isinstance(start, FlowResult) or start.pressure.shape != g.shape):
+        raise ValueError(f"start must be a FlowResult of a gap map of shape {g.shape} (or None)")
     return g, dx, dy, eta, dp
 
 
-def _solve(A, rhs, solver):
-    """``A x = rhs``: (x, the solver used, CG iterations)."""
-    amg = None
-    if solver == "amg" or (solver == "auto" and A.shape[0] >= AMG_MIN_CELLS):
-        try:
-            import pyamg as amg
-        except ImportError:
-            if solver == "amg":
-                raise ValueError(
-                    "solver='amg' needs pyamg (pip install 'fastline-contact[flow]'); "
-                    "use solver='direct' or 'auto'"
-                ) from None
-    if amg is None or A.shape[0] < 2:
-        return spsolve(A.tocsc(), rhs), "direct", 0
-    ml = amg.smoothed_aggregation_solver(
-        A.tocsr(),
-        symmetry="hermitian",
-        strength=("symmetric", {"theta": AMG_THETA}),
-        max_coarse=500,
-    )
-    residuals: list[float] = []
-    x = ml.solve(rhs, tol=AMG_RTOL, accel="cg", maxiter=500, residuals=residuals)
-    if np.linalg.norm(rhs - A @ x) > 10.0 * AMG_RTOL * np.linalg.norm(rhs):
-        return spsolve(A.tocsc(), rhs), "direct", 0  # stalled: fall back to the exact solve
-    return x, "amg", len(residuals) - 1
+def _solve(D, tx, ty, b, keep, solver, start):
+    """The unit-drop fluid pressure on the full grid: (x, the solver used, CG iterations)."""
+    active = int(np.count_nonzero(keep))
+    if solver == "direct" or (solver == "auto" and active < DIRECT_BELOW):
+        return _direct(D, tx, ty, b, keep), "direct", 0
+    nx = keep.shape[0]
+    if start is None or not start.percolating:
+        x = np.repeat(1.0 - (np.arange(nx) + 0.5)[:, None] / nx, keep.shape[1], axis=1)
+    else:
+        x = np.nan_to_num(start.pressure / start.pressure_drop)
+    budget = MAX_ITER if solver == "iterative" else _budget(active, keep.size)
+    warm = start is not None and start.percolating
+    iterations, converged = iterate(D, tx, ty, b, keep, x, FLOW_TOL, budget, warm)
+    if converged:
+        return x, "iterative", iterations
+    return _direct(D, tx, ty, b, keep), "direct", iterations
