@@ -81,6 +81,13 @@ t.contact_area(1e6)
 t.critical_gap(1e6)
 fl.PerssonTheory(psd, 1.33e9, variant="wang-mueser").separation(1e6)
 """,
+    "measured surfaces": """
+import numpy as np
+from fastline import topography as topo
+_rng = np.random.default_rng(0)
+topo.psd_from_profile(np.cumsum(_rng.standard_normal(4096)) * 1e-9, 1e-6).isotropic()
+topo.psd_from_map(np.cumsum(_rng.standard_normal((64, 64)), axis=0) * 1e-9, 1e-6)
+""",
 }
 
 
