@@ -640,3 +640,14 @@ def test_bad_inputs():
     x = np.linspace(-1e-3, 1e-3, 11)
     with pytest.raises(ValueError, match="differs"):
         bem.compare_line_contact(FakeTheory(x, x * 0, 1.0, 1.0, 1.0, 50.0), line)
+
+
+def test_spectral_grid_keeps_its_size_for_rounded_wavenumbers():
+    """Wavenumbers typed to a few decimals (q1/q0 = 32 to 1e-8) keep the grid the exact ratio
+    gives, not the next FFT-friendly size above it; a clearly larger ratio still grows it."""
+    exact = fl.SelfAffinePSD(0.5e-6, 0.8, 2 * np.pi / 40e-6, 2 * np.pi / 40e-6, 64 * np.pi / 40e-6)
+    typed = fl.SelfAffinePSD(0.5e-6, 0.8, 157079.63, 157079.63, 5026548.2)
+    wider = fl.SelfAffinePSD(0.5e-6, 0.8, 157079.63, 157079.63, 5026548.2 * 1.001)
+    n_exact = bem.spectral_grid(exact, periods=4).nx
+    assert bem.spectral_grid(typed, periods=4).nx == n_exact == 512
+    assert bem.spectral_grid(wider, periods=4).nx > n_exact

@@ -132,8 +132,14 @@ class Grid:
         return qx[:, None], qy[None, :]
 
 
+#: relative slack of the cell count before rounding up: spectra typed with rounded wavenumbers
+#: (q1/q0 = 32.00000004 for 32) keep the grid they were meant for (512, not 540 cells)
+_SIZE_SLACK = 1e-6
+
+
 def _fast_size(length, dx_max):
-    return int(scipy.fft.next_fast_len(max(2, math.ceil(length / dx_max - 1e-9)), real=True))
+    cells = length / dx_max * (1.0 - _SIZE_SLACK)
+    return int(scipy.fft.next_fast_len(max(2, math.ceil(cells)), real=True))
 
 
 def spectral_grid(
@@ -146,9 +152,10 @@ def spectral_grid(
 ) -> Grid:
     """A square-cell grid sized from the spectrum (resolve ``q1``, hold ``q0``).
 
-    ``dx <= 2 pi / (q1 * points_per_wavelength)``; the lengths default to ``periods`` times the
-    longest wavelength ``2 pi / q0``; the cell counts are rounded up to FFT-friendly sizes
-    (``scipy.fft.next_fast_len``) and ``dx = dy`` shrunk to fit the lengths exactly.
+    ``dx <= 2 pi / (q1 * points_per_wavelength)`` (to 1e-6 relative); the lengths default to
+    ``periods`` times the longest wavelength ``2 pi / q0``; the cell counts are rounded up to
+    FFT-friendly sizes (``scipy.fft.next_fast_len``) and ``dx = dy`` shrunk to fit the lengths
+    exactly.
 
     Parameters
     ----------
