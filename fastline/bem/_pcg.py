@@ -76,18 +76,24 @@ def _masked_gradient(p, g, gc):
 
 
 @numba.njit(**JIT)
+def contact_mean(p, x):
+    """Mean of ``x`` over the contact cells (``p > 0``); 0 where there are none."""
+    n = 0
+    s = 0.0
+    for i in range(p.size):
+        if p[i] > 0.0:
+            s += x[i]
+            n += 1
+    return s / n if n > 0 else 0.0
+
+
+@numba.njit(**JIT)
 def _preconditioned_direction(p, gc, z, t, G_old, conjugate):
     """Centre ``z`` on the contact cells, ``t = z + beta t`` there (0 elsewhere); return G.
 
     ``G = sum gc z`` (the preconditioned residual norm), ``beta = G / G_old`` if ``conjugate``.
     """
-    n = 0
-    s = 0.0
-    for i in range(p.size):
-        if p[i] > 0.0:
-            s += z[i]
-            n += 1
-    mean = s / n if n > 0 else 0.0
+    mean = contact_mean(p, z)
     G = 0.0
     for i in range(p.size):
         if p[i] > 0.0:
@@ -102,13 +108,7 @@ def _preconditioned_direction(p, gc, z, t, G_old, conjugate):
 @numba.njit(**JIT)
 def _step_length(p, g, t, r):
     """``tau = sum g t / sum r' t`` over the contact cells, ``r'`` = r minus its mean there."""
-    n = 0
-    s = 0.0
-    for i in range(p.size):
-        if p[i] > 0.0:
-            s += r[i]
-            n += 1
-    rbar = s / n if n > 0 else 0.0
+    rbar = contact_mean(p, r)
     num = 0.0
     den = 0.0
     for i in range(p.size):

@@ -51,6 +51,7 @@ from fastline.bem._pcg import (
     _rescale,
     _step_length,
     _update_pressure,
+    contact_mean,
     nested_levels,
     nested_start,
     pcg_solve,
@@ -221,13 +222,7 @@ class ContactResult:
 @numba.njit(**JIT)
 def _center_gap(p, g):
     """Subtract the mean gap over the contact cells from ``g``; return (mean, sum of g^2 there)."""
-    n = 0
-    s = 0.0
-    for i in range(p.size):
-        if p[i] > 0.0:
-            s += g[i]
-            n += 1
-    mean = s / n if n > 0 else 0.0
+    mean = contact_mean(p, g)
     G = 0.0
     for i in range(p.size):
         g[i] -= mean
