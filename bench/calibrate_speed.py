@@ -1,7 +1,8 @@
 """Cost of a calibration (docs/calibration.md, "Cost"): one surface of the narrow-band
 validation spectrum carried through the pressures as :func:`fastline.calibrate` carries it, the
 contact solve and the two flow solves (:func:`fastline.bem.reynolds_flow`, ``solver="auto"``,
-each started from the last pressure's result) timed apart, with the iterations of each and the
+each started from the last pressure's result and stopped on the conductance's error as the
+calibration stops them) timed apart, with the iterations of each and the
 solver that gave the answer (``i``: conjugate gradients, ``d``: direct); for the ratios, cold
 contact solves at three of the pressures and ``solver="direct"`` (x only) at the middle one.
 
@@ -21,6 +22,7 @@ import numpy as np
 
 import fastline as fl
 from fastline.bem import random_surface, reynolds_flow, solve_contact, spectral_grid
+from fastline.bem.calibration import FLOW_CONDUCTANCE_TOL as CTOL
 
 
 def main() -> None:
@@ -46,8 +48,8 @@ def main() -> None:
         t1 = time.perf_counter()
         kx = ky = 0
         if not args.no_flow:
-            sx = reynolds_flow(r.gap, g.dx, g.dy, start=sx)
-            sy = reynolds_flow(r.gap.T, g.dy, g.dx, start=sy)
+            sx = reynolds_flow(r.gap, g.dx, g.dy, start=sx, conductance_tol=CTOL)
+            sy = reynolds_flow(r.gap.T, g.dy, g.dx, start=sy, conductance_tol=CTOL)
             kx, ky = sx.iterations, sy.iterations
             kinds = sx.solver[0] + sy.solver[0]
             n_direct += kinds.count("d")

@@ -358,6 +358,52 @@ def reynolds_dense(gap, dx, dy, viscosity, pressure_drop):
     return q * nx * dx / (ny * dy * pressure_drop)
 
 
+def flow_path_cells(gap):
+    """The cells fastline.bem.flow keeps on the flow path, by breadth-first search over sets:
+    every cluster (open cells joined across faces, periodic in y) that touches the inlet column
+    or the outlet column, if one cluster touches both; else none."""
+    nx, ny = gap.shape
+    open_ = gap > 0.0
+    label = -np.ones((nx, ny), dtype=int)
+    clusters = []
+    for i0 in range(nx):
+        for j0 in range(ny):
+            if label[i0, j0] >= 0:
+                continue
+            label[i0, j0] = len(clusters)
+            members, todo = {(i0, j0)}, [(i0, j0)]
+            while todo and open_[i0, j0]:
+                i, j = todo.pop()
+                for a, b in ((i - 1, j), (i + 1, j), (i, (j - 1) % ny), (i, (j + 1) % ny)):
+                    if 0 <= a < nx and open_[a, b] and label[a, b] < 0:
+                        label[a, b] = len(clusters)
+                        members.add((a, b))
+                        todo.append((a, b))
+            clusters.append(members)
+    inlet = {label[0, j] for j in range(ny) if open_[0, j]}
+    outlet = {label[nx - 1, j] for j in range(ny) if open_[nx - 1, j]}
+    keep = np.zeros((nx, ny), dtype=bool)
+    if inlet & outlet:
+        for k in inlet | outlet:
+            for cell in clusters[k]:
+                keep[cell] = True
+    return keep
+
+
+def gauss_seidel_sweep(D, tx, ty, b, x, backward):
+    """One Gauss-Seidel sweep of the flow's five-point system in place on x, cell by cell in
+    lexicographic order (or its reverse), periodic in y (fastline.bem.pcg_flow's smoother)."""
+    nx, ny = D.shape
+    cells = [(i, j) for i in range(nx) for j in range(ny)]
+    for i, j in reversed(cells) if backward else cells:
+        s = b[i, j] + ty[i, (j - 1) % ny] * x[i, (j - 1) % ny] + ty[i, j] * x[i, (j + 1) % ny]
+        if i > 0:
+            s += tx[i - 1, j] * x[i - 1, j]
+        if i < nx - 1:
+            s += tx[i, j] * x[i + 1, j]
+        x[i, j] = s / D[i, j]
+
+
 # ------------------------------------------------------------------------------------------------
 # tabulated spectra (fast eta quadrature of fastline.theory.quadrature)
 # ------------------------------------------------------------------------------------------------

@@ -9,6 +9,7 @@ import numpy as np
 import pytest
 
 import fastline as fl
+import naive
 from fastline import bem
 from fastline.bem import contact as bem_contact
 from fastline.bem import flow as bem_flow
@@ -256,10 +257,71 @@ def test_flow_auto_takes_the_direct_solve_when_iterations_cost_more(flat, flow_g
     assert switched.conductance == pytest.approx(direct.conductance, rel=RTOL_ROUND, abs=0.0)
 
 
+RTOL_CONDUCTANCE_EST = 10.0  # conductance error against conductance_tol (measured within 6x)
+
+
+@pytest.mark.parametrize("ctol", [1e-4, 1e-6])
+def test_flow_stops_on_the_conductance_error(flat, flow_gaps, ctol):
+    grid = flat[0]
+    for gap in flow_gaps:
+        direct = bem.reynolds_flow(gap, grid.dx, solver="direct")
+        full = bem.reynolds_flow(gap, grid.dx, solver="iterative")
+        fast = bem.reynolds_flow(gap, grid.dx, solver="iterative", conductance_tol=ctol)
+        assert fast.solver == "iterative" and 0 < fast.iterations <= full.iterations
+        err = fast.conductance / direct.conductance - 1.0
+        assert -RTOL_FLOW <= err <= RTOL_CONDUCTANCE_EST * ctol  # above it: the dissipation
+    looser = bem.reynolds_flow(flow_gaps[1], grid.dx, solver="iterative", conductance_tol=1e-2)
+    assert looser.iterations < full.iterations or full.iterations <= pcg_flow.DELAY
+
+
+def _wrap_channel(nx, ny):
+    """A map closed but for two half-columns joined only across the periodic y boundary."""
+    gap = np.zeros((nx, ny))
+    gap[: nx // 2 + 1, 0] = 1.0
+    gap[nx // 2 :, ny - 1] = 2.0
+    return gap
+
+
+@pytest.mark.parametrize("seed", range(6))
+def test_flow_path_equals_a_search_by_sets(seed):
+    """Random maps at the percolation threshold of site percolation (open fraction 0.55-0.65),
+    and (seed 5) a channel that joins inlet and outlet only across the periodic side."""
+    rng = np.random.default_rng(seed)
+    nx, ny = 23, 17
+    gap = np.where(rng.random((nx, ny)) < 0.55 + 0.02 * seed, rng.random((nx, ny)) + 0.1, 0.0)
+    if seed == 5:
+        gap = _wrap_channel(nx, ny)
+    keep = naive.flow_path_cells(gap)
+    res = bem.reynolds_flow(gap, 1e-6)
+    np.testing.assert_array_equal(np.isfinite(res.pressure), keep)
+    assert res.percolating == keep.any()
+    if seed == 5:
+        assert keep.sum() == nx + 1
+    if keep.any():
+        ref = naive.reynolds_dense(gap, 1e-6, 1e-6, 1e-3, 1.0)
+        assert res.conductance == pytest.approx(ref, rel=RTOL_ROUND, abs=0.0)
+
+
+@pytest.mark.parametrize("shape", [(9, 7), (6, 2), (5, 1)])
+@pytest.mark.parametrize("backward", [False, True])
+def test_flow_smoother_equals_a_sweep_cell_by_cell(shape, backward):
+    rng = np.random.default_rng(3)
+    tx, ty = rng.random((shape[0] - 1, shape[1])), rng.random(shape)
+    D = 4.0 + rng.random(shape)
+    b, x = rng.standard_normal(shape), rng.standard_normal(shape)
+    ref = x.copy()
+    naive.gauss_seidel_sweep(D, tx, ty, b, ref, backward)
+    pcg_flow._gauss_seidel(1.0 / D, tx, ty, b, x, backward)
+    np.testing.assert_allclose(x, ref, rtol=1e-13, atol=1e-13)
+
+
 def test_flow_bad_solver_and_start(flat, flow_gaps):
     grid = flat[0]
     with pytest.raises(ValueError, match="solver must be one of"):
         bem.reynolds_flow(flow_gaps[0], grid.dx, solver="amg")
+    for bad in (0.0, 1.0, -1e-3, float("nan")):
+        with pytest.raises(ValueError, match="conductance_tol must be in"):
+            bem.reynolds_flow(flow_gaps[0], grid.dx, conductance_tol=bad)
     other = bem.reynolds_flow(flow_gaps[0][:32], grid.dx)
     with pytest.raises(ValueError, match="start must be a FlowResult"):
         bem.reynolds_flow(flow_gaps[0], grid.dx, start=other)

@@ -11,8 +11,8 @@ is discretised with conservative finite volumes on the cells of the gap map:
   a half cell from the first/last cell centre), periodic along y.
 
 Cells that are not connected to both the inlet and the outlet (closed islands, or everything
-when no channel percolates) are removed before the solve with
-:func:`scipy.sparse.csgraph.connected_components`; without them the matrix is singular.  The
+when no channel percolates) are removed before the solve (a compiled depth-first search labels
+the clusters); without them the matrix is singular.  The
 remaining system is symmetric positive definite and has one solver path (``solver="auto"``):
 
 1. Conjugate gradients preconditioned by a geometric aggregation multigrid
@@ -57,12 +57,13 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass, field
 
+import numba
 import numpy as np
 import scipy.sparse as sp
 from numpy.typing import ArrayLike
-from scipy.sparse.csgraph import connected_components
 from scipy.sparse.linalg import splu
 
+from fastline._lib.jit import JIT
 from fastline._lib.validate import finite_array, positive
 from fastline.bem.pcg_flow import iterate
 
@@ -73,10 +74,10 @@ __all__ = ["FlowResult", "reynolds_flow", "FLOW_TOL", "SOLVERS"]
 #: (``python -m bench.bem_flow``)
 FLOW_TOL = 1e-8
 #: CG iterations allowed with every cell on the flow path, about the cost of one direct solve
-#: (the measured ratio of a direct solve's time to one CG iteration's: 87-130 at A/A0
-#: 0.05-0.16 in a calibration's sequence at 512^2; 102-118 at A/A0 0.1 at 512^2 and 1024^2);
-#: scaled by the fraction of the cells on the flow path (``python -m bench.bem_flow``)
-ITERATION_BUDGET = 120
+#: (the measured ratio of a direct solve's time to one CG iteration's, per cell on the path:
+#: 170-200 at A/A0 0.1-0.33 at 512^2, ``python -m bench.bem_flow``); scaled by the fraction of
+#: the cells on the flow path
+ITERATION_BUDGET = 180
 #: below this many cells on the flow path ``solver="auto"`` takes the direct solve at once
 #: (about 100 x 100: there the budget is under 20 iterations and the LU takes milliseconds)
 DIRECT_BELOW = 10_000
@@ -149,20 +150,58 @@ def _face_pairs(nx, ny):
     return (idx[:-1, :], idx[1:, :]), (idx, np.roll(idx, -1, axis=1))
 
 
+@numba.njit(**JIT)
+def _clusters(tx, ty, label):
+    """Label the clusters of cells joined by open faces (``tx > 0``, ``ty > 0``; periodic along
+    y) into ``label`` (int64, (nx, ny)), by depth-first search; returns the number of clusters."""
+    nx, ny = label.shape
+    label[:] = -1
+    stack = np.empty(nx * ny, np.int64)
+    count = 0
+    for seed in range(nx * ny):
+        if label[seed // ny, seed % ny] >= 0:
+            continue
+        label[seed // ny, seed % ny] = count
+        top = 0
+        stack[0] = seed
+        while top >= 0:
+            c = stack[top]
+            top -= 1
+            i, j = c // ny, c % ny
+            jm = j - 1 if j > 0 else ny - 1
+            jp = j + 1 if j < ny - 1 else 0
+            for k in range(4):
+                if k == 0 and i > 0 and tx[i - 1, j] > 0.0:
+                    a, b = i - 1, j
+                elif k == 1 and i < nx - 1 and tx[i, j] > 0.0:
+                    a, b = i + 1, j
+                elif k == 2 and ty[i, jm] > 0.0:
+                    a, b = i, jm
+                elif k == 3 and ty[i, j] > 0.0:
+                    a, b = i, jp
+                else:
+                    continue
+                if label[a, b] < 0:
+                    label[a, b] = count
+                    top += 1
+                    stack[top] = a * ny + b
+        count += 1
+    return count
+
+
 def _percolating_cells(tx, ty, t_in, t_out, nx, ny):
-    """Boolean mask of cells connected to both inlet and outlet (virtual nodes n, n+1)."""
-    n = nx * ny
-    (ax, bx), (ay, by) = _face_pairs(nx, ny)
-    rows = [ax[tx > 0], ay[ty > 0], np.full(np.count_nonzero(t_in > 0), n)]
-    cols = [bx[tx > 0], by[ty > 0], np.arange(ny)[t_in > 0]]
-    rows.append(np.full(np.count_nonzero(t_out > 0), n + 1))
-    cols.append((nx - 1) * ny + np.arange(ny)[t_out > 0])
-    r, c = np.concatenate(rows), np.concatenate(cols)
-    graph = sp.coo_matrix((np.ones(r.size), (r, c)), shape=(n + 2, n + 2)).tocsr()
-    _, label = connected_components(graph, directed=False)
-    if label[n] != label[n + 1]:
+    """Boolean mask of the cells connected to both inlet and outlet: the clusters that touch
+    the inlet or the outlet, all of them joined through the two faces, if one cluster touches
+    both (else none)."""
+    label = np.empty((nx, ny), np.int64)
+    count = _clusters(tx, ty, label)
+    at_in = np.zeros(count, bool)
+    at_out = np.zeros(count, bool)
+    at_in[label[0][t_in > 0]] = True
+    at_out[label[-1][t_out > 0]] = True
+    if not np.any(at_in & at_out):
         return np.zeros((nx, ny), dtype=bool)
-    return (label[:n] == label[n]).reshape(nx, ny)
+    return (at_in | at_out)[label]
 
 
 def _system(tx, ty, t_in, t_out, keep):
@@ -239,6 +278,7 @@ def reynolds_flow(
     pressure_drop: float = 1.0,
     solver: str = "auto",
     start: FlowResult | None = None,
+    conductance_tol: float | None = None,
 ) -> FlowResult:
     """Flow across x through the gap map ``gap`` (module docstring).
 
@@ -260,12 +300,19 @@ def reynolds_flow(
     start : FlowResult, optional
         A result on a gap map of the same shape (e.g. the previous pressure's): its fluid
         pressure starts the iterations.
+    conductance_tol : float, optional
+        In (0, 1): also stop the iterations once the conductance's estimated relative error is
+        below this (:mod:`fastline.bem.pcg_flow`), where only the conductance is wanted; the
+        pressure field is then less converged than ``FLOW_TOL`` says. Default: the residual
+        criterion alone.
 
     Returns
     -------
     FlowResult
     """
     g, dx, dy, eta, dp = _checked(gap, dx, dy, viscosity, pressure_drop, solver, start)
+    if conductance_tol is not None and not 0.0 < conductance_tol < 1.0:
+        raise ValueError(f"conductance_tol must be in (0, 1) or None, got {conductance_tol!r}")
     nx, ny = g.shape
     tx, ty, t_in, t_out = _transmissibilities(g**3 / (12.0 * eta), dx, dy)
     keep = _percolating_cells(tx, ty, t_in, t_out, nx, ny)
@@ -274,7 +321,7 @@ def reynolds_flow(
             0.0, 0.0, 0.0, False, 0.0, 0.0, np.full((nx, ny), np.nan), eta, dp, "none"
         )
     D, tx, ty, b, t_in, t_out, scale = _system(tx, ty, t_in, t_out, keep)
-    x, used, iterations = _solve(D, tx, ty, b, keep, solver, start)
+    x, used, iterations = _solve(D, tx, ty, b, keep, solver, start, conductance_tol)
     faces = (tx / scale, ty / scale, t_in, t_out)
     return _result(x, keep, faces, nx * dx / (ny * dy), eta, dp, used, iterations)
 
@@ -321,7 +368,7 @@ def _checked(gap, dx, dy, viscosity, pressure_drop, solver, start):
     return g, dx, dy, eta, dp
 
 
-def _solve(D, tx, ty, b, keep, solver, start):
+def _solve(D, tx, ty, b, keep, solver, start, conductance_tol=None):
     """The unit-drop fluid pressure on the full grid: (x, the solver used, CG iterations)."""
     active = int(np.count_nonzero(keep))
     if solver == "direct" or (solver == "auto" and active < DIRECT_BELOW):
@@ -333,7 +380,7 @@ def _solve(D, tx, ty, b, keep, solver, start):
         x = np.nan_to_num(start.pressure / start.pressure_drop)
     budget = MAX_ITER if solver == "iterative" else _budget(active, keep.size)
     warm = start is not None and start.percolating
-    iterations, converged = iterate(D, tx, ty, b, keep, x, FLOW_TOL, budget, warm)
+    iterations, converged = iterate(D, tx, ty, b, keep, x, FLOW_TOL, budget, warm, conductance_tol)
     if converged:
         return x, "iterative", iterations
     return _direct(D, tx, ty, b, keep), "direct", iterations
