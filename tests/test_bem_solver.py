@@ -5,11 +5,11 @@ from __future__ import annotations
 
 import math
 
+import naive
 import numpy as np
 import pytest
 
 import fastline as fl
-import naive
 from fastline import bem
 from fastline.bem import contact as bem_contact
 from fastline.bem import flow as bem_flow
