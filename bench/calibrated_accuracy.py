@@ -237,29 +237,34 @@ def cmd_plot(args) -> None:
 
     refs = _references(args.cache, by_seed=True)
     law = fl.CalibratedLaw.load(args.law[0], psd=PSD, E_star=E_STAR)
-    fig, axs = plt.subplots(1, len(args.alphas), figsize=(4.6 * len(args.alphas), 3.8))
-    for ax, a in zip(np.atleast_1d(axs), args.alphas, strict=True):
+    cols = min(3, len(args.alphas))
+    rows = -(-len(args.alphas) // cols)
+    fig, axs = plt.subplots(rows, cols, figsize=(4.4 * cols, 3.5 * rows), squeeze=False)
+    for ax in axs.flat[len(args.alphas) :]:
+        ax.set_axis_off()
+    for ax, a in zip(axs.flat, args.alphas, strict=False):
         r = _solve(law, a)
         top = 0.0
-        for k, (seed, e) in enumerate(refs[round(a, 6)].items()):
+        for k, (seed, e) in enumerate(sorted(refs[round(a, 6)].items())):
             colour = ("k", "tab:blue", "tab:green")[k % 3]
             x, p, pe = e.coordinate * 1e6, e.pressure / 1e3, e.pressure_error / 1e3
             ax.fill_between(x, p - 2 * pe, p + 2 * pe, color=colour, alpha=0.15, lw=0)
-            label = (
-                f"BEM, {e.realizations} surfaces, seed {seed}: "
-                f"p0/p0_H {e.p0_ratio:.2f} ± {e.p0_ratio_error:.2f}"
-            )
+            ratio = f"{e.p0_ratio:.2f} ± {e.p0_ratio_error:.2f}"
+            label = f"BEM seed {seed}, {e.realizations} surfaces: {ratio}"
             ax.plot(x, p, ".-", color=colour, ms=2.5, lw=0.8, label=label)
             top = max(top, float(np.max(p + 2 * pe)))
         theory = compare_line_contact(r, e).theory_pressure / 1e3
-        label = f"calibrated law (8 surfaces): {r.p0 / e.p0_hertz:.2f}"
-        ax.plot(x, theory, color="tab:red", lw=1.6, label=label)
-        ax.set_xlim(-4.2 * r.s * 1e6, 4.2 * r.s * 1e6)
-        ax.set_ylim(-0.03 * top, 1.5 * top)
+        ax.plot(
+            x, theory, color="tab:red", lw=1.6, label=f"calibrated law: {r.p0 / e.p0_hertz:.2f}"
+        )
+        ax.set_xlim(-3.5 * r.s * 1e6, 3.5 * r.s * 1e6)
+        ax.set_ylim(0.0, 1.4 * top)
         ax.set_xlabel("x (µm)")
         ax.set_ylabel("nominal pressure p̄ (kPa)")
-        ax.set_title(f"alpha = {a:g}")
-        ax.legend(fontsize=6.5, loc="upper left")
+        ax.set_title(f"alpha = {a:g}", fontsize=10)
+        ax.legend(
+            fontsize=7.5, loc="upper left", title="p0/p0_H", title_fontsize=7.5, frameon=False
+        )
     fig.tight_layout()
     fig.savefig(args.out, dpi=110)
 

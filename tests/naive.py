@@ -390,6 +390,23 @@ def flow_path_cells(gap):
     return keep
 
 
+def five_point_apply(D, tx, ty, x):
+    """``A x`` of the flow's five-point system (diagonal D, x faces tx, periodic y faces ty),
+    cell by cell."""
+    nx, ny = D.shape
+    y = np.zeros((nx, ny))
+    for i in range(nx):
+        for j in range(ny):
+            s = D[i, j] * x[i, j] - ty[i, (j - 1) % ny] * x[i, (j - 1) % ny]
+            s -= ty[i, j] * x[i, (j + 1) % ny]
+            if i > 0:
+                s -= tx[i - 1, j] * x[i - 1, j]
+            if i < nx - 1:
+                s -= tx[i, j] * x[i + 1, j]
+            y[i, j] = s
+    return y
+
+
 def gauss_seidel_sweep(D, tx, ty, b, x, backward):
     """One Gauss-Seidel sweep of the flow's five-point system in place on x, cell by cell in
     lexicographic order (or its reverse), periodic in y (fastline.bem.pcg_flow's smoother)."""

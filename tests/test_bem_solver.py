@@ -315,6 +315,24 @@ def test_flow_smoother_equals_a_sweep_cell_by_cell(shape, backward):
     np.testing.assert_allclose(x, ref, rtol=1e-13, atol=1e-13)
 
 
+@pytest.mark.parametrize("shape", [(8, 6), (4, 2), (6, 1)])
+def test_flow_operator_and_restriction_equal_cell_by_cell_sums(shape):
+    rng = np.random.default_rng(4)
+    tx, ty = rng.random((shape[0] - 1, shape[1])), rng.random(shape)
+    D = 4.0 + rng.random(shape)
+    b, x = rng.standard_normal(shape), rng.standard_normal(shape)
+    ref = naive.five_point_apply(D, tx, ty, x)
+    y = np.empty(shape)
+    pcg_flow._matvec(D, tx, ty, x, y)
+    np.testing.assert_allclose(y, ref, rtol=1e-13, atol=1e-13)
+    if shape[1] % 2 == 0:
+        nx, ny = shape
+        rc = np.empty((nx // 2, ny // 2))
+        pcg_flow._restrict(D, tx, ty, b, x, rc)
+        agg = (b - ref).reshape(nx // 2, 2, ny // 2, 2).sum(axis=(1, 3))
+        np.testing.assert_allclose(rc, agg, rtol=1e-13, atol=1e-12)
+
+
 def test_flow_bad_solver_and_start(flat, flow_gaps):
     grid = flat[0]
     with pytest.raises(ValueError, match="solver must be one of"):

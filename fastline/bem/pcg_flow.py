@@ -67,22 +67,6 @@ DELAY = 4
 
 
 @numba.njit(**JIT)
-def _matvec(D, tx, ty, x, y):
-    """``y = A x``: diagonal D, x faces tx (nx-1, ny), periodic y faces ty (nx, ny)."""
-    nx, ny = D.shape
-    for i in range(nx):
-        for j in range(ny):
-            jm = j - 1 if j > 0 else ny - 1
-            jp = j + 1 if j < ny - 1 else 0
-            s = D[i, j] * x[i, j] - ty[i, jm] * x[i, jm] - ty[i, j] * x[i, jp]
-            if i > 0:
-                s -= tx[i - 1, j] * x[i - 1, j]
-            if i < nx - 1:
-                s -= tx[i, j] * x[i + 1, j]
-            y[i, j] = s
-
-
-@numba.njit(**JIT)
 def _x_neighbours(tx, x, b, i, v):
     """``v = b[i] + tx[i-1] x[i-1] + tx[i] x[i+1]``: row i's right-hand side and its neighbours
     across x (a row at a time: the sweep along y is then one recurrence)."""
@@ -130,22 +114,49 @@ def _gauss_seidel(Dinv, tx, ty, b, x, backward):
 
 
 @numba.njit(**JIT)
-def _restrict(D, tx, ty, b, x, keep, rc):
-    """``rc`` = the residual ``b - A x`` summed over each 2 x 2 aggregate's cells on the path."""
+def _y_apply(d, t, x, v):
+    """``v += t[j-1] x[j-1] + t[j] x[j+1] - d[j] x[j]`` along one periodic row."""
+    ny = x.shape[0]
+    if ny == 1:
+        v[0] += (2.0 * t[0] - d[0]) * x[0]
+        return
+    v[0] += t[ny - 1] * x[ny - 1] + t[0] * x[1] - d[0] * x[0]
+    for j in range(1, ny - 1):
+        v[j] += t[j - 1] * x[j - 1] + t[j] * x[j + 1] - d[j] * x[j]
+    v[ny - 1] += t[ny - 2] * x[ny - 2] + t[ny - 1] * x[0] - d[ny - 1] * x[ny - 1]
+
+
+@numba.njit(**JIT)
+def _matvec(D, tx, ty, x, y):
+    """``y = A x``: diagonal D, x faces tx (nx-1, ny), periodic y faces ty (nx, ny)."""
     nx, ny = D.shape
+    v = np.empty(ny)
+    for i in range(nx):
+        v[:] = 0.0
+        if i > 0:
+            for j in range(ny):
+                v[j] += tx[i - 1, j] * x[i - 1, j]
+        if i < nx - 1:
+            for j in range(ny):
+                v[j] += tx[i, j] * x[i + 1, j]
+        _y_apply(D[i], ty[i], x[i], v)
+        for j in range(ny):
+            y[i, j] = -v[j]
+
+
+@numba.njit(**JIT)
+def _restrict(D, tx, ty, b, x, rc):
+    """``rc`` = the residual ``b - A x`` summed over each 2 x 2 aggregate (the decoupled cells
+    off the flow path hold ``x = 0`` and ``b = 0``: no residual)."""
+    nx, ny = D.shape
+    v = np.empty(ny)
     rc[:] = 0.0
     for i in range(nx):
-        for j in range(ny):
-            if not keep[i, j]:
-                continue
-            jm = j - 1 if j > 0 else ny - 1
-            jp = j + 1 if j < ny - 1 else 0
-            s = b[i, j] - D[i, j] * x[i, j] + ty[i, jm] * x[i, jm] + ty[i, j] * x[i, jp]
-            if i > 0:
-                s += tx[i - 1, j] * x[i - 1, j]
-            if i < nx - 1:
-                s += tx[i, j] * x[i + 1, j]
-            rc[i // 2, j // 2] += s
+        _x_neighbours(tx, x, b, i, v)
+        _y_apply(D[i], ty[i], x[i], v)
+        r = rc[i // 2]
+        for j in range(ny // 2):
+            r[j] += v[2 * j] + v[2 * j + 1]
 
 
 @numba.njit(**JIT)
@@ -239,7 +250,7 @@ class _Multigrid:
         x = x if out is None else out
         x[:] = 0.0
         _gauss_seidel(Dinv, tx, ty, b, x, False)
-        _restrict(D, tx, ty, b, x, keep, rc)
+        _restrict(D, tx, ty, b, x, rc)
         _prolong(self.cycle(rc, k + 1), keep, OVER_CORRECTION, x)
         _gauss_seidel(Dinv, tx, ty, b, x, True)
         return x
