@@ -244,6 +244,19 @@ def test_calibrate_refuses_bad_input():
         fl.calibrate(PSD, E_STAR)
     with pytest.raises(ValueError, match="check must be one of"):
         fl.calibrate(PSD, E_STAR, PRESSURES, check="coarser")
+    with pytest.raises(TypeError, match="progress must be True, False, None or a callable"):
+        fl.calibrate(PSD, E_STAR, PRESSURES, progress="yes")
+
+
+def test_calibrate_progress_bar_or_callback(capsys):
+    small = dict(realizations=2, periods=1, check=None)
+    fl.calibrate(PSD, E_STAR, PRESSURES, progress=True, **small)
+    assert "calibration" in capsys.readouterr().err
+    fl.calibrate(PSD, E_STAR, PRESSURES, progress=False, **small)
+    assert capsys.readouterr().err == ""
+    calls = []
+    fl.calibrate(PSD, E_STAR, PRESSURES, progress=lambda d, t: calls.append((d, t)), **small)
+    assert calls == [(1, 2), (2, 2)]
 
 
 def test_pressure_range_follows_the_scenes():

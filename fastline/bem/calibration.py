@@ -29,6 +29,7 @@ on a cell twice as long, and reports the change of the mean gap and the hydrauli
 from __future__ import annotations
 
 import concurrent.futures as cf
+import contextlib
 import math
 import time
 import warnings
@@ -42,7 +43,7 @@ from numpy.typing import ArrayLike
 from fastline._lib.validate import integer, positive, positive_array
 from fastline._lib.version import __version__
 from fastline.bem.contact import DEFAULT_TOL, solve_contact
-from fastline.bem.ensemble import ensemble_executor
+from fastline.bem.ensemble import ensemble_executor, progress_bar
 from fastline.bem.flow import reynolds_flow
 from fastline.bem.surface import Grid, random_surface, spectral_grid
 from fastline.errors import CalibrationWarning
@@ -391,7 +392,7 @@ def calibrate(
     points_per_wavelength: float = 4.0, periods: float = 4.0, grid: Grid | None = None,
     check: str | None = "finer", tol: float = DEFAULT_TOL, max_iter: int = 5000,
     viscosity: float = 1e-3, executor: ExecutorLike = None, workers: int | None = None,
-    progress: Callable[[int, int], None] | None = None,
+    progress: bool | Callable[[int, int], None] | None = None,
 ) -> CalibratedLaw:  # fmt: skip
     """A pressure law and hydraulic gap calibrated on flat-contact BEM ensembles of ``psd``
     (module docstring; docs/calibration.md).
@@ -420,8 +421,9 @@ def calibrate(
     tol, max_iter, viscosity
         CCG settings (:func:`~fastline.bem.contact.solve_contact`); the flow's viscosity [Pa s].
     executor, workers, progress
-        Where the realisations run, as for :func:`fastline.sweep` (:func:`ensemble_executor`);
-        ``progress(done, total)`` is called after each realisation (of the check's too).
+        Where the realisations run, as for :func:`fastline.sweep` (:func:`ensemble_executor`).
+        ``progress``: True for a progress bar over the realisations on stderr (the check's
+        included), a callable ``progress(done, total)`` called after each, or None/False.
 
     Returns
     -------
@@ -436,6 +438,8 @@ def calibrate(
     """
     if not isinstance(psd, PSD):
         raise TypeError(f"psd must be a fastline PSD, got {type(psd).__name__}")
+    if not (progress is None or isinstance(progress, (bool, np.bool_)) or callable(progress)):
+        raise TypeError(f"progress must be True, False, None or a callable, got {progress!r}")
     E_star = positive("E_star", E_star, "Pa")
     p = _pressures(pressures, psd, E_star, radius, loads, geometry, n_pressures)
     g = _grid(psd, grid, points_per_wavelength, periods)
@@ -453,7 +457,11 @@ def _calibration(task, n, seed, check, engine, progress) -> CalibratedLaw:
     comp = _companion(task, check)
     n_comp = 0 if comp is None else max(2, n // 4) if n > 1 else 1
     seeds = np.random.SeedSequence(seed).spawn(n + n_comp)
-    with ensemble_executor(engine[0], engine[1], n) as ex:
+    bar = None
+    if isinstance(progress, (bool, np.bool_)):
+        bar = progress_bar(bool(progress), n + n_comp, "calibration")
+        progress = None if not progress else lambda done, total: bar.update(1)
+    with ensemble_executor(engine[0], engine[1], n) as ex, bar or contextlib.nullcontext():
         t0 = time.perf_counter()
         runs = _run(ex, task, seeds[:n], progress, 0, n + n_comp)
         t1 = time.perf_counter()

@@ -94,6 +94,7 @@ __all__ = [
     "run_realization",
     "run_ensemble",
     "ensemble_executor",
+    "progress_bar",
     "with_grid",
 ]
 
@@ -572,7 +573,7 @@ def _map(executor, scene, seeds, bar) -> list:
             f.cancel()
 
 
-def _progress(progress, total: int, desc: str) -> tqdm:
+def progress_bar(progress, total: int, desc: str) -> tqdm:
     """A tqdm bar over realisations on stderr (None: only when stderr is a terminal)."""
     if progress is not None and not isinstance(progress, (bool, np.bool_)):
         raise TypeError(f"progress must be True, False or None, got {type(progress).__name__}")
@@ -633,7 +634,7 @@ def run_ensemble(
     else:
         root = np.random.SeedSequence(integer("seed", seed, 0))
     seeds = root.spawn(n)
-    with _progress(progress, n, desc) as bar, ensemble_executor(executor, workers, n) as ex:
+    with progress_bar(progress, n, desc) as bar, ensemble_executor(executor, workers, n) as ex:
         runs = _map(ex, scene, seeds, bar)
     if scene.geometry == "flat":
         return _flat_ensemble(scene, runs)
