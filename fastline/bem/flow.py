@@ -17,7 +17,8 @@ remaining system is symmetric positive definite and has one solver path (``solve
 
 1. Conjugate gradients preconditioned by a geometric aggregation multigrid
    (:mod:`fastline.bem.pcg_flow`), started from ``start`` (a previous result, e.g. the last
-   pressure's of a load sequence) to a relative residual ``FLOW_TOL``, within a budget of
+   pressure's of a load sequence) to a relative residual ``FLOW_TOL`` (or, with
+   ``conductance_tol``, until the conductance's estimated error is below it), within a budget of
    iterations worth about one direct solve (``ITERATION_BUDGET`` times the fraction of cells on
    the flow path). Every few iterations the budget is checked against the total predicted from
    the residual's rate, so a hopeless solve stops after a handful of iterations. This is the fast
@@ -75,8 +76,8 @@ __all__ = ["FlowResult", "reynolds_flow", "FLOW_TOL", "SOLVERS"]
 FLOW_TOL = 1e-8
 #: CG iterations allowed with every cell on the flow path, about the cost of one direct solve
 #: (the measured ratio of a direct solve's time to one CG iteration's, per cell on the path:
-#: 170-200 at A/A0 0.1-0.33 at 512^2, ``python -m bench.bem_flow``); scaled by the fraction of
-#: the cells on the flow path
+#: 100-205 at A/A0 0.1-0.33 at 512^2 and 1024^2, ``python -m bench.bem_flow``); scaled by the
+#: fraction of the cells on the flow path
 ITERATION_BUDGET = 180
 #: below this many cells on the flow path ``solver="auto"`` takes the direct solve at once
 #: (about 100 x 100: there the budget is under 20 iterations and the LU takes milliseconds)
