@@ -67,12 +67,10 @@ DELAY = 4
 
 
 @numba.njit(**JIT)
-def _x_neighbours(tx, x, b, i, v):
-    """``v = b[i] + tx[i-1] x[i-1] + tx[i] x[i+1]``: row i's right-hand side and its neighbours
-    across x (a row at a time: the sweep along y is then one recurrence)."""
+def _add_x_neighbours(tx, x, i, v):
+    """``v += tx[i-1] x[i-1] + tx[i] x[i+1]``: row i's neighbours across x (a row at a time:
+    the work along y is then one pass, or one recurrence in a sweep)."""
     nx, ny = x.shape
-    for j in range(ny):
-        v[j] = b[i, j]
     if i > 0:
         for j in range(ny):
             v[j] += tx[i - 1, j] * x[i - 1, j]
@@ -90,7 +88,8 @@ def _gauss_seidel(Dinv, tx, ty, b, x, backward):
     v = np.empty(ny)
     for ii in range(nx):
         i = nx - 1 - ii if backward else ii
-        _x_neighbours(tx, x, b, i, v)
+        v[:] = b[i]
+        _add_x_neighbours(tx, x, i, v)
         xi, ti, di = x[i], ty[i], Dinv[i]
         if ny == 1:  # the periodic y faces join the cell to itself
             xi[0] = (v[0] + 2.0 * ti[0] * xi[0]) * di[0]
@@ -133,12 +132,7 @@ def _matvec(D, tx, ty, x, y):
     v = np.empty(ny)
     for i in range(nx):
         v[:] = 0.0
-        if i > 0:
-            for j in range(ny):
-                v[j] += tx[i - 1, j] * x[i - 1, j]
-        if i < nx - 1:
-            for j in range(ny):
-                v[j] += tx[i, j] * x[i + 1, j]
+        _add_x_neighbours(tx, x, i, v)
         _y_apply(D[i], ty[i], x[i], v)
         for j in range(ny):
             y[i, j] = -v[j]
@@ -152,7 +146,8 @@ def _restrict(D, tx, ty, b, x, rc):
     v = np.empty(ny)
     rc[:] = 0.0
     for i in range(nx):
-        _x_neighbours(tx, x, b, i, v)
+        v[:] = b[i]
+        _add_x_neighbours(tx, x, i, v)
         _y_apply(D[i], ty[i], x[i], v)
         r = rc[i // 2]
         for j in range(ny // 2):
@@ -264,7 +259,8 @@ class _Progress:
     def __init__(self, b, x, r, tol, conductance_tol):
         self.goal = tol * math.sqrt(_dot(b, b))
         self.ctol = conductance_tol
-        # the unit-drop start's dissipation x.Ax - 2 b.x + sum(t_in) = -x.r - b.x + sum(b[0])
+        # the start's dissipation x.Ax - 2 b.x + sum(t_in) = -x.r - b.x + sum(b[0]) for the
+        # unit-drop system (b = t_in on the inlet row only)
         self.phi = -_dot(x, r) - _dot(b, x) + float(b[0].sum())
         self.drops: list[float] = []
 
