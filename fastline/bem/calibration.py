@@ -69,8 +69,9 @@ RANGE_LOW = 0.01
 RANGE_HIGH = 1.5
 CHECKS = ("finer", "larger", None)
 #: the flow solves stop once the conductance's estimated relative error is below this
-#: (:func:`~fastline.bem.flow.reynolds_flow`'s ``conductance_tol``): the effective gaps are then
-#: within ~1e-5 of the exact solve's, far inside an ensemble's spread of a few per cent
+#: (:func:`~fastline.bem.flow.reynolds_flow`'s ``conductance_tol``): the conductances are then
+#: within ~1e-5 of the exact solve's (measured: the effective gaps within 1.1e-6 of the
+#: residual criterion's), far inside an ensemble's spread of a few per cent
 FLOW_CONDUCTANCE_TOL = 1e-6
 
 
@@ -461,7 +462,10 @@ def _calibration(task, n, seed, check, engine, progress) -> CalibratedLaw:
     if isinstance(progress, (bool, np.bool_)):
         bar = progress_bar(bool(progress), n + n_comp, "calibration")
         progress = None if not progress else lambda done, total: bar.update(1)
-    with ensemble_executor(engine[0], engine[1], n) as ex, bar or contextlib.nullcontext():
+    with (
+        ensemble_executor(engine[0], engine[1], n) as ex,
+        bar if bar is not None else contextlib.nullcontext(),
+    ):
         t0 = time.perf_counter()
         runs = _run(ex, task, seeds[:n], progress, 0, n + n_comp)
         t1 = time.perf_counter()
