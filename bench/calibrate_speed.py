@@ -22,7 +22,7 @@ import numpy as np
 
 import fastline as fl
 from fastline.bem import random_surface, reynolds_flow, solve_contact, spectral_grid
-from fastline.bem.calibration import FLOW_CONDUCTANCE_TOL as CTOL
+from fastline.bem.flow import CONDUCTANCE_TOL as CTOL
 
 
 def main() -> None:

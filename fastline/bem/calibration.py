@@ -44,7 +44,7 @@ from fastline._lib.validate import integer, positive, positive_array
 from fastline._lib.version import __version__
 from fastline.bem.contact import DEFAULT_TOL, solve_contact
 from fastline.bem.ensemble import ensemble_executor, progress_bar
-from fastline.bem.flow import reynolds_flow
+from fastline.bem.flow import CONDUCTANCE_TOL, reynolds_flow
 from fastline.bem.surface import Grid, random_surface, spectral_grid
 from fastline.errors import CalibrationWarning
 from fastline.theory.calibrated import CalibratedLaw, CalibrationPoints
@@ -68,11 +68,6 @@ RANGE_LOW = 0.01
 #: ... up to this multiple of the largest (Hertz's peak bounds the rough one from above)
 RANGE_HIGH = 1.5
 CHECKS = ("finer", "larger", None)
-#: the flow solves stop once the conductance's estimated relative error is below this
-#: (:func:`~fastline.bem.flow.reynolds_flow`'s ``conductance_tol``): the conductances are then
-#: within ~1e-5 of the exact solve's (measured: the effective gaps within 1.1e-6 of the
-#: residual criterion's), far inside an ensemble's spread of a few per cent
-FLOW_CONDUCTANCE_TOL = 1e-6
 
 
 @dataclass(frozen=True)
@@ -106,7 +101,7 @@ def _one_surface(seed, task: _Task) -> dict:
         )  # fmt: skip
         if i + 1 < n:  # the next start: this field scaled to the next load
             warm = np.maximum(res.pressure, 0.0) * (task.pressures[i + 1] / p)
-        flow = dict(viscosity=task.viscosity, conductance_tol=FLOW_CONDUCTANCE_TOL)
+        flow = dict(viscosity=task.viscosity, conductance_tol=CONDUCTANCE_TOL)
         sx = reynolds_flow(res.gap, grid.dx, grid.dy, start=sx, **flow)
         sy = reynolds_flow(res.gap.T, grid.dy, grid.dx, start=sy, **flow)
         out["gx"][i], out["gy"][i] = sx.conductance, sy.conductance

@@ -62,7 +62,7 @@ from fastline.bem.contact import (
     solve_contact,
     sphere_gap,
 )
-from fastline.bem.flow import reynolds_flow
+from fastline.bem.flow import CONDUCTANCE_TOL, reynolds_flow
 from fastline.bem.scene import (
     Scene,
     cells_per_bin,
@@ -235,7 +235,10 @@ def _profile_and_flow(
         idx, _, count = ring_index(scene, 1)
         sums = np.bincount(idx.ravel(), weights=p.ravel(), minlength=count.size + 1)
         return sums[: count.size] / count, (math.nan, math.nan, False)
-    flow = reynolds_flow(res.gap, scene.grid.dx, scene.grid.dy, viscosity=scene.viscosity)
+    flow = reynolds_flow(
+        res.gap, scene.grid.dx, scene.grid.dy, viscosity=scene.viscosity,
+        conductance_tol=CONDUCTANCE_TOL,
+    )  # fmt: skip
     return None, (flow.conductance, flow.effective_gap, flow.percolating)
 
 
