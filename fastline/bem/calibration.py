@@ -417,9 +417,8 @@ def calibrate(
     tol, max_iter, viscosity
         CCG settings (:func:`~fastline.bem.contact.solve_contact`); the flow's viscosity [Pa s].
     executor, workers, progress
-        Where the realisations run, as for :func:`fastline.sweep` (:func:`ensemble_executor`).
-        ``progress``: True for a progress bar over the realisations on stderr (the check's
-        included), a callable ``progress(done, total)`` called after each, or None/False.
+        Where the realisations run, as for :func:`fastline.sweep`; ``progress``: True (a bar on
+        stderr), a callable ``progress(done, total)`` called after each realisation, or None.
 
     Returns
     -------
@@ -434,8 +433,6 @@ def calibrate(
     """
     if not isinstance(psd, PSD):
         raise TypeError(f"psd must be a fastline PSD, got {type(psd).__name__}")
-    if not (progress is None or isinstance(progress, (bool, np.bool_)) or callable(progress)):
-        raise TypeError(f"progress must be True, False, None or a callable, got {progress!r}")
     E_star = positive("E_star", E_star, "Pa")
     p = _pressures(pressures, psd, E_star, radius, loads, geometry, n_pressures)
     g = _grid(psd, grid, points_per_wavelength, periods)
@@ -450,6 +447,8 @@ def _calibration(task, n, seed, check, engine, progress) -> CalibratedLaw:
     """The ensembles of a checked calibration (and of its companion), and the law."""
     if check not in CHECKS:
         raise ValueError(f"check must be one of {CHECKS}, got {check!r}")
+    if not (progress is None or isinstance(progress, (bool, np.bool_)) or callable(progress)):
+        raise TypeError(f"progress must be True, False, None or a callable, got {progress!r}")
     comp = _companion(task, check)
     n_comp = 0 if comp is None else max(2, n // 4) if n > 1 else 1
     seeds = np.random.SeedSequence(seed).spawn(n + n_comp)
