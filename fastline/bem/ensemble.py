@@ -576,7 +576,7 @@ def _map(executor, scene, seeds, bar) -> list:
             f.cancel()
 
 
-def progress_bar(progress, total: int, desc: str) -> tqdm:
+def progress_bar(progress: bool | None, total: int, desc: str) -> tqdm:
     """A tqdm bar over realisations on stderr (None: only when stderr is a terminal)."""
     if progress is not None and not isinstance(progress, (bool, np.bool_)):
         raise TypeError(f"progress must be True, False or None, got {type(progress).__name__}")
