@@ -435,16 +435,7 @@ class CalibratedLaw(TabulatedLaw):
     def save(self, path: str | os.PathLike) -> None:
         """Write the law to ``path`` (a ``.npz`` archive of plain arrays and JSON metadata with
         a checksum; module docstring, "File format")."""
-        arrays = _state_arrays(self)
-        meta = {
-            "format": FORMAT,
-            "version": self.version,
-            "E_star": self.E_star,
-            "threshold": self.threshold,
-            "p_range": list(self.p_range),
-            "seal": {k: g.seal for k, g in self._gaps.items()},
-            "settings": self.settings,
-        }
+        arrays, meta = _state_arrays(self), _state_meta(self)
         meta["checksum"] = _checksum(arrays, meta)
         with open(os.fspath(path), "wb") as f:
             np.savez_compressed(f, metadata=np.array(json.dumps(meta)), **arrays)
@@ -532,6 +523,19 @@ def _state_arrays(law: CalibratedLaw) -> dict[str, np.ndarray]:
     for k, g in law._gaps.items():
         out[f"gap_{k}_V"], out[f"gap_{k}_G"] = g.V, g.G
     return {k: np.ascontiguousarray(v, dtype=np.float64) for k, v in out.items()}
+
+
+def _state_meta(law: CalibratedLaw) -> dict:
+    """A law's metadata as its file holds it (without the checksum)."""
+    return {
+        "format": FORMAT,
+        "version": law.version,
+        "E_star": law.E_star,
+        "threshold": law.threshold,
+        "p_range": list(law.p_range),
+        "seal": {k: g.seal for k, g in law._gaps.items()},
+        "settings": law.settings,
+    }
 
 
 def _checksum(arrays: dict, meta: dict) -> str:

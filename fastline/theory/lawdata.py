@@ -23,13 +23,13 @@ import numpy as np
 
 from fastline.errors import CalibrationFileError
 from fastline.theory.calibrated import (
-    FORMAT,
     CalibratedLaw,
     _check_match,
     _checksum,
     _read,
     _restore,
     _state_arrays,
+    _state_meta,
 )
 from fastline.theory.laws import TabulatedLaw, _monotone_slopes
 from fastline.theory.spectra import PSD
@@ -76,16 +76,7 @@ def law_data(law: TabulatedLaw) -> LawData:
             f"{type(law).__name__}"
         )
     if kind == "calibrated":
-        arrays = _state_arrays(law)
-        meta = {
-            "format": FORMAT,
-            "version": law.version,
-            "E_star": law.E_star,
-            "threshold": law.threshold,
-            "p_range": list(law.p_range),
-            "seal": {k: g.seal for k, g in law._gaps.items()},
-            "settings": law.settings,
-        }
+        arrays, meta = _state_arrays(law), _state_meta(law)
     else:
         arrays = {"V": law._V, "U": law._U}
         if law._area is not None:
