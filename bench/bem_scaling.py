@@ -10,7 +10,8 @@ Times are CPU seconds of the process (``time.process_time``), best of ``--repeat
 Options: ``--sizes 256 512 1024``, ``--ccg`` (also Polonsky & Keer's plain iterations),
 ``--variants`` (the preconditioner's restart choice at 256 and 512), ``--sequence N`` (15
 warm-started pressures against cold solves), ``--warm-steps`` (a warm start's iterations
-against the load step),
+against the load step), ``--start-accuracy`` (the iterations against the start's distance
+from the answer: what a warm-started sequence within a given multiple of a cold solve needs),
 ``--flow``, ``--save FILE`` (the problem as .npz for an external solver).
 """
 
@@ -195,6 +196,39 @@ def warm_steps(n=256, ratios=(1.001, 1.01, 1.05, 1.1, 1.24, 1.5)):
         )
 
 
+def start_accuracy(n=256, ratio=1.24, shares=(1.0, 1e-1, 1e-2, 1e-3, 1e-4, 1e-5, 1e-6)):
+    """Full-grid iterations at A/A0 ~ 0.2 from starts at a chosen distance from the answer:
+    ``exact + share (previous - exact)``, ``previous`` the exact solution at a load ``ratio``
+    lower, rescaled (the warm start of one step of the sequence), clipped at 0; against the
+    budget per step of a sequence of 15 pressures within 3 cold solves (the first solved cold
+    at the lowest pressure, the other 14 warm-started)."""
+    grid, g0 = problem(n)
+    W = pressures_for([0.2], n)[0] * grid.lx * grid.ly
+    cold = bem.solve_contact(g0, grid, E_STAR, W, tol=TOL)
+    lowest = pressures_for([0.02], n)[0] * grid.lx * grid.ly
+    first = equivalent(bem.solve_contact(g0, grid, E_STAR, lowest, tol=TOL))
+    budget = (3.0 * equivalent(cold) - first) / 14.0
+    exact = bem.solve_contact(g0, grid, E_STAR, W, tol=1e-12).pressure
+    previous = bem.solve_contact(g0, grid, E_STAR, W / ratio, tol=1e-12).pressure * ratio
+    print(
+        f"\n## Iterations against the start's accuracy, N = {n}, A/A0 {cold.contact_fraction:.3f}\n"
+    )
+    print(
+        f"cold (nested): {equivalent(cold):.1f} full-grid equivalent; a sequence of 15 within 3 "
+        f"cold solves leaves {budget:.1f} per warm step (the lowest pressure cold: {first:.1f})"
+    )
+    print(
+        "\n| start: share of a 24 % step's error | start's error (L1, relative) "
+        "| full-grid iterations |"
+    )
+    print("|---|---|---|")
+    for share in shares:
+        start = np.maximum(exact + share * (previous - exact), 0.0)
+        r = bem.solve_contact(g0, grid, E_STAR, W, tol=TOL, p_init=start, nested=False)
+        err = np.abs(start - exact).sum() / exact.sum()
+        print(f"| {share:g} | {err:.1e} | {r.iterations} |", flush=True)
+
+
 def main(argv=None) -> int:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--sizes", type=int, nargs="+", default=[256, 512, 1024])
@@ -202,6 +236,7 @@ def main(argv=None) -> int:
     ap.add_argument("--ccg", action="store_true")
     ap.add_argument("--variants", action="store_true")
     ap.add_argument("--warm-steps", action="store_true")
+    ap.add_argument("--start-accuracy", action="store_true")
     ap.add_argument("--sequence", type=int, default=0, metavar="N")
     ap.add_argument("--flow", type=int, nargs="*", default=None, metavar="N")
     ap.add_argument("--save", type=int, nargs=2, default=None, metavar=("N", "FRACTION_INDEX"))
@@ -221,6 +256,8 @@ def main(argv=None) -> int:
         variants(pressures)
     if args.warm_steps:
         warm_steps()
+    if args.start_accuracy:
+        start_accuracy()
     if args.sequence:
         sequence(args.sequence, pressures)
     if args.flow is not None:
