@@ -8,6 +8,12 @@ prints, per case, the fitted H (with its standard error), q_r, h_rms of the fitt
 the rms slope of the usable range against the truth, and the usable range's upper end against
 the wavenumber where the true spectrum meets the noise.
 
+Beside each case, the Cramer-Rao bounds of H and ln q_r (:func:`bound`): the least standard
+deviations any unbiased estimate can reach on that scan, using every Fourier mode up to the
+Nyquist wavenumber with the noise level known to be white but not its size; and, summed over
+the cases, how many would fall within the targets (H within 0.05, q_r within 25 %) at those
+bounds, beside how many did.
+
 Run: ``python -m bench.scan_accuracy`` (``--profiles 8`` for eight parallel scans per case,
 ``--coverage 50`` for the coverage of +-2 standard errors over 50 seeded repeats, ``--modes 64``
 for a roll-off 64 Fourier modes of the scan up instead of 16).
@@ -86,6 +92,34 @@ def scans(psd, dx: float, n: int, count: int, noise: float, seed: int):
     return h + noise * rms * rng.standard_normal(h.shape), h
 
 
+def bound(psd: fl.SelfAffinePSD, roll: bool, dx: float, n: int, profiles: int, sigma: float):
+    """(sigma_H, sigma_ln_qr): the Cramer-Rao bounds for ``profiles`` Hann-windowed scans of n
+    points (dx in m) of the surface ``psd`` with white noise of rms ``sigma`` (m). The Fisher
+    information of the Whittle likelihood, ``sum_k (d ln S / d theta)(d ln S / d theta)^T``
+    over the modes ``k = 2 pi j / (n dx)``, ``j = 1 .. n/2``, each counted as 18/35 of an
+    independent value (Hann), with ``S = C1D(k) + sigma^2 dx / (2 pi)`` and theta the scale,
+    H, ln q_r (with a roll-off) and the noise level (NaN for ln q_r without a roll-off)."""
+    k = 2.0 * math.pi * np.arange(1, n // 2 + 1) / (n * dx)
+    floor = sigma**2 * dx / (2.0 * math.pi)
+
+    def ln_s(theta):
+        scale, H, xr, noise = theta
+        qr = math.exp(xr) if roll else psd.q0
+        c1d = c1d_self_affine(fl.SelfAffinePSD(psd.h_rms, H, psd.q0, qr, psd.q1), k)
+        return np.log(math.exp(scale) * c1d + math.exp(noise) * floor)
+
+    theta = np.array([0.0, psd.hurst, math.log(psd.qr), 0.0])
+    free = [0, 1, 3] + ([2] if roll else [])
+    step = 1e-5
+    # central differences, one-sided below H = 1 (the model's bound)
+    centre = theta - np.eye(4)[1] * step if psd.hurst + step > 1.0 else theta
+    J = np.column_stack(
+        [(ln_s(centre + d) - ln_s(centre - d)) / (2.0 * step) for d in np.eye(4)[free] * step]
+    )
+    cov = np.linalg.inv(J.T @ J * profiles * 18.0 / 35.0)
+    return math.sqrt(cov[1, 1]), math.sqrt(cov[3, 3]) if roll else math.nan
+
+
 def _band(psd: fl.SelfAffinePSD, lo: float, hi: float) -> fl.TabulatedPSD:
     """The true spectrum restricted to the usable range [lo, hi] (1/m), densely tabulated."""
     q = np.geomspace(lo, hi, 4000)
@@ -107,7 +141,10 @@ def analyse(case, seed: int, profiles: int = 1, folder: str | None = None) -> di
         np.save(path, (clean[0] if profiles == 1 else clean) / 1e-6)
         ref = analyse_scan(path, dx=dx, unit="um", q_range=(lo, hi))  # the same without noise
     band = _band(psd, lo, hi)
+    crb_H, crb_qr = bound(psd, roll, dx, n, profiles, float(np.std(h - clean)))
     return {
+        "crb_H": crb_H,
+        "crb_qr": crb_qr,
         "h_rms_vs_clean": f.h_rms / ref.fit.h_rms,
         "slope_vs_clean": scan.measured.rms_slope / ref.measured.rms_slope,
         "data_h_rms_vs_clean": scan.spectrum.h_rms / ref.spectrum.h_rms,
@@ -193,7 +230,8 @@ def _row(r: dict) -> str:
         f"{H:<4} {'yes' if roll else 'no':<4} {noise:<5.1%}  {dx:<7.0e} {n:<6d} | "
         f"{r['H']:.3f} +- {r['H_err']:.3f} {z:4.1f} | {_qr_text(r)} | {r['h_rms']:5.3f} "
         f"{r['slope']:5.3f}         | {r['h_rms_vs_clean']:5.3f} {r['slope_vs_clean']:5.3f}  | "
-        f"{r['hi']:9.3g} {r['rule']:<17} | {r['meets']:.3g}"
+        f"{r['hi']:9.3g} {r['rule']:<17} | {r['meets']:<8.3g} | {r['crb_H']:.3f} "
+        f"{r['crb_qr']:.3f}"
     )
 
 
@@ -213,6 +251,26 @@ def _qr_counts(rows: list[dict]) -> None:
     )
 
 
+def _bound_counts(rows: list[dict]) -> None:
+    """Cases within the targets against the number expected at the Cramer-Rao bounds (each
+    estimate Gaussian about the truth with the bound's deviation)."""
+    H_in = sum(abs(r["H"] - r["case"][0]) <= 0.05 for r in rows)
+    H_expected = sum(math.erf(0.05 / (r["crb_H"] * math.sqrt(2.0))) for r in rows)
+    roll = [r for r in rows if r["case"][1]]
+    qr_in = sum(abs(r["qr"] - 1.0) <= 0.25 for r in roll)
+
+    def within_25(s):
+        cdf = lambda x: 0.5 * (1.0 + math.erf(x / (s * math.sqrt(2.0))))  # noqa: E731
+        return cdf(math.log(1.25)) - cdf(math.log(0.75))
+
+    qr_expected = sum(within_25(r["crb_qr"]) for r in roll)
+    print(
+        f"at the Cramer-Rao bounds: H within 0.05 expected in {H_expected:.1f} of {len(rows)} "
+        f"(measured {H_in}); q_r within 25 % expected in {qr_expected:.1f} of {len(roll)} "
+        f"(measured {qr_in})"
+    )
+
+
 def main(argv=None) -> None:
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     parser.add_argument("--profiles", type=int, default=1, help="parallel scans per case")
@@ -226,12 +284,14 @@ def main(argv=None) -> None:
         return
     print(
         "H    q_r  noise  dx      N      | H fit (+-err)    |z| | q_r/true [interval]  said     "
-        "| h_rms, slope / true | / noise-free | top of range (1/m), rule    | C1D meets noise"
+        "| h_rms, slope / true | / noise-free | top of range (1/m), rule    | C1D meets "
+        "noise | CRB H, ln q_r"
     )
     rows = table(args.profiles)
     for r in rows:
         print(_row(r))
     _qr_counts(rows)
+    _bound_counts(rows)
     if args.coverage:
         for case in ((0.8, True, 0.01, 1e-6, 4096), (0.5, False, 0.03, 1e-6, 4096)):
             share, mean, std, qr_share = coverage(case, args.coverage, args.profiles)
