@@ -87,6 +87,19 @@ def test_point_contact_defers_too():
     assert res.diagnostics["n"] == 64
 
 
+def test_results_print_a_summary_not_their_arrays():
+    """``print(result)`` gives one line of the scene's numbers for both geometries (the
+    arrays stay attributes) and computes no deferred field."""
+    line = fl.solve_line_contact(PSD, E_STAR, RADIUS, LOADS[0], n=N, warn=False)
+    point = fl.PointContact(PSD, E_STAR, RADIUS, n=64, warn=False).solve(1.0)
+    for res in (line, point):
+        text = repr(res)
+        assert "\n" not in text and "array" not in text and len(text) < 300
+        assert text.startswith(type(res).__name__ + "(")
+        assert f"converged={res.converged}" in text and f"{res.p0:.6g} Pa" in text
+        assert _pending(res) == {"real_area", "diagnostics"}
+
+
 def test_pickle_copy_and_replace_compute_pending_fields():
     lc = fl.LineContact(PSD, E_STAR, RADIUS, n=N, warn=False)
     res = lc.solve(LOADS[1])

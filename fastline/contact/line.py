@@ -116,7 +116,7 @@ LOAD_RANGE = (1e-12, 1e4)
 Spectrum = PSD | str | os.PathLike | None
 
 
-@dataclass
+@dataclass(repr=False)  # the short repr of ContactResult, not every array
 class LineContactResult(ContactResult):
     """The solution of one line-contact scene and what follows from it.
 

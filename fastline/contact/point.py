@@ -74,7 +74,7 @@ NESTED_FACTOR = 4
 LOAD_RANGE = (1e-18, 1e6)
 
 
-@dataclass
+@dataclass(repr=False)  # the short repr of ContactResult, not every array
 class PointContactResult(ContactResult):
     """The solution of one point-contact scene and what follows from it.
 
