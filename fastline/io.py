@@ -272,14 +272,32 @@ def write_csv(
         raise ValueError(f"cannot write {path}: {e.strerror}") from None
 
 
+def _is_point(result) -> bool:
+    """Whether ``result`` is a point contact's (radius ``r``), a line contact's (``x``), or
+    neither (TypeError)."""
+    if hasattr(result, "r") and hasattr(result, "hertz_radius"):
+        return True
+    if hasattr(result, "x") and hasattr(result, "p0_ratio"):
+        return False
+    raise TypeError(
+        f"expected a LineContactResult or PointContactResult, got {type(result).__name__}"
+    )
+
+
 def write_profile_csv(
-    path: str | os.PathLike, result: LineContactResult, meta: Mapping | None = None
+    path: str | os.PathLike,
+    result: LineContactResult | PointContactResult,
+    meta: Mapping | None = None,
 ) -> None:
     """Write p(x) of one result: columns ``x_m, p_Pa, u_m``; ``meta`` as the header.
 
     The load, alpha, p0, p0 / p0_Hertz, widths and convergence of the result are added to the
-    header.
+    header. A point contact's result is written as :func:`write_point_profile_csv` writes it
+    (p(r), the load in N).
     """
+    if _is_point(result):
+        write_point_profile_csv(path, result, meta)
+        return
     info = dict(meta or {})
     info.update(
         load_N_per_m=result.load,
@@ -305,7 +323,15 @@ def sweep_rows(results: Iterable) -> list[tuple]:
 def write_sweep_csv(
     path: str | os.PathLike, results: Sequence, meta: Mapping | None = None
 ) -> None:
-    """Write a load sweep: one row per result, columns :data:`SWEEP_COLUMNS`."""
+    """Write a load sweep: one row per result, columns :data:`SWEEP_COLUMNS`; a point
+    contact's sweep as :func:`write_point_sweep_csv` writes it (the load in N)."""
+    results = list(results)
+    kinds = {_is_point(r) for r in results}
+    if len(kinds) > 1:
+        raise ValueError("results mix line and point contacts: write each sweep on its own")
+    if kinds == {True}:
+        write_point_sweep_csv(path, results, meta)
+        return
     write_csv(path, SWEEP_COLUMNS, sweep_rows(results), meta, title="fastline sweep")
 
 

@@ -144,6 +144,28 @@ def test_csv_header_records_the_scene(tmp_path):
     assert list(cols) == list(io.SWEEP_COLUMNS) and cols["w_over_s"][1] == r.w_over_s
 
 
+def test_csv_writers_take_point_results_in_their_own_layout(tmp_path):
+    """write_profile_csv and write_sweep_csv write a sphere's results as the point writers do
+    (p(r), the load in N), refuse a mixed sweep, and name what they expect otherwise."""
+    psd = fl.SelfAffinePSD(1e-6, 0.8, 1e3, 1e4, 1e9)
+    pc = fl.PointContact(psd, 1.33e9, 0.01, n=64, warn=False)
+    point = pc.solve(1.0)
+    io.write_profile_csv(tmp_path / "p.csv", point)
+    io.write_point_profile_csv(tmp_path / "q.csv", point)
+    assert (tmp_path / "p.csv").read_text() == (tmp_path / "q.csv").read_text()
+    got, cols = io.read_csv(tmp_path / "p.csv")
+    assert got["geometry"] == "sphere" and float(got["load_N"]) == 1.0
+    np.testing.assert_array_equal(cols["r_m"], point.r)
+    io.write_sweep_csv(tmp_path / "s.csv", [point, point])
+    got, cols = io.read_csv(tmp_path / "s.csv")
+    assert list(cols) == list(io.POINT_SWEEP_COLUMNS) and got["geometry"] == "sphere"
+    line = fl.solve_line_contact(psd, 1.33e9, 0.01, 1e4, n=64)
+    with pytest.raises(ValueError, match="mix line and point"):
+        io.write_sweep_csv(tmp_path / "m.csv", [line, point])
+    with pytest.raises(TypeError, match="LineContactResult or PointContactResult"):
+        io.write_profile_csv(tmp_path / "x.csv", fl.leak_rate(line, 1e4, 1e-3))
+
+
 def test_output_checks(tmp_path):
     assert io.check_output_file(tmp_path / "a.csv") == str(tmp_path / "a.csv")
     with pytest.raises(ValueError, match="does not exist"):
