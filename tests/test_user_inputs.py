@@ -15,6 +15,7 @@ import pytest
 
 import fastline as fl
 from fastline.cli.app import main
+from fastline.io import read_csv
 
 PSD = fl.SelfAffinePSD(1e-6, 0.8, 1e4, 1e4, 1e9)
 E_STAR, R, LOAD = 1.33e9, 0.01, 1e4
@@ -150,13 +151,18 @@ def test_figure_extension_written_or_refused(name, tmp_path, capsys):
         fl.plotting.figure_format("out.png", "pdf")
 
 
-def test_a_closed_pipe_ends_quietly():
+def test_a_closed_pipe_ends_quietly(tmp_path):
     """``fastline ... | head -1``: the reader leaves; no BrokenPipeError traceback, the exit
-    status of a Unix tool killed by SIGPIPE (128 + 13)."""
-    argv = [sys.executable, "-m", "fastline", "profile", "--model", "hertz", "--n", "64"]
+    status of a Unix tool killed by SIGPIPE (128 + 13), and the files asked for are still
+    written (unbuffered output: the first line already meets the closed pipe)."""
+    csv = tmp_path / "profile.csv"
+    argv = [sys.executable, "-u", "-m", "fastline", "profile", "--model", "hertz", "--n", "64",
+            "--csv", str(csv)]  # fmt: skip
     proc = subprocess.Popen(argv, stdout=subprocess.PIPE, stderr=subprocess.PIPE,
                             cwd=Path(__file__).parent.parent)  # fmt: skip
     proc.stdout.close()  # before the first line is written
     err = proc.stderr.read().decode()
     assert proc.wait(timeout=600) == 141
     assert "Traceback" not in err and "BrokenPipe" not in err
+    header, columns = read_csv(csv)
+    assert header["model"] == "hertz" and len(columns["p_Pa"]) == 64

@@ -508,17 +508,56 @@ def main(argv: list[str] | None = None) -> int:
             args.variant = theory.DEFAULT_VARIANT
         if getattr(args, "gamma", 0.0) is None:  # the variant's own gamma
             args.gamma = theory.get_variant(args.variant).default_gamma
-        with warnings.catch_warnings():  # the scene's check printed them once
-            warnings.filterwarnings("ignore", category=fl.UnitWarning)
-            status = COMMANDS[args.command](args)
-        sys.stdout.flush()  # a reader that left shows here, not in the interpreter's exit
-        return status
+        with warnings.catch_warnings(), _ReaderGuard() as guard:
+            warnings.filterwarnings("ignore", category=fl.UnitWarning)  # the scene's check
+            status = COMMANDS[args.command](args)  # printed them once
+            sys.stdout.flush()  # a reader that left shows here, not in the interpreter's exit
+        return _closed_pipe() if guard.left else status
     except (CLIError, ValueError) as e:
         msg = " ".join(str(e).split())
         print(f"fastline: error: {msg}", file=sys.stderr)
         return 2
-    except BrokenPipeError:  # `fastline paper | head -1`: the reader left, stop quietly
+    except BrokenPipeError:  # pragma: no cover - the guard's stream raised it anyway
         return _closed_pipe()
+
+
+class _ReaderGuard:
+    """``sys.stdout`` while a command runs: when its reader leaves (``fastline sweep ... |
+    head -1``), what the command prints next is dropped and the command goes on to write its
+    files; :func:`main` then returns the closed pipe's status."""
+
+    def __init__(self) -> None:
+        self.left = False
+        self._stream = sys.stdout
+
+    def __enter__(self) -> _ReaderGuard:
+        sys.stdout = self
+        return self
+
+    def __exit__(self, *exc) -> None:
+        sys.stdout = self._stream
+
+    def write(self, text: str) -> int:
+        if not self.left:
+            try:
+                return self._stream.write(text)
+            except BrokenPipeError:
+                self._gone()
+        return len(text)
+
+    def flush(self) -> None:
+        if not self.left:
+            try:
+                self._stream.flush()
+            except BrokenPipeError:
+                self._gone()
+
+    def _gone(self) -> None:
+        self.left = True
+        _closed_pipe()  # the interpreter's final flush then goes to the null device
+
+    def __getattr__(self, name: str):
+        return getattr(self._stream, name)
 
 
 def _closed_pipe() -> int:
