@@ -259,8 +259,10 @@ def test_sweep_vs_api(tmp_path, capsys):
         assert cols["s_m"][k] == pytest.approx(r.s, rel=SAME)
         alone = solve_line_contact(psd, E_STAR, R, f, n=N_SMALL)  # to the solver tolerance
         assert cols["w_over_s"][k] == pytest.approx(alone.w_over_s, rel=CONTINUATION)
-    assert "rms slope" in out
+    assert "rms slope" in out and "model            persson (method newton" in out
     assert png.read_bytes()[:5] == MAGIC["svg"]
+    status, out, _ = run(SWEEP + ["--model", "exponential"], capsys)
+    assert status == 0 and "model            exponential" in out
 
 
 def test_sweep_reports_warnings_once_with_loads(capsys):

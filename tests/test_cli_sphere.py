@@ -69,6 +69,7 @@ def test_sweep_sphere_vs_api(tmp_path, capsys):
     status, out, err = run(argv, capsys)
     assert status == 0, err
     assert "load F [N]" in out and "N/m" not in out + err
+    assert "model            persson" in out
     meta, cols = read_csv(csv)
     assert meta["geometry"] == "sphere"
     np.testing.assert_allclose(cols["load_N"], [1.0, 10.0, 100.0], rtol=SAME)

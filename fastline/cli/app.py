@@ -44,6 +44,7 @@ from fastline.cli.common import (
     material_options,
     metadata,
     model_checks,
+    model_line,
     numerics_options,
     persson_theory,
     positive,
@@ -341,6 +342,8 @@ def cmd_sweep(args) -> int:
     else:
         results, table = sweep_in_parallel(psd, E, args, loads)
     print(spectrum_line(psd, source, args.model))
+    if results:
+        print(model_line(results[0]))
     print(
         f"{'load [N/m]':>12}{'alpha':>12}{'p0 [Pa]':>13}{'p0 ratio':>10}{'s [m]':>12}"
         f"{'w [m]':>12}{'w/s':>8}{'conv':>6}"

@@ -62,6 +62,7 @@ __all__ = [
     "numerics_options",
     "law_option",
     "model_name",
+    "model_line",
     "variant_option",
     "model_checks",
     "figure_options",
@@ -505,10 +506,16 @@ def save(fig: Figure, path: str | os.PathLike, args: argparse.Namespace) -> None
 # ----------------------------------------------------------------------------------------------
 # results
 # ----------------------------------------------------------------------------------------------
+def model_line(r: ContactResult) -> str:
+    """The printed model of a solve: the pressure law (``persson``, ``exponential``,
+    ``calibrated``, ...), the method and the grid."""
+    return f"model            {r.model} (method {r.method}, n = {r.diagnostics.get('n', '?')})"
+
+
 def result_lines(r: LineContactResult, diag: dict) -> list[str]:
     """The printed result of a cylinder's solve (``profile``, ``leak``)."""
     lines = [
-        f"model            {r.model} (method {r.method}, n = {r.diagnostics.get('n', '?')})",
+        model_line(r),
         f"load f_N         {r.load:.6g} N/m",
         f"E*, R            {r.E_star:.6g} Pa, {r.radius:.6g} m",
         *roughness_lines(r, diag),

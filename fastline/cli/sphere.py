@@ -28,6 +28,7 @@ from fastline.cli.common import (
     convergence_status,
     law_lines,
     metadata,
+    model_line,
     persson_theory,
     progress,
     report_warnings,
@@ -126,6 +127,8 @@ def cmd_sphere_sweep(args: argparse.Namespace) -> int:
     else:
         results, table = _sweep_on_executor(psd, E, args, loads)
     print(spectrum_line(psd, source, args.model))
+    if results:
+        print(model_line(results[0]))
     print(f"geometry         sphere on a flat, R = {args.radius:.6g} m; loads F in N")
     print(
         f"{'load F [N]':>12}{'alpha':>12}{'p0 [Pa]':>13}{'p0 ratio':>10}{'s [m]':>12}"
