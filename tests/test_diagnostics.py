@@ -83,7 +83,7 @@ def test_hardness_warning(psd, theory):
 
 def test_half_width_warning_for_big_load(psd, theory):
     # Hertz half-width a = sqrt(R delta); R = 1 cm and f_N = 1e7 N/m give a ~ 0.98 R
-    r = solve_line_contact(psd, E_STAR, 0.01, 1e7, theory=theory, n=256)
+    r = solve_line_contact(psd, E_STAR, 0.01, 1e7, theory=theory, n=256, warn=False)
     with pytest.warns(ValidityWarning, match="half-space"):
         d = assess(r, theory)
     assert not d["half_space_ok"]
@@ -170,6 +170,27 @@ def test_narrow_contact_warns():
     short = fl.SelfAffinePSD(1e-6, 0.8, 2e5, 2e6, 1e9)
     d2 = assess(solve_line_contact(short, **ORING, n=256, warn=False), psd=short, warn=False)
     assert d2["mean_field_ok"] is True and "narrow_contact" not in d2["warning_causes"]
+
+
+def test_assess_after_a_solve_warns_only_of_new_causes():
+    """A solve warns of the narrow contact; assessing its result again with a hardness warns
+    of the plastic asperities only, and a second assessment of nothing; each dict still lists
+    every cause."""
+    psd = fl.SelfAffinePSD(*ORING_PSD)
+    theory = fl.PerssonTheory(psd, ORING["E_star"])
+    with warnings.catch_warnings(record=True) as solve_w:
+        warnings.simplefilter("always")
+        r = solve_line_contact(psd, **ORING, n=256, theory=theory)
+    assert ["narrower than" in str(w.message) for w in solve_w] == [True]
+    hard = 0.25 * psd.rms_slope * ORING["E_star"]
+    for expected in (["hardness"], []):
+        with warnings.catch_warnings(record=True) as got:
+            warnings.simplefilter("always")
+            d = assess(r, theory, hardness=hard)
+        assert [m for m in ("hardness", "narrower") if any(m in str(w.message) for w in got)] == (
+            expected
+        )
+        assert {"narrow_contact", "plastic"} <= set(d["warning_causes"])
 
 
 def test_resolution_warns_on_a_coarse_grid():

@@ -328,8 +328,9 @@ def assess(
     psd : PSD, optional
         The roughness spectrum, used only when ``theory`` is not given.
     warn : bool
-        Emit one :class:`ValidityWarning` per cause found (they are listed in the result
-        either way). The regime is information, never a warning.
+        Emit one :class:`ValidityWarning` per cause found that was not already reported for
+        this result (by its solve, or an earlier ``assess``); all are listed in the returned
+        dict either way. The regime is information, never a warning.
     stacklevel : int
         Where the warnings point: 1 the caller of ``assess``, 2 its caller, and so on.
 
@@ -393,12 +394,15 @@ def _checks(result, theory, psd, hardness) -> tuple[dict, dict[str, str]]:
 
 def _list_causes(out: dict, msgs: dict[str, str], result, warn: bool, stacklevel: int) -> None:
     """The causes found, in the order of :data:`CAUSES`, into ``out``; one warning each if
-    ``warn`` (``stacklevel`` as :func:`warnings.warn` counts from here)."""
+    ``warn`` and the result has not warned of it yet (``stacklevel`` as
+    :func:`warnings.warn` counts from here)."""
     causes = [c for c in CAUSES if c in msgs]
     out["warning_causes"] = causes
     out["warning_messages"] = {c: msgs[c] for c in causes}
     out["warnings"] = [msgs[c] for c in causes]
-    for c in causes if warn else ():
+    told = result.__dict__.setdefault("_warned_causes", set())  # by the solve, or before
+    for c in [c for c in causes if c not in told] if warn else ():
+        told.add(c)
         warnings.warn(
             f"fastline: {_headline(c, result)}", ValidityWarning, stacklevel=stacklevel + 1
         )
