@@ -247,6 +247,7 @@ def _bad_files(d, h):
     x = np.arange(256) * DX
     x[50] += 0.3 * DX
     np.savetxt(d / "uneven.txt", np.column_stack([x, h[7]]), fmt="%.17g")
+    np.savetxt(d / "xh.txt", np.column_stack([np.arange(256) * DX, h[7]]), fmt="%.17g")
     np.savetxt(d / "short.txt", h[7, :20], fmt="%.17g")
     (d / "scan.x3p").write_bytes(b"PK\x03\x04")
     return d
@@ -260,6 +261,7 @@ def _bad_files(d, h):
         (["psd", "{examples}/psd_example.txt"], "looks like a spectrum"),
         (["psd", "{d}/nan.txt", "--dx", DX], "--nan interpolate"),
         (["psd", "{d}/uneven.txt"], "not uniformly spaced"),
+        (["psd", "{d}/xh.txt", "--dx", 2 * DX], "--dx = 4e-06 m disagrees"),
         (["psd", "{d}/short.txt", "--dx", DX], "at least 32 points"),
         (["psd", "{d}/missing.txt", "--dx", DX], "no such file"),
         (["psd", "{d}", "--dx", DX], "is a directory"),

@@ -78,6 +78,7 @@ _CLI_SPELLING = {
     "extend=True (--extend on the command line)": "--extend",
     "as_map=True (--map)": "--map",
     "dx (m)": "--dx [m]",
+    ": dx = ": ": --dx = ",
 }
 
 
