@@ -571,6 +571,15 @@ def test_compare_smooth_theory_with_smooth_bem():
 
 
 # ---- bad input -------------------------------------------------------------------------------
+def test_a_period_far_shorter_than_the_longest_wavelength_is_drawn_at_once():
+    """8 cells of 1 um against 2 pi/q0 = 6 mm: the cell means of C(q) stay a bounded sum
+    (once ~6e8 sub-cells per mode), and the surface holds the lattice's modes."""
+    psd = fl.SelfAffinePSD(1e-6, 0.8, 1e3, 1e4, 1e9)
+    grid = bem.Grid(8, 8, 1e-6, 1e-6)
+    surface = bem.random_surface(psd, grid, seed=1)
+    assert np.all(np.isfinite(surface.heights)) and surface.heights.std() > 0.0
+
+
 def test_bad_inputs():
     grid = bem.Grid(16, 16, 1e-6, 1e-6)
     with pytest.raises(ValueError, match="nx"):
@@ -613,8 +622,14 @@ def test_bad_inputs():
         bem.image_curvature(E_STAR, 1.0, 1.0, 0.0)
     with pytest.raises(TypeError, match="image_correction"):
         bem.line_contact_scene(PSD, E_STAR, RADIUS, 1.0, image_correction="no")
-    with pytest.raises(ValueError, match="gap must be >= 0"):
-        bem.reynolds_flow(-np.ones((4, 4)), 1e-6)
+    for gap in (-np.ones((4, 4)), np.full((4, 4), 1e300)):  # (whose cube overflows)
+        with pytest.raises(ValueError, match=r"gap must lie in \[0, 1000\] m"):
+            bem.reynolds_flow(gap, 1e-6)
+    with pytest.raises(ValueError, match="nominal pressure of 1e\\+06 E"):
+        bem.solve_contact(np.zeros(grid.shape), grid, 1e7, 1e300)
+    for seed, error in (("x", TypeError), (-1, ValueError), (True, TypeError)):
+        with pytest.raises(error, match="seed"):
+            bem.random_surface(PSD, grid, seed=seed)
     with pytest.raises(ValueError, match="viscosity"):
         bem.reynolds_flow(np.ones((4, 4)), 1e-6, viscosity=0.0)
     with pytest.raises(ValueError, match="load"):

@@ -20,6 +20,7 @@ import pytest
 
 import fastline as fl
 from fastline import bem
+from fastline.bem import calibration
 from fastline.cli.app import main
 from fastline.theory.calibrated import CalibrationPoints, isotonic_decreasing
 
@@ -246,6 +247,34 @@ def test_calibrate_refuses_bad_input():
         fl.calibrate(PSD, E_STAR, PRESSURES, check="coarser")
     with pytest.raises(TypeError, match="progress must be True, False, None or a callable"):
         fl.calibrate(PSD, E_STAR, PRESSURES, progress="yes")
+
+
+@pytest.mark.parametrize(
+    "kwargs, error, needle",
+    [
+        (dict(geometry="x"), ValueError, "geometry must be 'line' or 'point'"),
+        (dict(n_pressures=0), ValueError, "n_pressures"),
+        (dict(n_pressures=1.5), ValueError, "n_pressures"),
+        (dict(realizations=10**9), ValueError, "realizations"),
+        (dict(points_per_wavelength=1e3), ValueError, "more than 16,777,216"),
+        (dict(periods=1e4), ValueError, "more than 16,777,216"),
+        (dict(grid=bem.Grid(4096, 4096, 1e-7, 1e-7)), ValueError, "companion grid"),
+        (dict(seed=-1), ValueError, "seed"),
+    ],
+)
+def test_calibrate_refuses_before_any_work(kwargs, error, needle, monkeypatch):
+    """Every argument is checked before the first surface is drawn: given pressures do not
+    skip the checks of the other arguments, and grids or ensembles too large to hold or to
+    finish are refused by what sets their size."""
+    monkeypatch.setattr(calibration, "random_surface", _no_work)
+    with pytest.raises(error, match=needle):
+        fl.calibrate(PSD, E_STAR, PRESSURES, **kwargs)
+    with pytest.raises(ValueError, match="loads must hold at least one"):
+        fl.calibrate(PSD, E_STAR, radius=0.01, loads=[])
+
+
+def _no_work(*args, **kwargs):
+    raise AssertionError("a surface was drawn before the arguments were checked")
 
 
 def test_calibrate_progress_bar_or_callback(capsys):

@@ -68,6 +68,11 @@ RANGE_LOW = 0.01
 #: ... up to this multiple of the largest (Hertz's peak bounds the rough one from above)
 RANGE_HIGH = 1.5
 CHECKS = ("finer", "larger", None)
+#: most cells of a calibration grid, the check's companion included (4096 x 4096: a surface's
+#: arrays and the solver's work space take about a gigabyte there)
+MAX_CELLS = 4096 * 4096
+#: most realisations of one calibration
+MAX_REALIZATIONS = 10_000
 
 
 @dataclass(frozen=True)
@@ -145,6 +150,8 @@ def pressure_range(
     E_star = positive("E_star", E_star, "Pa")
     radius = positive("radius", radius, "m")
     loads = np.atleast_1d(positive_array("loads", loads)).ravel()
+    if loads.size == 0:
+        raise ValueError("loads must hold at least one load (N/m for a line, N for a point)")
     if geometry not in ("line", "point"):
         raise ValueError(f"geometry must be 'line' or 'point', got {geometry!r}")
     hertz = hertz_line_contact if geometry == "line" else hertz_point_contact
@@ -153,7 +160,11 @@ def pressure_range(
 
 
 def _pressures(pressures, psd, E_star, radius, loads, geometry, n_pressures) -> np.ndarray:
-    """The calibration pressures [Pa], increasing: given, or spread over the scenes' range."""
+    """The calibration pressures [Pa], increasing: given, or spread over the scenes' range
+    (``geometry`` and ``n_pressures`` checked either way)."""
+    if geometry not in ("line", "point"):
+        raise ValueError(f"geometry must be 'line' or 'point', got {geometry!r}")
+    n = integer("n_pressures", n_pressures, 3, 200)
     if pressures is not None:
         if radius is not None or loads is not None:
             raise ValueError("give either pressures or radius and loads, not both")
@@ -166,7 +177,6 @@ def _pressures(pressures, psd, E_star, radius, loads, geometry, n_pressures) -> 
             "give pressures [Pa], or radius [m] and loads (N/m for a line contact, N for a "
             "point contact) of the scenes to be solved, from which the range is chosen"
         )
-    n = integer("n_pressures", n_pressures, 3, 200)
     lo, hi = pressure_range(psd, E_star, radius, loads, geometry)
     return np.geomspace(lo, hi, n)
 
@@ -181,7 +191,7 @@ def _grid(psd, grid, points_per_wavelength, periods) -> Grid:
                 f"shortest wavelength 2 pi/q1: the contact spots are not resolved below), "
                 f"got {ppw!r}"
             )
-        return spectral_grid(psd, points_per_wavelength=ppw, periods=periods)
+        return _sized(spectral_grid(psd, points_per_wavelength=ppw, periods=periods))
     if not isinstance(grid, Grid):
         raise TypeError(f"grid must be a fastline.bem.Grid or None, got {type(grid).__name__}")
     cells = 2.0 * math.pi / psd.q1 / max(grid.dx, grid.dy)
@@ -189,6 +199,18 @@ def _grid(psd, grid, points_per_wavelength, periods) -> Grid:
         raise ValueError(
             f"grid must hold >= {MIN_CELLS_PER_WAVELENGTH:g} cells per shortest wavelength "
             f"2 pi/q1 = {2 * math.pi / psd.q1:.4g} m, got {cells:.3g} (cell {grid.dx:.4g} m)"
+        )
+    return _sized(grid)
+
+
+def _sized(grid: Grid, what: str = "the calibration grid") -> Grid:
+    """``grid`` if it has at most :data:`MAX_CELLS` cells; a ValueError saying what sets its
+    size otherwise (before any surface is drawn: its arrays alone would not fit)."""
+    if grid.nx * grid.ny > MAX_CELLS:
+        raise ValueError(
+            f"{what} would have {grid.nx} x {grid.ny} cells, more than {MAX_CELLS:,} "
+            "(~1 GB per surface): lower points_per_wavelength or periods, give a grid of your "
+            "own, or narrow the spectrum's q1/q0"
         )
     return grid
 
@@ -335,6 +357,7 @@ def _companion(task, check) -> _Task | None:
         grid = Grid(2 * g.nx, 2 * g.ny, 0.5 * g.dx, 0.5 * g.dy)
     else:
         grid = Grid(2 * g.nx, 2 * g.ny, g.dx, g.dy)
+    grid = _sized(grid, f"the companion grid of check={check!r} (check=None: no check)")
     return _Task(task.psd, task.E_star, grid, sub, task.tol, task.max_iter, task.viscosity)
 
 
@@ -436,7 +459,7 @@ def calibrate(
     E_star = positive("E_star", E_star, "Pa")
     p = _pressures(pressures, psd, E_star, radius, loads, geometry, n_pressures)
     g = _grid(psd, grid, points_per_wavelength, periods)
-    n = integer("realizations", realizations, 1)
+    n = integer("realizations", realizations, 1, MAX_REALIZATIONS)
     task = _Task(psd, E_star, g, p, positive("tol", tol), integer("max_iter", max_iter, 1),
                  positive("viscosity", viscosity, "Pa s"))  # fmt: skip
     _warn_width(g, E_star, radius, None if loads is None else np.atleast_1d(loads), geometry)

@@ -69,6 +69,10 @@ DEFAULT_TOL = 1e-9
 #: 1.25 at n = 256, 1.125 at 512 (the measured break-even, ``docs/performance.md``).
 WARM_FULL_GRID_CELLS = 64
 
+#: Largest nominal pressure, load over the grid's area, in units of E* (dimensionless): far
+#: beyond any linear-elastic contact; above it the solve's numbers would overflow.
+MAX_NOMINAL_PRESSURE = 1e6
+
 
 def cylinder_gap(grid: Grid, radius: float, image_curvature: float = 0.0) -> np.ndarray:
     """Undeformed gap ``(1 - kappa) x^2 / (2R)`` [m] of a rigid cylinder with axis along y.
@@ -362,6 +366,12 @@ def _checked(g0, grid, E_star, load, tol, max_iter):
         raise ValueError(f"g0 must have the grid's shape {grid.shape}, got {g0.shape}")
     E_star = positive("E_star", E_star, "Pa")
     load = positive("load", load, "N")
+    most = MAX_NOMINAL_PRESSURE * E_star * grid.lx * grid.ly
+    if load > most:
+        raise ValueError(
+            f"load must be <= {most:.4g} N (a nominal pressure of {MAX_NOMINAL_PRESSURE:g} E*, "
+            f"far beyond linear elasticity), got {load!r}"
+        )
     tol = positive("tol", tol)
     if tol >= 0.1:
         raise ValueError(f"tol must lie in (0, 0.1), got {tol!r}")

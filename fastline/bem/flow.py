@@ -86,6 +86,9 @@ DIRECT_BELOW = 10_000
 MAX_ITER = 5000
 #: the solvers of :func:`reynolds_flow`
 SOLVERS = ("auto", "iterative", "direct")
+#: largest gap [m] :func:`reynolds_flow` takes (far beyond a thin film; its cube would
+#: overflow far above)
+MAX_GAP = 1e3
 #: ``conductance_tol`` of the package's own solves that want only the conductance (calibration,
 #: validation ensembles): the conductances are then within ~1e-5 of the exact solve's (measured:
 #: the effective gaps of a calibration within 1.1e-6 of the residual criterion's), far inside an
@@ -361,8 +364,11 @@ def _checked(gap, dx, dy, viscosity, pressure_drop, solver, start):
     g = finite_array("gap", gap, ndim=2)
     if g.shape[0] < 2 or g.shape[1] < 1:
         raise ValueError(f"gap must have at least 2 x 1 cells, got shape {g.shape}")
-    if np.any(g < 0.0):
-        raise ValueError("gap must be >= 0 everywhere (allowed range [0, inf) m)")
+    if np.any(g < 0.0) or np.any(g > MAX_GAP):
+        raise ValueError(
+            f"gap must lie in [0, {MAX_GAP:g}] m everywhere (Reynolds' thin-film equation), "
+            f"got values in [{g.min():.4g}, {g.max():.4g}] m"
+        )
     dx = positive("dx", dx, "m")
     dy = dx if dy is None else positive("dy", dy, "m")
     eta = positive("viscosity", viscosity, "Pa s")

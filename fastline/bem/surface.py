@@ -193,13 +193,15 @@ def spectral_grid(
 _NEAR_CELLS = 16
 #: sub-cell width at most q0 / _SUB_PER_Q0 in the refined cells
 _SUB_PER_Q0 = 32
+#: most sub-cells per side of a lattice cell (reached only by a period far shorter than 2 pi/q0)
+_SUB_MAX = 256
 
 
 def _subcell_means(psd: PSD, qx, qy, dqx: float, dqy: float) -> np.ndarray:
     """Mean of ``C(|q|)`` over the cells ``[qx +- dqx/2] x [qy +- dqy/2]`` (1-D arrays of the
     centres) by the midpoint rule on sub-cells of width at most ``q0 / _SUB_PER_Q0``."""
-    mx = max(2, math.ceil(_SUB_PER_Q0 * dqx / psd.q0))
-    my = max(2, math.ceil(_SUB_PER_Q0 * dqy / psd.q0))
+    mx = min(_SUB_MAX, max(2, math.ceil(_SUB_PER_Q0 * dqx / psd.q0)))
+    my = min(_SUB_MAX, max(2, math.ceil(_SUB_PER_Q0 * dqy / psd.q0)))
     tx = ((np.arange(mx) + 0.5) / mx - 0.5) * dqx
     ty = ((np.arange(my) + 0.5) / my - 0.5) * dqy
     out = np.empty(qx.size)
@@ -304,6 +306,21 @@ def lattice_moments(psd: PSD, grid: Grid) -> tuple[float, float]:
     return _moments(*_mode_spectrum(psd, grid), grid)
 
 
+def _checked_seed(seed: Seed) -> Seed:
+    """``seed`` if NumPy can seed a generator with it (None, an int >= 0, a SeedSequence or a
+    Generator); a TypeError or ValueError naming it otherwise."""
+    if seed is None or isinstance(seed, (np.random.SeedSequence, np.random.Generator)):
+        return seed
+    if isinstance(seed, bool) or not isinstance(seed, (int, np.integer)):
+        raise TypeError(
+            "seed must be None, an int >= 0, a numpy SeedSequence or Generator, "
+            f"got {type(seed).__name__}"
+        )
+    if seed < 0:
+        raise ValueError(f"seed must be >= 0, got {seed}")
+    return int(seed)
+
+
 def random_surface(
     psd: PSD, grid: Grid, seed: Seed = None, *, amplitudes: Amplitudes = "fixed"
 ) -> RoughSurface:
@@ -343,7 +360,7 @@ def random_surface(
             f"make grid.lx, grid.ly >= 2 pi/q0 = {2 * math.pi / psd.q0:g} m and "
             f"dx, dy <= pi/q1 = {math.pi / psd.q1:g} m"
         )
-    rng = np.random.default_rng(seed)
+    rng = np.random.default_rng(_checked_seed(seed))
     noise = rng.standard_normal(grid.shape)
     w = np.fft.fft2(noise)
     n_cells = grid.nx * grid.ny
