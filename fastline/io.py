@@ -444,22 +444,6 @@ def write_leak_csv(
         ``load_N``), alpha and p0 are added.
     """
     radial = leak.inner_radius is not None
-    info = dict(meta or {})
-    if result is not None:
-        load_key = "load_N" if radial else "load_N_per_m"
-        info.update({load_key: result.load, "alpha": result.alpha, "p0_Pa": result.p0})
-    info.update(leak_metadata(leak))
-    unit = "m3_per_Pa_s" if radial else "m2_per_Pa_s"  # the whole contact / per unit length
-    info[f"conductance_{unit}"] = leak.conductance
-    info.update(
-        Q_m3_per_s=leak.Q,
-        sealed=leak.sealed,
-        share_in_fwhm=leak.share_in_fwhm,
-        resistance_width_m=leak.resistance_width,
-        converged=leak.converged,
-    )
-    if leak.sealed:
-        info["sealed_by"] = leak.sealed_by
     rows = zip(
         leak.x,
         leak.pressure,
@@ -477,7 +461,29 @@ def write_leak_csv(
         else "fastline leak: p(x), critical gap u_c(x) and where the flow resistance sits"
     )
     columns = POINT_LEAK_COLUMNS if radial else LEAK_COLUMNS
-    write_csv(path, columns, rows, info, title=title)
+    write_csv(path, columns, rows, _leak_header(leak, meta, result), title=title)
+
+
+def _leak_header(leak: LeakResult, meta: Mapping | None, result) -> dict:
+    """The header of :func:`write_leak_csv`: the scene, the solve, the inputs, the results."""
+    radial = leak.inner_radius is not None
+    info = dict(meta or {})
+    if result is not None:
+        load_key = "load_N" if radial else "load_N_per_m"
+        info.update({load_key: result.load, "alpha": result.alpha, "p0_Pa": result.p0})
+    info.update(leak_metadata(leak))
+    unit = "m3_per_Pa_s" if radial else "m2_per_Pa_s"  # the whole contact / per unit length
+    info[f"conductance_{unit}"] = leak.conductance
+    info.update(
+        Q_m3_per_s=leak.Q,
+        sealed=leak.sealed,
+        share_in_fwhm=leak.share_in_fwhm,
+        resistance_width_m=leak.resistance_width,
+        converged=leak.converged,
+    )
+    if leak.sealed:
+        info["sealed_by"] = leak.sealed_by
+    return info
 
 
 def _resistance_columns(leak: LeakResult) -> tuple[float, float]:

@@ -475,6 +475,21 @@ def _sealing_line(results, leaks) -> str:
     return f"sealing          sealed from {symbol} = {min(sealed):.4g} {unit} on{last}"
 
 
+def _causes_line(results, leaks) -> str | None:
+    """Which cause seals which loads of a sweep (None when no load seals)."""
+    symbol, unit = _load_name(results)
+    k0, total, parts = leaks[0], len(leaks), []
+    causes = (  # in the order of rising load
+        ("gap floor", f"the gap is below the molecular floor {k0.gap_floor:g} m"),
+        ("percolation", f"the real contact area percolates (P(q1, p) >= {k0.threshold:g})"),
+    )
+    for cause, text in causes:
+        loads = [r.load for r, k in zip(results, leaks, strict=True) if k.sealed_by == cause]
+        if loads:
+            parts.append(f"{text} at {_loads_span(loads, total, symbol, unit)}")
+    return f"sealed by        {'; '.join(parts)}" if parts else None
+
+
 def _contact(geometry: str):
     """(one-call solver, reusable model class, result lines) of the geometry."""
     if geometry == "sphere":
@@ -531,6 +546,9 @@ def _leak_sweep(args, geometry, psd, E, source, th) -> int:
             f"{'yes' if k.sealed else 'no':>8}{where}{'yes' if r.converged else 'NO':>6}"
         )
     print(_sealing_line(results, leaks))
+    causes = _causes_line(results, leaks)
+    if causes:
+        print(causes)
     _report_leak_warnings(results, leaks)
     if args.csv:
         fl.io.write_leak_sweep_csv(args.csv, results, leaks, _leak_meta(psd, E, args, source))
