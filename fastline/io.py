@@ -54,6 +54,7 @@ __all__ = [
     "write_leak_sweep_csv",
     "leak_metadata",
     "leak_sweep_rows",
+    "strip_causes",
     "LEAK_COLUMNS",
     "LEAK_SWEEP_COLUMNS",
     "POINT_LEAK_COLUMNS",
@@ -104,6 +105,7 @@ LEAK_COLUMNS = (
     "resistance_share",
     "cumulative_share",
     "sealed",
+    "sealed_by",
 )
 #: columns of :func:`write_leak_sweep_csv` (one row per load)
 LEAK_SWEEP_COLUMNS = (
@@ -113,6 +115,7 @@ LEAK_SWEEP_COLUMNS = (
     "Q_m3_per_s",
     "conductance_m2_per_Pa_s",
     "sealed",
+    "sealed_by",
     "share_in_fwhm",
     "resistance_width_m",
     "min_gap_m",
@@ -405,8 +408,9 @@ def read_csv(path: str | os.PathLike) -> tuple[dict, dict]:
 
 def leak_metadata(leak: LeakResult) -> dict:
     """The inputs of a leak rate as header entries: ``pressure_drop_Pa``, ``viscosity_Pa_s``,
-    ``length_m`` (radial flow: ``inner_radius_m`` instead), ``threshold``, ``method`` (add
-    ``mean_free_path_m`` yourself when used)."""
+    ``length_m`` (radial flow: ``inner_radius_m`` instead), ``threshold``, ``method`` and
+    ``gap_floor_m``, the molecular floor of the gap (0: none), which with the threshold says
+    how a strip was judged sealed (add ``mean_free_path_m`` yourself when used)."""
     path = (
         {"length_m": float(leak.length)}
         if leak.inner_radius is None
@@ -418,7 +422,20 @@ def leak_metadata(leak: LeakResult) -> dict:
         **path,
         "threshold": float(leak.threshold),
         "method": str(leak.method),
+        "gap_floor_m": float(leak.gap_floor),
     }
+
+
+def strip_causes(leak: LeakResult) -> list[str]:
+    """Per strip (ring) of a leak rate, what seals it: ``"percolation"``, ``"gap floor"``, or
+    ``""`` where it is open (the ``sealed_by`` column of :func:`write_leak_csv`)."""
+    floor = leak.floor_strips
+    if floor.shape != leak.sealed_strips.shape:  # a LeakResult made without the split
+        floor = np.zeros(leak.sealed_strips.shape, dtype=bool)
+    return [
+        ("gap floor" if f else "percolation") if s else ""
+        for s, f in zip(leak.sealed_strips, floor, strict=True)
+    ]
 
 
 def write_leak_csv(
@@ -432,9 +449,12 @@ def write_leak_csv(
     (radial flow, ``leak.inner_radius`` set: one row per ring, :data:`POINT_LEAK_COLUMNS`).
 
     Columns: strip centre x [m] (radial flow: the ring's radius r [m]), nominal pressure p [Pa],
-    critical gap u_c [m] (0 in sealed strips, ``inf`` where p = 0), local conductance sigma
-    [m^3/(Pa s)], the strip's share of the flow resistance and its running sum, and whether the
-    strip is sealed (0/1).
+    critical gap u_c [m] (the method's local gap, :attr:`LeakResult.u_c`: 0 where the real
+    contact area percolates, the sub-molecular gap below ``gap_floor`` where the floor seals,
+    ``inf`` where p = 0), local conductance sigma [m^3/(Pa s)] (that of u_c; the sealed column
+    says which strips carry no flow), the strip's share of the flow resistance and its running
+    sum, whether the strip is sealed (0/1) and by what (``sealed_by``: ``percolation``, ``gap
+    floor``, empty where open; :func:`strip_causes`).
 
     Parameters
     ----------
@@ -444,11 +464,34 @@ def write_leak_csv(
     meta : mapping, optional
         The scene (:func:`scene_metadata`); the leak's inputs (:func:`leak_metadata`) and its
         results (Q [m^3/s], conductance [m^2/(Pa s)], sealed, share in the FWHM, 90 % width
-        [m]) are added.
+        [m]; when sealed, ``sealed_by``, :attr:`LeakResult.sealed_by`) are added.
     result : LineContactResult or PointContactResult, optional
         The solve the leak rate post-processes: its load (``load_N_per_m``, a point contact's
         ``load_N``), alpha and p0 are added.
     """
+    radial = leak.inner_radius is not None
+    rows = zip(
+        leak.x,
+        leak.pressure,
+        leak.u_c,
+        leak.sigma,
+        leak.resistance_share,
+        leak.cumulative_share,
+        leak.sealed_strips,
+        strip_causes(leak),
+        strict=True,
+    )
+    title = (
+        "fastline leak: p(r), critical gap u_c(r) and where the flow resistance sits (radial)"
+        if radial
+        else "fastline leak: p(x), critical gap u_c(x) and where the flow resistance sits"
+    )
+    columns = POINT_LEAK_COLUMNS if radial else LEAK_COLUMNS
+    write_csv(path, columns, rows, _leak_header(leak, meta, result), title=title)
+
+
+def _leak_header(leak: LeakResult, meta: Mapping | None, result) -> dict:
+    """The header of :func:`write_leak_csv`: the scene, the solve, the inputs, the results."""
     radial = leak.inner_radius is not None
     info = dict(meta or {})
     if result is not None:
@@ -464,23 +507,9 @@ def write_leak_csv(
         resistance_width_m=leak.resistance_width,
         converged=leak.converged,
     )
-    rows = zip(
-        leak.x,
-        leak.pressure,
-        leak.u_c,
-        leak.sigma,
-        leak.resistance_share,
-        leak.cumulative_share,
-        leak.sealed_strips,
-        strict=True,
-    )
-    title = (
-        "fastline leak: p(r), critical gap u_c(r) and where the flow resistance sits (radial)"
-        if radial
-        else "fastline leak: p(x), critical gap u_c(x) and where the flow resistance sits"
-    )
-    columns = POINT_LEAK_COLUMNS if radial else LEAK_COLUMNS
-    write_csv(path, columns, rows, info, title=title)
+    if leak.sealed:
+        info["sealed_by"] = leak.sealed_by
+    return info
 
 
 def _resistance_columns(leak: LeakResult) -> tuple[float, float]:
@@ -495,7 +524,9 @@ def _resistance_columns(leak: LeakResult) -> tuple[float, float]:
 def leak_sweep_rows(results: Iterable, leaks: Iterable) -> list[tuple]:
     """One row of :data:`LEAK_SWEEP_COLUMNS` per (LineContactResult, LeakResult) pair (of
     :data:`POINT_LEAK_SWEEP_COLUMNS` per (PointContactResult, LeakResult) pair: the same
-    numbers, the load in N); share_in_fwhm and resistance_width_m NaN at sealed loads."""
+    numbers, the load in N); sealed_by is the leak's cause of sealing (``"percolation"``, ``"gap
+    floor"``, ``""`` where it leaks), share_in_fwhm and resistance_width_m NaN at sealed
+    loads."""
     return [
         (
             r.load,
@@ -504,6 +535,7 @@ def leak_sweep_rows(results: Iterable, leaks: Iterable) -> list[tuple]:
             k.Q,
             k.conductance,
             k.sealed,
+            k.sealed_by or "",
             *_resistance_columns(k),
             k.diagnostics["min_gap"],
             r.converged,

@@ -146,6 +146,9 @@ def test_leak_csv_columns_and_header(one_scene, tmp_path, capsys):
     for key, value in expected.items():
         assert float(meta[key]) == pytest.approx(value, rel=SAME), key
     assert meta["method"] == "critical-junction" and meta["sealed"] == "0"
+    # how a strip would be judged sealed: the floor given (the default) and, per strip, no cause
+    assert float(meta["gap_floor_m"]) == leak.gap_floor == 1e-9
+    assert np.all(cols["sealed_by"] == "") and "sealed_by" not in meta
     # the file is self-consistent: strips in series, Q = L dP / sum(dx / sigma) (uniform grid)
     dx = np.diff(cols["x_m"]).mean()
     q_from_columns = LENGTH * DP / np.sum(dx / cols["sigma_m3_per_Pa_s"])
@@ -246,6 +249,8 @@ def test_sweep_numbers_match_api(sweep_run, swept):
     np.testing.assert_allclose(cols["Q_m3_per_s"], [k.Q for k in leaks], rtol=SAME, atol=0.0)
     np.testing.assert_allclose(cols["p0_Pa"], [r.p0 for r in results], rtol=SAME)
     np.testing.assert_array_equal(cols["sealed"] == 1, [k.sealed for k in leaks])
+    assert list(cols["sealed_by"]) == [k.sealed_by or "" for k in leaks]
+    assert float(meta["gap_floor_m"]) == leaks[0].gap_floor
     assert float(meta["viscosity_Pa_s"]) == ETA and float(meta["length_m"]) == LENGTH
     assert float(meta["pressure_drop_Pa"]) == DP and meta["model"] == "persson"
     for r, k in zip(results, leaks, strict=True):
@@ -265,6 +270,22 @@ def test_sweep_is_the_designers_curve(sweep_run):
     assert f[sealed].min() > f[~sealed].max()
     assert f"sealed from f_N = {f[sealed].min():.4g} N/m on" in out
     assert f"leaks below it: {f[~sealed].max():.4g} N/m" in out
+
+
+def test_sweep_names_the_cause_of_each_sealed_load(sweep_run, swept):
+    """The 'sealed by' line lists the loads each cause seals, as the CSV's sealed_by column."""
+    _, out, _, csv_path, _ = sweep_run
+    _, cols = read_csv(csv_path)
+    loads, by = cols["load_N_per_m"], cols["sealed_by"]
+    line = next(ln for ln in out.splitlines() if ln.startswith("sealed by "))
+    assert set(by) - {""} and set(by) <= {"", "gap floor", "percolation"}
+    for cause, text in (("gap floor", "molecular floor"), ("percolation", "percolates")):
+        f = loads[by == cause]
+        assert (text in line) == bool(f.size), cause
+        if f.size:
+            listed = line.split(text, 1)[1].split(";")[0]
+            assert f"{f.size} of {loads.size} loads" in listed
+            assert f"{f.min():.4g}" in listed and f"{f.max():.4g}" in listed
 
 
 @pytest.mark.parametrize("run_name", ["sweep_run", "ball_sweep_run"])

@@ -350,27 +350,52 @@ def _fluid_line(args) -> str:
     )
 
 
+def _sealed_lines(leak, strip: str, strips: str) -> list[str]:
+    """The lines of a sealed contact: how many strips seal, by which cause."""
+    d, t, floor = leak.diagnostics, leak.threshold, leak.gap_floor
+    n_floor, n_all = d["n_below_floor"], d["n_strips"]
+    if leak.sealed_by == "gap floor":
+        why = (
+            f"yes: {n_floor} of {n_all} {strips} have a gap below the molecular floor {floor:g} "
+            f"m (no {strip} reaches a real contact area P(q1, p) >= {t:g})"
+        )
+    else:
+        n_contact = d["n_sealed"] - n_floor
+        more = f", {n_floor} more with the gap below the {floor:g} m floor" if n_floor else ""
+        why = (
+            f"yes: {d['n_sealed']} of {n_all} {strips} sealed: {n_contact} with a real contact "
+            f"area P(q1, p) >= {t:g} (no channel percolates there){more}"
+        )
+    return [
+        "leak rate Q      0 m^3/s (sealed)",
+        f"sealed           {why}",
+        f"resistance       infinite in the sealed {strips}, {leak.resistance_width:.4g} m "
+        "of the contact",
+    ]
+
+
+def _gap_line(leak, strip: str) -> str:
+    """The local gap at the strip of highest resistance, named as the method defines it."""
+    gap = leak.diagnostics["min_gap"]
+    if "law" in leak.diagnostics["gap_table"]:
+        return (
+            f"hydraulic gap    {gap:.6g} m (the calibrated law's g at the {strip} of highest "
+            "resistance)"
+        )
+    if leak.method == "effective-medium":
+        return (
+            f"effective gap    {gap:.6g} m (u_eff of Bruggeman's effective medium at the {strip} "
+            "of highest resistance)"
+        )
+    return f"critical gap     {gap:.6g} m (u_c at the {strip} of highest resistance)"
+
+
 def _leak_lines(leak) -> list[str]:
     d, t = leak.diagnostics, leak.threshold
     radial = leak.inner_radius is not None
     strip, strips = ("ring", "rings") if radial else ("strip", "strips")
-    if leak.sealed_by == "gap floor":
-        lines = [
-            "leak rate Q      0 m^3/s (sealed)",
-            f"sealed           yes: {d['n_below_floor']} of {d['n_strips']} {strips} have a gap "
-            f"below the molecular floor {leak.gap_floor:g} m (no channel percolates at "
-            f"P(q1, p) >= {t:g} in any {strip})",
-            f"resistance       infinite in the sealed {strips}, {leak.resistance_width:.4g} m "
-            "of the contact",
-        ]
-    elif leak.sealed:
-        lines = [
-            "leak rate Q      0 m^3/s (sealed)",
-            f"sealed           yes: {d['n_sealed']} of {d['n_strips']} {strips} have a real "
-            f"contact area P(q1, p) >= {t:g} (no channel percolates there)",
-            f"resistance       infinite in the sealed {strips}, {leak.resistance_width:.4g} m "
-            "of the contact",
-        ]
+    if leak.sealed:
+        lines = _sealed_lines(leak, strip, strips)
     else:
         conductance = (
             f"conductance      {leak.conductance:.6g} m^3/(Pa s) of the whole contact "
@@ -387,10 +412,7 @@ def _leak_lines(leak) -> list[str]:
             f"{' the flow crosses' if radial else ''})",
             f"resistance       {leak.share_in_fwhm:.1%} of it {fwhm}; 90% of it within "
             f"{leak.resistance_width:.4g} m",
-            f"critical gap     {d['min_gap']:.6g} m (u_c at the {strip} of highest resistance)"
-            if "law" not in d["gap_table"]
-            else f"hydraulic gap    {d['min_gap']:.6g} m (the calibrated law's g at the {strip} of "
-            "highest resistance)",
+            _gap_line(leak, strip),
             f"junctions across {d['junctions_across']:.3g} (roll-off wavelengths 2pi/qr = "
             f"{d['rolloff_wavelength']:.3g} m across the 90% width; the theory wants >= 5)",
         ]
@@ -405,7 +427,8 @@ def _leak_lines(leak) -> list[str]:
     )
     if d["knudsen"] is not None:
         lines.append(
-            f"Knudsen number   {d['knudsen']:.3g} (mean free path / u_c; viscous flow below 0.1)"
+            f"Knudsen number   {d['knudsen']:.3g} (mean free path / "
+            f"{'u_eff' if leak.method == 'effective-medium' else 'u_c'}; viscous flow below 0.1)"
         )
     return lines
 
@@ -450,6 +473,21 @@ def _sealing_line(results, leaks) -> str:
     below = [r.load for r in open_ if r.load < min(sealed)]
     last = f" (the largest load that leaks below it: {max(below):.4g} {unit})" if below else ""
     return f"sealing          sealed from {symbol} = {min(sealed):.4g} {unit} on{last}"
+
+
+def _causes_line(results, leaks) -> str | None:
+    """Which cause seals which loads of a sweep (None when no load seals)."""
+    symbol, unit = _load_name(results)
+    k0, total, parts = leaks[0], len(leaks), []
+    causes = (  # in the order of rising load
+        ("gap floor", f"the gap is below the molecular floor {k0.gap_floor:g} m"),
+        ("percolation", f"the real contact area percolates (P(q1, p) >= {k0.threshold:g})"),
+    )
+    for cause, text in causes:
+        loads = [r.load for r, k in zip(results, leaks, strict=True) if k.sealed_by == cause]
+        if loads:
+            parts.append(f"{text} at {_loads_span(loads, total, symbol, unit)}")
+    return f"sealed by        {'; '.join(parts)}" if parts else None
 
 
 def _contact(geometry: str):
@@ -508,6 +546,9 @@ def _leak_sweep(args, geometry, psd, E, source, th) -> int:
             f"{'yes' if k.sealed else 'no':>8}{where}{'yes' if r.converged else 'NO':>6}"
         )
     print(_sealing_line(results, leaks))
+    causes = _causes_line(results, leaks)
+    if causes:
+        print(causes)
     _report_leak_warnings(results, leaks)
     if args.csv:
         fl.io.write_leak_sweep_csv(args.csv, results, leaks, _leak_meta(psd, E, args, source))

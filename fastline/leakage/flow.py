@@ -31,7 +31,7 @@ from __future__ import annotations
 
 import math
 import warnings
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from typing import TYPE_CHECKING, Literal
 
 import numpy as np
@@ -111,13 +111,21 @@ class LeakResult:
         Strip centres in m (radii of the ring cells for radial flow) and the nominal pressure
         in Pa.
     u_c : ndarray
-        Critical gap ``u_c(p(x))`` in m (0 in sealed strips; +inf where p = 0); with a
-        calibrated ``law``, its hydraulic gap ``g(p(x))``.
+        Critical gap ``u_c(p(x))`` in m (the effective-medium gap ``u_eff`` with that method;
+        with a calibrated ``law``, its hydraulic gap ``g(p(x))``): 0 where the real contact
+        area percolates, below ``gap_floor`` (the theory's sub-molecular gap, kept to show how
+        far below the floor it is; it may underflow to 0) where the floor seals, +inf where
+        p = 0.
     sigma : ndarray
-        Local conductance ``u_c^3 / (12 eta)`` in m^3/(Pa s).
+        Local conductance ``u_c^3 / (12 eta)`` in m^3/(Pa s) (not 0 in the strips the floor
+        seals: ``sealed_strips`` says which strips carry no flow).
     sealed_strips : ndarray of bool
         The sealed strips, by either criterion (radial flow: only those the flow crosses,
         outside ``inner_radius``).
+    floor_strips : ndarray of bool
+        The sealed strips that the gap floor alone seals (no percolation there, the gap below
+        ``gap_floor``); ``sealed_strips & ~floor_strips`` are those where the real contact
+        area percolates, ``P(q1, p) >= threshold``.
     resistance_share, cumulative_share : ndarray
         Each strip's share of the flow resistance ``int dx / sigma`` and its running sum from
         ``x[0]`` (when sealed, the sealed strips share it equally; 0 inside ``inner_radius``).
@@ -172,6 +180,7 @@ class LeakResult:
     inner_radius: float | None = None
     sealed_by: str | None = None
     gap_floor: float = 0.0
+    floor_strips: np.ndarray = field(default_factory=lambda: np.zeros(0, dtype=bool))
 
     def __repr__(self):
         radial = "" if self.inner_radius is None else f", inner_radius={self.inner_radius:.4g} m"
@@ -552,6 +561,7 @@ def _leak(x, p, theory, flow: _Flow, warn: bool, converged: bool, law=None) -> L
         inner_radius=flow.inner_radius,
         sealed_by=sealed_by,
         gap_floor=flow.gap_floor,
+        floor_strips=below,
     )
 
 

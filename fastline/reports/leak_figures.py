@@ -49,28 +49,41 @@ def _leak_window(leak) -> tuple[float, float]:
     return max(inside[0] - pad, x[0]), min(inside[-1] + pad, x[-1])
 
 
-def _leak_band(leak) -> tuple[float, float, str]:
-    """(lo, hi, label) in m of the region a leak is decided in: the sealed strips when sealed,
-    else the central 90 % of the flow resistance."""
+def _runs(mask: np.ndarray, edges: np.ndarray) -> list[tuple[float, float]]:
+    """(lo, hi) in m of each run of consecutive strips where ``mask`` holds."""
+    steps = np.diff(np.concatenate([[0], mask.astype(np.int8), [0]]))
+    starts, ends = np.flatnonzero(steps == 1), np.flatnonzero(steps == -1)
+    return list(zip(edges[starts], edges[ends], strict=True))
+
+
+def _leak_bands(leak) -> list[tuple[list[tuple[float, float]], str, str]]:
+    """(spans in m, label, colour) of the regions a leak is decided in: when sealed, the strips
+    the real contact area seals (it percolates) and those the gap floor seals, each cause its
+    own; else the central 90 % of the flow resistance."""
     edges = _cell_edges(leak.x)
     if leak.sealed:
-        k = np.flatnonzero(leak.sealed_strips)
-        label = f"sealed: $P(q_1, p) \\geq {leak.threshold:g}$"
-        if getattr(leak, "sealed_by", None) == "gap floor":
-            label = f"sealed: gap below the molecular floor {leak.gap_floor:g} m"
-        return edges[k[0]], edges[k[-1] + 1], label
+        floor = getattr(leak, "floor_strips", np.zeros(0, dtype=bool))
+        if floor.shape != leak.sealed_strips.shape:  # a result made without the split
+            floor = np.zeros(leak.sealed_strips.shape, dtype=bool)
+        contact = leak.sealed_strips & ~floor
+        bands = [
+            (contact, f"sealed: $P(q_1, p) \\geq {leak.threshold:g}$ (contact percolates)", "C3"),
+            (floor, f"sealed: gap below the molecular floor {leak.gap_floor:g} m", "C4"),
+        ]
+        return [(_runs(m, edges), text, c) for m, text, c in bands if m.any()]
     cum = np.concatenate([[0.0], leak.cumulative_share])
     lo, hi = np.interp([0.05, 0.95], cum, edges)
-    return lo, hi, f"90% of the flow resistance ({(hi - lo) * 1e6:.3g} µm wide)"
+    return [([(lo, hi)], f"90% of the flow resistance ({(hi - lo) * 1e6:.3g} µm wide)", "C2")]
 
 
 def plot_leak(leak: LeakResult, *, axes: Sequence[Axes] | None = None) -> Figure:
     """Where a seal leaks: p(x) above, the critical gap u_c(x) below (log axis), sharing x.
 
     The region holding the central 90% of the flow resistance (or, when sealed, the sealed
-    strips) is shaded in both panels; dotted lines mark the FWHM of p. Gaps below
-    :data:`GAP_FLOOR` (1e-12 m) run off the bottom of the u_c axis; sealed strips (u_c = 0)
-    leave a gap in the line.
+    strips: red where the real contact area percolates, purple where the gap is below the
+    molecular floor ``leak.gap_floor``) is shaded in both panels; dotted lines mark the FWHM
+    of p. Gaps below :data:`GAP_FLOOR` (1e-12 m) run off the bottom of the u_c axis; strips
+    where the contact percolates (u_c = 0) leave a gap in the line.
 
     Parameters
     ----------
@@ -107,6 +120,8 @@ def plot_leak(leak: LeakResult, *, axes: Sequence[Axes] | None = None) -> Figure
         handles[0] + more[0], handles[1] + more[1], loc="lower left", bbox_to_anchor=(0.0, 1.01),
         ncols=1, fontsize=8, frameon=False, borderaxespad=0.0,
     )  # fmt: skip
+    if axes is None:  # room for the legend's lines (3 fit below the top at 0.88)
+        fig.subplots_adjust(top=min(0.88, 0.97 - 0.03 * len(handles[1] + more[1])))
     return fig
 
 
@@ -127,7 +142,6 @@ def _mark_leak(top: Axes, bottom: Axes, leak: LeakResult) -> None:
     """In both panels: the region the leak is decided in (shaded), the FWHM of p (dotted; a
     point contact: its half width) and a point contact's orifice."""
     radial = leak.inner_radius is not None
-    lo, hi, text = _leak_band(leak)
     half = leak.x[leak.pressure >= 0.5 * leak.pressure.max()]
     width = "half width at half maximum" if radial else "FWHM"
     fwhm = f"{width} of $p$"
@@ -135,8 +149,10 @@ def _mark_leak(top: Axes, bottom: Axes, leak: LeakResult) -> None:
         fwhm += f" ({leak.share_in_fwhm:.1%} of the resistance inside)"
     marks = (half[-1],) if radial else (half[0], half[-1])  # radial: the half width only
     for k, ax in enumerate((top, bottom)):
-        color = "C3" if leak.sealed else "C2"
-        ax.axvspan(lo * 1e3, hi * 1e3, color=color, alpha=0.15, lw=0, label=text if k else None)
+        for spans, text, color in _leak_bands(leak):
+            for j, (lo, hi) in enumerate(spans):
+                lab = text if (k and not j) else None
+                ax.axvspan(lo * 1e3, hi * 1e3, color=color, alpha=0.15, lw=0, label=lab)
         for j, xf in enumerate(marks):
             lab = fwhm if (k == 0 and j == 0) else None
             ax.axvline(xf * 1e3, ls=":", color="k", lw=0.8, label=lab)
