@@ -12,7 +12,9 @@ from __future__ import annotations
 import contextlib
 import contextvars
 import math
+import re
 import warnings
+from collections.abc import Callable
 from typing import TypeVar
 
 import numpy as np
@@ -63,6 +65,29 @@ def checked_heights(h, ndim_allowed: tuple[int, ...]) -> np.ndarray:
             f"{HEIGHT_SPAN[1]:g}] m: are they in m (unit='um', 'nm', ...)?"
         )
     return arr
+
+
+#: the refusal of the h_rms a spectrum table implies (fastline.theory.spectra.TabulatedPSD),
+#: worded for a spectrum file (C in m^4, q in 1/m)
+_TABLE_H_RMS = re.compile(r"C gives h_rms = (\S+) m, outside \[(\S+), (\S+)\] m")
+
+
+@contextlib.contextmanager
+def heights_refused(what: str, advice: Callable[[], str]):
+    """Inside the block, the spectrum table's refusal of its h_rms said of the heights it was
+    computed from: ``what`` names them (a function, a file), ``advice()`` the unit they were
+    taken in and what to do; any other error passes unchanged."""
+    try:
+        yield
+    except ValueError as e:
+        found = _TABLE_H_RMS.match(str(e))
+        if found is None:
+            raise
+        h_rms, lo, hi = found.groups()
+        raise ValueError(
+            f"{what}: the heights give h_rms = {h_rms} m over the usable range, outside "
+            f"[{lo}, {hi}] m, the span of a measured surface: {advice()}"
+        ) from None
 
 
 def checked_spacing(name: str, value) -> float:
