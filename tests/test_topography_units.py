@@ -120,3 +120,37 @@ def test_psd_from_map_of_implausible_heights_speaks_of_heights(surface_um):
         with pytest.raises(ValueError, match=r"psd_from_map: the heights .*in m") as refused:
             tp.psd_from_map(surface_um[:64, :64], DX)
     assert "C in m^4" not in str(refused.value)
+
+
+def test_warnings_point_at_the_callers_line(surface_um, tmp_path):
+    """Every TopographyWarning of the public functions (readers, spectra, fit, analyse_scan)
+    is attributed to this file, whichever depth of fastline raised it, and each once a call."""
+    bare = tmp_path / "xh.txt"  # no header: x taken in the heights' unit, said by a warning
+    x = np.arange(256) * DX * 1e6
+    np.savetxt(bare, np.column_stack([x, surface_um[0]]))
+    rows = tmp_path / "rows.txt"
+    np.savetxt(rows, surface_um[::32], header="traces")  # no unit: unit='mm' decides
+    q = np.geomspace(1e4, 1e7, 40)
+    C1D = q**-2.6 * (1.0 + 0.6 * (-1.0) ** np.arange(q.size))  # rising steps: noisy C1D
+    calls = [
+        lambda: tp.read_profile(bare, unit="um"),
+        lambda: tp.read_topography(bare, unit="um"),
+        lambda: analyse_scan(bare, unit="um"),
+        lambda: tp.psd_from_profile(surface_um[:4], DX),  # micrometres read as metres
+        lambda: tp.psd_from_map(surface_um[:64, :64] * 1e-3, DX),  # millimetres
+        lambda: analyse_scan(rows, dx=DX, unit="mm"),  # slopes x 1e3, beyond 5
+        lambda: tp.isotropic_from_1d(q, C1D),
+        lambda: tp.fit_self_affine((q, q**-3.6)),  # a power law: no roll-off to resolve
+    ]
+    seen = set()
+    for call in calls:
+        with warnings.catch_warnings(record=True) as caught:
+            warnings.simplefilter("always")
+            call()
+        mine = [w for w in caught if issubclass(w.category, tp.TopographyWarning)]
+        assert mine, "each call warns"
+        texts = [str(w.message) for w in mine]
+        assert len(texts) == len(set(texts)), texts  # once a call
+        assert {w.filename for w in mine} == {__file__}, [(w.filename, w.lineno) for w in mine]
+        seen.update(text.split(":")[0] for text in texts)
+    assert {"psd_from_profile", "psd_from_map", "isotropic_from_1d", "fit_self_affine"} <= seen

@@ -300,7 +300,6 @@ def _scales(path, columns: _Columns, unit, x_unit) -> tuple[float, float]:
         topography_warning(
             f"{path}: the x column is taken in {h_unit}, like the heights: the header names no "
             "unit for it and x_unit (--x-units) was not given",
-            stacklevel=4,
         )
     return UNITS[h_unit], UNITS[_resolve("x_unit", x_unit, units[0], line, h_unit)]
 
