@@ -7,6 +7,7 @@ Heights and spacings are returned in m, whatever the file's units.
 
 from __future__ import annotations
 
+import contextlib
 import math
 import os
 import re
@@ -73,11 +74,27 @@ def _unit(name: str, unit) -> float:
     return UNITS[unit]
 
 
+def _holds_number(text: str) -> bool:
+    """Whether a header field holds a number of its own ("dx = 0.5 um", "--dx 1e-6 --units
+    um"): a scan parameter or a sentence, not a column's name ("h1" is a name)."""
+    for token in re.split(r"[\s,;=:()\[\]]+", text):
+        try:
+            float(token)
+        except ValueError:
+            continue
+        if any(c.isdigit() for c in token):
+            return True
+    return False
+
+
 def _field_unit(field: str) -> str | None:
-    """The unit a column header names: in brackets, or as its last word, or None."""
+    """The unit a column header names: in brackets, or as its last word (a name without
+    numbers: "Lateral um", not "dx 0.5 um"), or None."""
     found = _BRACKETED.search(field)
     if found:
         return _UNIT_WORDS.get(found.group(1).strip().lower())
+    if _holds_number(field):
+        return None
     for word in reversed(re.split(r"[\s_/:]+", field.strip())):
         if word.lower() in _UNIT_WORDS:
             return _UNIT_WORDS[word.lower()]
@@ -122,12 +139,16 @@ class _Columns(NamedTuple):
 
 
 def _text_columns(path: str) -> _Columns:
-    """The numeric block of a text file, its index column dropped, with the header's units."""
+    """The numeric block of a text file, its index column dropped, with the header's units
+    (one trace per line and maps: the unit a header names once is that of every column)."""
     table = parse_table(path)
     rows = table.rows
     units, line = header_units(table.header, rows.shape[1])
     if _index_column(rows):
         rows, units = rows[:, 1:], units[1:]
+    if rows.shape[1] > 2 and not any(units):  # traces or a map: every column holds heights,
+        (unit,), line = header_units(table.header, 1)  # named once ("Height [um]")
+        units = [None] * (rows.shape[1] - 1) + [unit]
     return _Columns(rows, units, line)
 
 
@@ -136,12 +157,40 @@ def _resolve(name: str, given, from_file, line: str, fallback: str) -> str:
     if given is not None:
         _unit(name, given)
     if given is not None and from_file is not None and UNITS[given] != UNITS[from_file]:
-        flag = {"unit": "--units", "x_unit": "--x-units"}[name]
+        flag, what = {"unit": ("--units", "the heights"), "x_unit": ("--x-units", "x")}[name]
         raise ValueError(
-            f"{name}={given!r} ({flag} {given}) contradicts the file, whose header gives that "
-            f"column in {from_file} ({line!r}): leave {name} out, or correct the header"
+            f"{name}={given!r} ({flag} {given}) contradicts the file, whose header gives "
+            f"{what} in {from_file} ({line.strip()!r}): leave {name} out, or correct the header"
         )
     return from_file or given or fallback
+
+
+def unit_advice(path, unit) -> str:
+    """The unit a file's heights were read in, what set it (``unit``, the header, neither) and
+    how to give the right one, in words: the end of a message about implausible heights."""
+    path = os.fspath(path)
+    ext = os.path.splitext(path)[1].lower()
+    if ext not in _TEXT + _NUMPY:
+        return "they were read in the units the file names; check them in the instrument's export"
+    if unit is not None:
+        return (
+            f"they were read in {unit} (unit={unit!r}, --units {unit}); give the unit the "
+            "file's heights are in"
+        )
+    named, line = None, ""
+    if ext in _TEXT:
+        with contextlib.suppress(ValueError, OSError):
+            columns = _text_columns(path)
+            named, line = columns.units[-1], columns.named_in.strip()
+    if named is not None:
+        return (
+            f"they were read in {named}, the unit the file's header names ({line!r}); correct "
+            "the header if the heights are in another unit"
+        )
+    return (
+        "they were read in m, neither unit= (--units) nor the file's header naming their unit; "
+        "give the unit the file's heights are in, e.g. unit='um' (--units um)"
+    )
 
 
 def _uniform_spacing(x: np.ndarray, path: str) -> float:
@@ -251,7 +300,6 @@ def _scales(path, columns: _Columns, unit, x_unit) -> tuple[float, float]:
         topography_warning(
             f"{path}: the x column is taken in {h_unit}, like the heights: the header names no "
             "unit for it and x_unit (--x-units) was not given",
-            stacklevel=4,
         )
     return UNITS[h_unit], UNITS[_resolve("x_unit", x_unit, units[0], line, h_unit)]
 
@@ -376,6 +424,15 @@ def read_map(
 
     Text (one row of heights per line) or ``.npy`` (2D array) with ``dx`` (and ``dy``, default
     dx) in m; any other extension via SurfaceTopography as :func:`read_profile`.
+
+    Parameters
+    ----------
+    path : str or path-like
+    dx, dy : float, optional
+        Spacings in m along the rows and between them (a text or ``.npy`` map needs dx).
+    unit : str, optional
+        Unit of the heights (``"m"``, ``"um"``, ``"nm"``, ...). Default: the unit the header
+        names ("Height [um]"), else m; an option that contradicts the header is refused.
 
     Returns
     -------

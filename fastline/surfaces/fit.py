@@ -394,7 +394,6 @@ def _warn_uncertain(qr: float, interval, lowest: float, length: float | None) ->
         f"fit_self_affine: q_r = {qr:.3g} 1/m is uncertain: the data allow {lo:.3g}-{hi:.3g} "
         f"1/m (two standard errors; qr_interval), more than {QR_TOLERANCE - 1.0:.0%} either "
         f"way. The roll-off lies {where}; {advice}",
-        stacklevel=4,
     )
 
 
@@ -411,7 +410,6 @@ def _warn_unresolved(qr: float, lowest: float, gain: float, upper: float) -> Non
         f"1/m. The roll-off may lie anywhere below {upper:.3g} 1/m (two standard errors); q_r, "
         "its error and the model's h_rms are not measurements (a longer scan, more profiles or "
         "a map resolve them)",
-        stacklevel=4,
     )
 
 

@@ -12,7 +12,11 @@ from __future__ import annotations
 import contextlib
 import contextvars
 import math
+import os
+import re
+import sys
 import warnings
+from collections.abc import Callable
 from typing import TypeVar
 
 import numpy as np
@@ -65,11 +69,36 @@ def checked_heights(h, ndim_allowed: tuple[int, ...]) -> np.ndarray:
     return arr
 
 
+#: the refusal of the h_rms a spectrum table implies (fastline.theory.spectra.TabulatedPSD),
+#: worded for a spectrum file (C in m^4, q in 1/m)
+_TABLE_H_RMS = re.compile(r"C gives h_rms = (\S+) m, outside \[(\S+), (\S+)\] m")
+
+
+@contextlib.contextmanager
+def heights_refused(what: str, advice: Callable[[], str]):
+    """Inside the block, the spectrum table's refusal of its h_rms said of the heights it was
+    computed from: ``what`` names them (a function, a file), ``advice()`` the unit they were
+    taken in and what to do; any other error passes unchanged."""
+    try:
+        yield
+    except ValueError as e:
+        found = _TABLE_H_RMS.match(str(e))
+        if found is None:
+            raise
+        h_rms, lo, hi = found.groups()
+        raise ValueError(
+            f"{what}: the heights give h_rms = {h_rms} m over the usable range, outside "
+            f"[{lo}, {hi}] m, the span of a measured surface: {advice()}"
+        ) from None
+
+
 def checked_spacing(name: str, value) -> float:
     """A spacing (m) inside SPACING_SPAN."""
     return in_span(name, value, SPACING_SPAN, "m")
 
 
+#: fastline's own directory: warnings point at the first frame outside it
+_PACKAGE_DIR = os.path.dirname(os.path.dirname(os.path.abspath(__file__))) + os.sep
 #: set while a caller recomputes what it has already analysed (and warned about) once
 _QUIET: contextvars.ContextVar[bool] = contextvars.ContextVar("fastline_topography_quiet")
 
@@ -87,10 +116,17 @@ def quiet():
         _QUIET.reset(token)
 
 
-def topography_warning(text: str, stacklevel: int) -> None:
-    """A TopographyWarning, ``stacklevel`` counted from the caller of this function."""
-    if not _QUIET.get(False):
-        warnings.warn(text, TopographyWarning, stacklevel=stacklevel + 1)
+def topography_warning(text: str) -> None:
+    """A TopographyWarning attributed to the first frame outside fastline: the line of the
+    user's code that called a public function (``analyse_scan``, a reader, the fit), however
+    deep inside fastline the warning was raised. (Python 3.12's ``skip_file_prefixes`` of
+    ``warnings.warn`` does this; fastline supports 3.10.)"""
+    if _QUIET.get(False):
+        return
+    frame, level = sys._getframe(1), 2  # level 2: this function's caller
+    while frame is not None and frame.f_code.co_filename.startswith(_PACKAGE_DIR):
+        frame, level = frame.f_back, level + 1
+    warnings.warn(text, TopographyWarning, stacklevel=level)
 
 
 def fill_dropouts(h: np.ndarray, nan: str) -> np.ndarray:
@@ -275,7 +311,6 @@ def check_plausible(h_rms: float, slope: float, what: str) -> None:
         topography_warning(
             f"{what}: {' and '.join(notes)}: are the heights or the spacing in the wrong unit "
             "(e.g. micrometres read as metres)? Heights and spacings are in m.",
-            stacklevel=3,
         )
 
 

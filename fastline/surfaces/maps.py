@@ -21,6 +21,7 @@ from fastline.surfaces.heights import (
     checked_spacing,
     choice,
     fill_dropouts,
+    heights_refused,
     normalised_window,
     refuse_flat,
 )
@@ -38,6 +39,12 @@ from fastline.surfaces.ranges import (
 )
 from fastline.surfaces.tables import extend_psd
 from fastline.theory.spectra import TabulatedPSD
+
+#: what psd_from_map says of heights whose spectrum is implausible
+_IN_METRES = (
+    "heights are taken in m; heights in other units must be converted first (micrometres "
+    "passed as metres give an h_rms 1e6 times too large)"
+)
 
 
 def _detrend_map(h: np.ndarray, how: str) -> np.ndarray:
@@ -234,5 +241,6 @@ def psd_from_map(
         Its ``q0``, ``q1`` are the usable range (or the extension).
     """
     rules = range_rules(q_range, tip_radius, noise)
-    psd, _ = map_spectrum(h, dx, dy, window, detrend, nan, bins_per_decade, rules)
+    with heights_refused("psd_from_map", lambda: _IN_METRES):
+        psd, _ = map_spectrum(h, dx, dy, window, detrend, nan, bins_per_decade, rules)
     return psd if q1 is None else extend_psd(psd, q1)

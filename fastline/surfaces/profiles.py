@@ -423,7 +423,6 @@ def isotropic_from_1d(
             f"{k.size} points; C1D was replaced by its closest non-increasing sequence (least "
             f"squares in ln C1D; {int(np.sum(pooled != C1D))} points changed), whose inverse "
             "transform is positive. Fewer bins per decade or more profiles help.",
-            stacklevel=2,
         )
         C = inverse_abel(k, pooled, slope)
         good = C > 0.0

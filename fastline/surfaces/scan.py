@@ -30,6 +30,8 @@ import numpy as np
 
 from fastline._lib.validate import positive
 from fastline.surfaces import topography as tp
+from fastline.surfaces.files import unit_advice
+from fastline.surfaces.heights import heights_refused
 from fastline.surfaces.maps import map_spectrum
 from fastline.surfaces.profiles import spectrum_and_periodogram
 from fastline.surfaces.ranges import range_rules
@@ -403,11 +405,13 @@ def _table(measured: TabulatedPSD, fit, q1, extend: bool):
     return tp.extend_psd(measured, q1, hurst=fit.hurst), top
 
 
-def _spectra(scan: _Scan, options: dict) -> _Spectra:
-    """The spectra of a map (:func:`_map_stage`) or of line scans (:func:`_profile_stage`)."""
-    if scan.kind == "map":
-        return _map_stage(scan.h, scan.dx, scan.dy, options)
-    return _profile_stage(scan.h, scan.dx, options)
+def _spectra(path: str, scan: _Scan, options: dict, unit) -> _Spectra:
+    """The spectra of a map (:func:`_map_stage`) or of line scans (:func:`_profile_stage`);
+    heights of an implausible h_rms refused naming the unit they were read in (``unit``)."""
+    with heights_refused(path, lambda: unit_advice(path, unit)):
+        if scan.kind == "map":
+            return _map_stage(scan.h, scan.dx, scan.dy, options)
+        return _profile_stage(scan.h, scan.dx, options)
 
 
 def _scan_spectrum(path: str, scan: _Scan, spectra: _Spectra, fit, table, options) -> ScanSpectrum:
@@ -519,7 +523,7 @@ def analyse_scan(
     detrend, q1 = _checked_options(as_map, detrend, q1, extend)
     options = _spectrum_options(window, detrend, nan, bins_per_decade, q_range, tip_radius, noise)
     scan = _read(path, dx, dy, as_map, unit, x_unit)
-    spectra = _spectra(scan, options)
+    spectra = _spectra(path, scan, options, unit)
     _check_q1(spectra.measured, q1, extend)
     fit = _fit(spectra.spectrum, spectra.measured, q1)
     table = _table(spectra.measured, fit, q1, extend)
