@@ -86,6 +86,22 @@ def test_warn_must_be_a_bool(warn):
         fl.LineContact(PSD, E_STAR, R, n=64, warn=warn)
 
 
+@pytest.mark.parametrize("geometry", ["line", "point"])
+def test_a_sweeps_progress_must_be_callable(geometry):
+    """A progress that is not callable is refused by name before any solve (it failed with
+    "'str' object is not callable" after the first load)."""
+    model = (fl.LineContact if geometry == "line" else fl.PointContact)(PSD, E_STAR, R, n=64)
+    with pytest.raises(TypeError, match="progress must be None or a callable"):
+        model.sweep([1e3, 1e4] if geometry == "line" else [1.0, 2.0], progress="x")
+
+
+@pytest.mark.parametrize("name, value", [("progress", "x"), ("warn", None), ("warn", "no")])
+def test_a_table_sweeps_flags_must_be_bools(name, value):
+    scenes = [dict(h_rms=1e-6, hurst=0.8, q0=1e4, q1=1e9, E_star=E_STAR, radius=R, load=LOAD)]
+    with pytest.raises(TypeError, match=f"{name} must be True or False"):
+        fl.sweep(scenes, "serial", **{name: value})
+
+
 def test_critical_gap_at_vanishing_pressure_is_finite_and_logarithmic():
     """Below ~1e-100 E* the direct solve's moment underflows (it gave inf): the continuation
     must be finite, fall with p, and follow the line u_c(ln p) of the direct solves above."""

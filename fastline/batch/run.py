@@ -14,7 +14,7 @@ from numpy.typing import ArrayLike
 from tqdm import tqdm
 
 from fastline._lib.executors import close_engine, open_engine
-from fastline._lib.validate import integer
+from fastline._lib.validate import boolean, integer
 from fastline.batch.plan import Piece, default_chunksize, plan_tasks, pool_pays
 from fastline.batch.scenes import normalise
 from fastline.batch.table import (
@@ -87,6 +87,9 @@ def sweep(
         scheduler address without dask installed (ImportError) or out of reach (OSError).
     """
     t0 = time.perf_counter()
+    if progress is not None:
+        progress = boolean("progress", progress)
+    warn = boolean("warn", warn)
     cols = normalise(scenes)
     size = len(cols["load"])
     chunk = default_chunksize(size) if chunksize is None else integer("chunksize", chunksize, 1)

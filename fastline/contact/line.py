@@ -383,6 +383,7 @@ class LineContact(ContactModel):
         loads concerned (:func:`fastline.contact.diagnostics.warn_once`). ``progress``, if given, is
         called with no argument after each solve (e.g. a tqdm bar's ``update``).
         """
+        progress = self._check_progress(progress)
         if self.accuracy is not None:  # each load on its own grids: no continuation
             return resolution.sweep_to_accuracy(self, self._check_loads(loads), progress)
         return self._sweep(loads, progress)

@@ -543,6 +543,16 @@ class ContactModel:
                 f"UnitWarning names the likely unit), and with it {e}"
             ) from None
 
+    @staticmethod
+    def _check_progress(progress) -> Callable[[], object] | None:
+        """``progress`` if it is None or callable; a TypeError naming it otherwise."""
+        if progress is not None and not callable(progress):
+            raise TypeError(
+                "progress must be None or a callable, called with no argument after each "
+                f"load (e.g. a tqdm bar's update), got {type(progress).__name__}"
+            )
+        return progress
+
     def _check_loads(self, loads) -> np.ndarray:
         if isinstance(loads, Iterable) and not isinstance(
             loads, np.ndarray | list | tuple | str | bytes

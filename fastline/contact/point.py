@@ -346,7 +346,7 @@ class PointContact(ContactModel):
         polynomial prediction in ln F of the earlier solutions, warnings once per cause naming
         the loads; ``progress`` is called after each solve.
         """
-        return self._sweep(loads, progress)
+        return self._sweep(loads, self._check_progress(progress))
 
     # -- solve stages -------------------------------------------------------------------------
     def _load_scale(self) -> float:
