@@ -192,11 +192,15 @@ def test_load_refuses_another_scene_a_corrupt_file_and_another_format(calibrated
     with pytest.raises(fl.CalibrationFileError, match="format is 'fastline-calibrated-law/0'"):
         fl.CalibratedLaw.load(tmp_path / "old.npz")
     np.savez(tmp_path / "pickled.npz", metadata=np.array([{"a": 1}], dtype=object))
-    with pytest.raises(fl.CalibrationFileError, match="not a fastline calibrated-law file"):
+    with pytest.raises(fl.CalibrationFileError, match="holds Python objects") as info:
         fl.CalibratedLaw.load(tmp_path / "pickled.npz")
+    assert "allow_pickle" not in str(info.value)  # no invitation to load it unsafely
     (tmp_path / "text.npz").write_text("not an archive")
-    with pytest.raises(fl.CalibrationFileError, match="not a fastline calibrated-law file"):
-        fl.CalibratedLaw.load(tmp_path / "text.npz")
+    (tmp_path / "bytes.dat").write_bytes(bytes(range(32)))
+    for name in ("text.npz", "bytes.dat"):
+        with pytest.raises(fl.CalibrationFileError, match="not a .npz archive") as info:
+            fl.CalibratedLaw.load(tmp_path / name)
+        assert "not a fastline calibrated-law file" in str(info.value)
     assert zipfile.is_zipfile(path)
 
 

@@ -552,6 +552,10 @@ def _checksum(arrays: dict, meta: dict) -> str:
 def _read(path: str) -> tuple[dict, dict]:
     """The arrays and metadata of a law file, checked (format and checksum)."""
     bad = f"{path} is not a fastline calibrated-law file ({FORMAT})"
+    if os.path.isfile(path) and not zipfile.is_zipfile(path):
+        raise CalibrationFileError(
+            f"{bad}: not a .npz archive (`fastline calibrate --out FILE` writes one)"
+        )
     try:
         with np.load(path, allow_pickle=False) as f:
             arrays = {k: f[k] for k in f.files}
@@ -560,7 +564,10 @@ def _read(path: str) -> tuple[dict, dict]:
     except FileNotFoundError:
         raise
     except (OSError, ValueError, KeyError, EOFError, zipfile.BadZipFile, TypeError) as e:
-        raise CalibrationFileError(f"{bad}: {e}") from None
+        why = str(e)
+        if "pickle" in why:  # NumPy's own text would invite an unsafe load
+            why = "it holds Python objects, which a law file never does (not loaded)"
+        raise CalibrationFileError(f"{bad}: {why}") from None
     if not isinstance(meta, dict) or meta.get("format") != FORMAT:
         got = meta.get("format") if isinstance(meta, dict) else None
         raise CalibrationFileError(f"{bad}: its format is {got!r}; remake it with this version")
