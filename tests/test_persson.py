@@ -8,6 +8,7 @@ from __future__ import annotations
 
 import functools
 import math
+import warnings
 
 import naive
 import numpy as np
@@ -452,3 +453,14 @@ def test_quintic_reproduces_quintics(seed):
         assert abs(val - f(t * h)) <= RTOL_EXACT * scale * 10
         assert abs(der - df(t * h)) <= RTOL_EXACT * scale * 10 / min(h, 1.0)
     del xa
+
+
+def test_interface_arrays_of_one_value_raise_no_numpy_warning():
+    """A one-element zeta with a scalar p (a broadcast view) reaches the compiled kernels
+    without NumPy's warning about writing to broadcast arrays."""
+    theory = PerssonTheory(SelfAffinePSD(1e-6, 0.8, 1e3, 1e4, 1e9), 1.33e9)
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        u = theory.mean_separation(np.array([2.0]), 1e6)
+        assert u.shape == (1,) and np.isfinite(u).all()
+        assert theory.mean_separation(np.array([]), 1e6).shape == (0,)

@@ -431,7 +431,9 @@ def _zeta_moment(theory, zeta, p):
     zeta, p = np.broadcast_arrays(zeta, p)
     shape = zeta.shape
     m = np.asarray(psd.cumulative(zeta.ravel() * psd.q0), dtype=np.float64)
-    return shape, np.ascontiguousarray(m), np.ascontiguousarray(p.ravel(), dtype=np.float64)
+    # a copy of p: a view of a broadcast array is flagged read-only-to-be (NumPy warns when the
+    # compiled kernel's typing looks at it)
+    return shape, np.ascontiguousarray(m), np.array(p.ravel(), dtype=np.float64)
 
 
 def _interface_arrays(theory, zeta, p):
