@@ -102,6 +102,14 @@ def test_a_table_sweeps_flags_must_be_bools(name, value):
         fl.sweep(scenes, "serial", **{name: value})
 
 
+@pytest.mark.parametrize("model", ["persson", "hertz"])
+@pytest.mark.parametrize("option", [dict(u0=-1.0), dict(beta=float("nan")), dict(u0=1e-6)])
+def test_exponential_parameters_with_another_model_are_refused(model, option):
+    """u0 and beta belong to the exponential law: with another model they were ignored."""
+    with pytest.raises(ValueError, match="u0 and beta set the exponential law"):
+        fl.solve_line_contact(PSD, E_STAR, R, LOAD, model=model, n=64, **option)
+
+
 def test_critical_gap_at_vanishing_pressure_is_finite_and_logarithmic():
     """Below ~1e-100 E* the direct solve's moment underflows (it gave inf): the continuation
     must be finite, fall with p, and follow the line u_c(ln p) of the direct solves above."""

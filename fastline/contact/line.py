@@ -271,7 +271,8 @@ class LineContact(ContactModel):
         stops when it stagnates, see :func:`fastline.contact.core.picard`); hertz: active-set steps
         (at most 30, typically 1-2).
     u0, beta : float, optional
-        Exponential-law parameters for ``model="exponential"`` (m, dimensionless).
+        Exponential-law parameters for ``model="exponential"`` (m, dimensionless); refused
+        with another model, which would ignore them.
     theory : PerssonTheory, optional
         A prebuilt theory for ``psd`` and ``E_star`` (its gamma and variant are used).
     hardness : float, optional

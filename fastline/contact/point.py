@@ -262,7 +262,8 @@ class PointContact(ContactModel):
     max_iter : int, optional
         Newton steps / fixed-point sweeps allowed (defaults 100 / 5000).
     u0, beta : float, optional
-        Exponential-law parameters for ``model="exponential"`` (m, dimensionless).
+        Exponential-law parameters for ``model="exponential"`` (m, dimensionless); refused
+        with another model, which would ignore them.
     theory : PerssonTheory, optional
         A prebuilt theory for ``psd`` and ``E_star`` (its gamma and variant are used).
     hardness : float, optional
