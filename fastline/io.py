@@ -329,7 +329,7 @@ def write_sweep_csv(
     """Write a load sweep: one row per result, columns :data:`SWEEP_COLUMNS`; a point
     contact's sweep as :func:`write_point_sweep_csv` writes it (the load in N)."""
     results = list(results)
-    kinds = {_is_point(r) for r in results}
+    kinds = {hasattr(r, "hertz_radius") for r in results}  # rows of a table sweep: a line's
     if len(kinds) > 1:
         raise ValueError("results mix line and point contacts: write each sweep on its own")
     if kinds == {True}:

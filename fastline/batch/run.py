@@ -69,7 +69,7 @@ def sweep(
         Scenes per task at most (default :func:`default_chunksize`: ~64 tasks); the results
         depend on it within the solver tolerance, and not at all on the executor.
     progress : bool or None
-        Show a tqdm progress bar on stderr (None: only when stderr is a terminal).
+        A tqdm progress bar on stderr (None: only when stderr is a terminal).
     warn : bool
         Emit, once each for the sweep, a :class:`~fastline.errors.SceneFailureWarning`, a
         ``ConvergenceWarning`` and a ``ValidityWarning`` per cause (kept in ``.warnings``).
@@ -87,9 +87,7 @@ def sweep(
         scheduler address without dask installed (ImportError) or out of reach (OSError).
     """
     t0 = time.perf_counter()
-    if progress is not None:
-        progress = boolean("progress", progress)
-    warn = boolean("warn", warn)
+    progress, warn = _flags(progress, warn)
     cols = normalise(scenes)
     size = len(cols["load"])
     chunk = default_chunksize(size) if chunksize is None else integer("chunksize", chunksize, 1)
@@ -100,6 +98,11 @@ def sweep(
     if warn:
         emit_warnings(summary)
     return SweepTable(table, summary, stats)
+
+
+def _flags(progress, warn) -> tuple[bool | None, bool]:
+    """``progress`` (None kept) and ``warn`` as bools; a TypeError naming either otherwise."""
+    return (None if progress is None else boolean("progress", progress)), boolean("warn", warn)
 
 
 def _run_tasks(

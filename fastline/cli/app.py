@@ -342,7 +342,7 @@ def cmd_sweep(args) -> int:
     else:
         results, table = sweep_in_parallel(psd, E, args, loads)
     print(spectrum_line(psd, source, args.model))
-    if results:
+    if len(results):
         print(model_line(results[0]))
     print(
         f"{'load [N/m]':>12}{'alpha':>12}{'p0 [Pa]':>13}{'p0 ratio':>10}{'s [m]':>12}"

@@ -508,8 +508,12 @@ def save(fig: Figure, path: str | os.PathLike, args: argparse.Namespace) -> None
 # ----------------------------------------------------------------------------------------------
 def model_line(r: ContactResult) -> str:
     """The printed model of a solve: the pressure law (``persson``, ``exponential``,
-    ``calibrated``, ...), the method and the grid."""
-    return f"model            {r.model} (method {r.method}, n = {r.diagnostics.get('n', '?')})"
+    ``calibrated``, ...), the method and the grid (a row of a table sweep: the law only)."""
+    method, diag = getattr(r, "method", None), getattr(r, "diagnostics", None)
+    n = diag.get("n", "?") if isinstance(diag, dict) else getattr(r, "n", "?")
+    if method is None:
+        return f"model            {r.model}"
+    return f"model            {r.model} (method {method}, n = {n})"
 
 
 def result_lines(r: LineContactResult, diag: dict) -> list[str]:

@@ -127,7 +127,7 @@ def cmd_sphere_sweep(args: argparse.Namespace) -> int:
     else:
         results, table = _sweep_on_executor(psd, E, args, loads)
     print(spectrum_line(psd, source, args.model))
-    if results:
+    if len(results):
         print(model_line(results[0]))
     print(f"geometry         sphere on a flat, R = {args.radius:.6g} m; loads F in N")
     print(

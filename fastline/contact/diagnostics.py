@@ -328,9 +328,8 @@ def assess(
     psd : PSD, optional
         The roughness spectrum, used only when ``theory`` is not given.
     warn : bool
-        Emit one :class:`ValidityWarning` per cause found that was not already reported for
-        this result (by its solve, or an earlier ``assess``); all are listed in the returned
-        dict either way. The regime is information, never a warning.
+        One :class:`ValidityWarning` per cause found and not yet reported for this result (by
+        its solve or an earlier ``assess``); all are listed either way. The regime never warns.
     stacklevel : int
         Where the warnings point: 1 the caller of ``assess``, 2 its caller, and so on.
 

@@ -388,7 +388,8 @@ class ContactModel:
 
     def _resolve_model(self, model, psd, theory, gamma, variant, u0, beta):
         """(theory or None, law or None for hertz) from the ``model`` argument."""
-        if model != "exponential" and (u0 is not None or beta is not None):
+        exponential = isinstance(model, str) and model == "exponential"
+        if (u0 is not None or beta is not None) and not exponential:
             raise ValueError(
                 "u0 and beta set the exponential law p = beta E* exp(-u/u0): they apply only "
                 f"with model='exponential' (model={model if isinstance(model, str) else 'a law'}"
