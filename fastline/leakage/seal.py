@@ -219,8 +219,7 @@ def seal_leak(
     result : LineContactResult or PointContactResult
         The dry contact (``model="persson"`` or ``law``), at most ``MAX_CELLS`` cells.
     pressure_drops : array_like
-        Pressure drops dP in Pa, in (0, ``MAX_DROP`` E*] (E* the contact's modulus), swept in
-        ascending order by continuation.
+        Pressure drops dP in Pa, in (0, ``MAX_DROP`` E*], swept ascending by continuation.
     viscosity, length, inner_radius, theory, threshold, method, gap_floor, law
         As in :func:`fastline.leak_rate` (Pa s, m, m, -, -, str, m, -): ``length`` for a line
         contact only, ``inner_radius`` (the hole, inside the contact) for a point contact only.
@@ -244,8 +243,7 @@ def seal_leak(
         Not a line- or point-contact result; an input outside its range, another model than
         the law's, a hole at or beyond the contact's edge, more than ``MAX_CELLS`` cells.
     """
-    dPs = _pressure_drops(pressure_drops, support, solver, getattr(result, "E_star", None))
-    rigid = boolean("rigid", rigid)
+    dPs, rigid = _checked(pressure_drops, support, solver, rigid, getattr(result, "E_star", None))
     dry = [leak_rate(result, float(d), viscosity, length, inner_radius=inner_radius,
                      theory=theory, threshold=threshold, method=method, gap_floor=gap_floor,
                      warn=False, law=law) for d in dPs]  # fmt: skip
@@ -271,9 +269,11 @@ def _diagnostics(run: _Run, dry, result) -> dict:
     return diag
 
 
-def _pressure_drops(pressure_drops, support: str, solver: str, E_star) -> np.ndarray:
-    """The pressure drops, ascending (and the choices of support and solver), checked; at most
-    ``MAX_DROP`` E* (``E_star`` None: not a contact result, which :func:`leak_rate` refuses)."""
+def _checked(pressure_drops, support: str, solver: str, rigid, E_star) -> tuple[np.ndarray, bool]:
+    """The pressure drops, ascending, and ``rigid`` (the choices of support and solver too),
+    checked; dP at most ``MAX_DROP`` E* (``E_star`` None: not a contact result, which
+    :func:`leak_rate` refuses)."""
+    rigid = boolean("rigid", rigid)
     if support not in SUPPORTS:
         raise ValueError(f"support must be one of {SUPPORTS}, got {support!r}")
     if solver not in SOLVERS:
@@ -292,7 +292,7 @@ def _pressure_drops(pressure_drops, support: str, solver: str, E_star) -> np.nda
             f"{MAX_DROP:g} E* would strain the body a hundredfold (no seal holds it; the "
             "static seal lifts off near its peak contact pressure, far below E*)"
         )
-    return np.sort(d)
+    return np.sort(d), rigid
 
 
 def _system(result, leak, theory, law, rigid: bool, support: str) -> System:
