@@ -9,6 +9,10 @@ dropouts, ...), unit warnings, exit statuses and output paths checked before any
 
 from __future__ import annotations
 
+import os
+import pathlib
+import subprocess
+import sys
 import warnings
 
 import numpy as np
@@ -396,3 +400,28 @@ def test_profile_scan_says_what_psd_says(tmp_path, capsys):
     shared += [ln for ln in out_psd.splitlines() if ln.startswith(("left out ", "fit  "))]
     assert len(shared) == 5 and all(ln in out.splitlines() for ln in shared)
     assert "C(q) table" in out_psd and "C(q) table" not in out
+
+
+def test_empty_files_are_refused_before_any_reader(tmp_path, capsys):
+    (tmp_path / "empty.txt").write_bytes(b"")
+    (tmp_path / "empty.sur").write_bytes(b"")  # an instrument's extension: no reader either
+    paths = [tmp_path / "empty.txt", tmp_path / "empty.sur"]
+    paths += ["/dev/null"] if os.path.exists("/dev/null") else []
+    for path in paths:
+        status, out, err = run(["psd", path, "--dx", DX], capsys)
+        assert status == 2 and out == "" and warning_lines(err) == [], err
+        lines = error_lines(err)
+        assert len(lines) == 1 and lines[0].startswith(f"fastline: error: {path} is empty"), err
+
+
+def test_reading_through_surfacetopography_prints_no_mpi_note(tmp_path):
+    pytest.importorskip("SurfaceTopography")
+    path = tmp_path / "binary.txt"  # defeats fastline's text reader: SurfaceTopography is tried
+    path.write_bytes(bytes(range(256)) * 2)
+    root = pathlib.Path(__file__).resolve().parents[1]
+    proc = subprocess.run(
+        [sys.executable, "-m", "fastline", "psd", str(path), "--dx", str(DX)],
+        cwd=root, capture_output=True, text=True, timeout=120, check=False,
+    )  # fmt: skip
+    assert proc.returncode == 2 and "cannot read it as a scan" in proc.stderr
+    assert "mpi4py" not in proc.stderr and warning_lines(proc.stderr) == [], proc.stderr

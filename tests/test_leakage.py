@@ -422,6 +422,11 @@ def test_radial_bad_input():
             fl.leak_rate(bad, DP, ETA, theory=th)
     with pytest.raises(ValueError, match="radii >= 0"):
         fl.leak_rate_profile([-1e-4, 0.0, 1e-4], [1e6] * 3, th, DP, ETA, inner_radius=1e-5)
+    for bad in (None, "no", 2):  # a flag is a bool ("no" would be truthy)
+        with pytest.raises(TypeError, match="warn must be True or False"):
+            fl.leak_rate(line, DP, ETA, theory=th, warn=bad)
+        with pytest.raises(TypeError, match="warn must be True or False"):
+            fl.leak_rate_profile(line.x, line.pressure, th, DP, ETA, warn=bad)
 
 
 def test_radial_figure_and_file(tmp_path):

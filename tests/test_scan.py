@@ -161,6 +161,9 @@ def test_bad_input(files, kwargs, needle):
 
 
 def test_bad_files(files, tmp_path):
+    for bad in (None, 3):
+        with pytest.raises(TypeError, match=r"path must be a file name \(str or os.PathLike\)"):
+            analyse_scan(bad, dx=DX)
     with pytest.raises(ValueError, match="is a directory"):
         analyse_scan(files["dir"])
     with pytest.raises(FileNotFoundError, match="no such file"):

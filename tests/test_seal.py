@@ -14,13 +14,14 @@ interface of docs/leakage.md.
 from __future__ import annotations
 
 import math
+import warnings
 
 import numpy as np
 import pytest
 
 import fastline as fl
 from fastline.cli.app import main
-from fastline.leakage import medium
+from fastline.leakage import medium, seal
 
 #: closed forms of the effective-medium equation: the bisection's resolution
 BISECT = 1e-12
@@ -93,6 +94,23 @@ def test_full_contact_and_threshold_seal():
     assert fl.effective_gap([1e-6], contact_fraction=1.0) == 0.0
     assert fl.effective_gap([1e-6], contact_fraction=0.5) == 0.0
     assert fl.effective_gap([1e-6], contact_fraction=0.499) > 0.0
+
+
+def test_closed_and_infinite_gaps_without_numpy_warnings():
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")  # no "All-NaN slice" from the bracket
+        assert fl.effective_gap([0.0, 0.0]) == 0.0  # a closed interface conducts nothing
+        assert fl.effective_gap([math.inf]) == math.inf
+        # infinite gaps on f < 1 - a_c of the area: s_eff = s / (1 - f (1 + k)), k = 1
+        u, f = 1e-6, 0.3
+        got = fl.effective_gap([math.inf, u], [f, 1.0 - f])
+        assert got == pytest.approx(u * (1.0 / (1.0 - 2.0 * f)) ** (1.0 / 3.0), rel=BISECT)
+        assert fl.effective_gap([math.inf, u], [0.5, 0.5]) == math.inf  # at its threshold
+
+
+def test_effective_gap_refuses_strings():
+    with pytest.raises(TypeError, match="gaps must hold real numbers"):
+        fl.effective_gap("x")
 
 
 def test_narrow_spread_gives_the_mean_conductivity():
@@ -200,6 +218,26 @@ def test_bad_input(contact, theory, kwargs, name):
                      **{k: v for k, v in kwargs.items() if k == "support"})  # fmt: skip
 
 
+def test_bad_types_name_the_parameter(contact, theory):
+    with pytest.raises(TypeError, match="pressure_drops must hold real numbers"):
+        fl.seal_leak(contact, "x", ETA, LENGTH, theory=theory)
+    with pytest.raises(TypeError, match="rigid must be True or False"):
+        fl.seal_leak(contact, [1e4], ETA, LENGTH, theory=theory, rigid="x")
+
+
+def test_pressure_drop_bounded_by_the_modulus(contact, theory):
+    top = seal.MAX_DROP * contact.E_star
+    for bad in ([1.001 * top], [1e4, 1e300]):
+        with pytest.raises(ValueError, match=r"pressure_drops must lie in \(0, .*E\*"):
+            fl.seal_leak(contact, bad, ETA, LENGTH, theory=theory)
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")  # no overflow at the bound, held or rigid
+        s = fl.seal_leak(contact, [top], ETA, LENGTH, theory=theory)
+        assert s.results[0].lifted_off and s.lift_off_pressure < contact.pressure.max()
+        rigid = fl.seal_leak(contact, [1e4, top], ETA, LENGTH, theory=theory, rigid=True)
+    assert np.all(np.isfinite(rigid.Q)) and rigid.Q[1] > rigid.Q[0] > 0.0
+
+
 def test_inner_radius_is_refused(contact, theory):
     with pytest.raises(ValueError, match="inner_radius is for a point contact"):
         fl.seal_leak(contact, [1e4], ETA, inner_radius=1e-5, theory=theory)
@@ -214,3 +252,13 @@ def test_cli_coupled(capsys, tmp_path):
     assert "lift-off         dP = " in out and "lifted off" in out and "nan" not in out
     assert (tmp_path / "seal.png").read_bytes()[:4] == b"\x89PNG"
     assert main([str(a) for a in argv if a != "--coupled"]) == 2  # several dP need it
+
+
+def test_cli_coupled_refuses_a_pressure_drop_beyond_the_bound(capsys):
+    argv = ["leak", "--h-rms", 0.3e-6, "--hurst", 0.85, "--q0", 5e4, "--qr", 5e5, "--q1", 1e9]
+    argv += ["--E-star", E_STAR, "--radius", RADIUS, "--load", 300, "--n", N, "--viscosity", ETA]
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")  # no overflow on the way
+        assert main([str(a) for a in argv + ["--coupled", "--pressure-drop", 1e300]]) == 2
+    err = capsys.readouterr().err
+    assert "pressure_drops must lie in" in err and "warning" not in err

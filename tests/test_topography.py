@@ -500,6 +500,8 @@ def test_fit_recovers_a_sampled_model(H):
     assert fit.rms_residual < 1e-6 and fit.hurst_err < 1e-6
     assert isinstance(fit.psd, fl.SelfAffinePSD) and fit.psd.q1 == pytest.approx(1e8)
     pure = tp.fit_self_affine((q[q > 3e4], psd(q[q > 3e4])), rolloff=False)
+    with pytest.raises(TypeError, match="rolloff must be True or False"):
+        tp.fit_self_affine((q[q > 3e4], psd(q[q > 3e4])), rolloff="no")  # "no" is truthy
     assert pure.hurst == pytest.approx(H, rel=RTOL_FIT_EXACT)
 
 

@@ -37,7 +37,7 @@ from typing import TYPE_CHECKING, Literal
 import numpy as np
 from numpy.typing import ArrayLike
 
-from fastline._lib.validate import finite_array, finite_scalar, positive
+from fastline._lib.validate import boolean, finite_array, finite_scalar, positive
 from fastline.errors import LeakageWarning
 from fastline.leakage.medium import _MediumTable, medium_table
 from fastline.theory.interface import (
@@ -436,7 +436,7 @@ def leak_rate_profile(
     )  # fmt: skip
     interface_cache(theory)
     x, p, inner_radius = _profile(x, p, inner_radius)
-    return _leak(x, p, theory, flow, warn, converged=True)
+    return _leak(x, p, theory, flow, boolean("warn", warn), converged=True)
 
 
 def _length(length, inner_radius) -> float | None:
@@ -651,7 +651,7 @@ def leak_rate(
     )  # fmt: skip
     theory = _result_theory(result, theory, _law(law, flow.method))
     x, p, _ = _profile(coords, result.pressure, inner_radius)
-    return _leak(x, p, theory, flow, warn, bool(result.converged), law)
+    return _leak(x, p, theory, flow, boolean("warn", warn), bool(result.converged), law)
 
 
 def _coordinates(result, inner_radius) -> np.ndarray:

@@ -36,7 +36,7 @@ from typing import TYPE_CHECKING
 import numpy as np
 from numpy.typing import ArrayLike
 
-from fastline._lib.validate import finite_array, in_range
+from fastline._lib.validate import finite_array, in_range, real_array
 from fastline.theory.interface import THRESHOLD_BRUGGEMAN, check_threshold, interface_cache
 
 if TYPE_CHECKING:  # annotations only
@@ -70,7 +70,8 @@ def effective_gap(
     Parameters
     ----------
     gaps : array_like
-        Gaps u in m (>= 0; 0 conducts nothing, +inf conducts without limit).
+        Gaps u in m (>= 0; 0 conducts nothing, +inf conducts without limit: u_eff is +inf
+        where such gaps cover at least ``1 - threshold`` of the area).
     weights : array_like, optional
         Area fractions of the gaps (>= 0); default equal. They are scaled to sum to
         ``1 - contact_fraction``.
@@ -83,10 +84,11 @@ def effective_gap(
     Returns
     -------
     float
-        u_eff in m: 0 when ``contact_fraction + (area of zero gap) >= threshold``; the gap itself
-        for a single gap without contact (Poiseuille flow).
+        u_eff in m: 0 when ``contact_fraction + (area of zero gap) >= threshold`` (so 0,
+        without a warning, when every gap is 0: a closed interface conducts nothing); the gap
+        itself for a single gap without contact (Poiseuille flow).
     """
-    u = np.asarray(gaps, dtype=float)
+    u = real_array("gaps", gaps)
     if u.ndim != 1 or u.size == 0 or np.any(np.isnan(u)) or np.any(u < 0.0):
         raise ValueError("gaps must be a non-empty 1-D array of gaps >= 0 m (inf allowed)")
     w = np.ones_like(u) if weights is None else finite_array("weights", weights, ndim=1)
@@ -107,18 +109,23 @@ def _coordination(threshold: float) -> float:
 
 def _solve(log_s: np.ndarray, w: np.ndarray, k: float) -> np.ndarray:
     """ln s_eff per row (``-inf`` where the medium does not conduct) by bisection on ln s_eff:
-    rows of ln s(u) (``-inf`` for u = 0, ``+inf`` allowed) with area weights summing to 1."""
-    finite = np.where(np.isfinite(log_s), log_s, np.nan)
-    hi = np.nanmax(finite, axis=1)
-    hi = np.where(np.isfinite(hi), hi, 0.0) + 1.0
-    lo = hi - LOG_SPAN  # s_eff vanishes at the threshold: no bound from the gaps below
-    # the residual at s_eff -> 0: every open gap +1, every closed one -1/k
+    rows of ln s(u) (``-inf`` for u = 0, ``+inf`` allowed: ``+inf`` where those gaps hold at
+    least ``1 - a_c`` of the area) with area weights summing to 1."""
+    hi = np.max(log_s, axis=1, where=np.isfinite(log_s), initial=-np.inf)
+    # infinite gaps raise s_eff above the largest finite s (without bound at their threshold)
+    wide = np.where(np.any(log_s == np.inf, axis=1), LOG_SPAN, 0.0)
+    hi = np.where(np.isfinite(hi), hi, 0.0) + 1.0 + wide  # every gap 0 or inf: any bracket
+    lo = hi - LOG_SPAN - wide  # s_eff vanishes at the threshold: no bound from the gaps below
+    # the residual at s_eff -> 0: every open gap +1, every closed one -1/k; at s_eff -> inf:
+    # every infinite gap +1, every other -1/k
     blocked = np.sum(w * np.where(log_s == -np.inf, -1.0 / k, 1.0), axis=1) <= 0.0
+    unbounded = np.sum(w * np.where(log_s == np.inf, 1.0, -1.0 / k), axis=1) >= 0.0
     for _ in range(BISECTIONS):
         mid = 0.5 * (lo + hi)
         up = _residual(log_s, w, mid, k) > 0.0  # s_eff below the root
         lo, hi = np.where(up, mid, lo), np.where(up, hi, mid)
     out = 0.5 * (lo + hi)
+    out[unbounded] = np.inf
     out[blocked] = -np.inf
     return out
 

@@ -38,6 +38,7 @@ from typing import TYPE_CHECKING
 import numpy as np
 from numpy.typing import ArrayLike
 
+from fastline._lib.validate import boolean, real_array
 from fastline.errors import LeakageWarning
 from fastline.leakage.flow import GAP_FLOOR, MAX_ORIFICE_SHARE, _flow_table, leak_rate
 from fastline.leakage.seal_kernels import reduced_step, stiffness_product
@@ -72,6 +73,10 @@ MIN_STEP = 1e-3
 LIFT = 0.01
 #: largest number of cells of the coupled system
 MAX_CELLS = 2048
+#: largest pressure drop, as a multiple of the contact's modulus E*: a fluid pressure of 100 E*
+#: strains the body a hundredfold (no seal meets it; the static seal lifts off near its peak
+#: contact pressure, far below E*), and beyond it the sweep's arithmetic overflows
+MAX_DROP = 100.0
 #: the Newton systems' solvers: the compiled reduced system, or NumPy's dense solve
 SOLVERS = ("compiled", "dense")
 #: the warning of a hole wide against the contact (``diagnostics["orifice_share"]``)
@@ -214,7 +219,7 @@ def seal_leak(
     result : LineContactResult or PointContactResult
         The dry contact (``model="persson"`` or ``law``), at most ``MAX_CELLS`` cells.
     pressure_drops : array_like
-        Pressure drops dP in Pa (> 0), swept in ascending order by continuation.
+        Pressure drops dP in Pa, in (0, ``MAX_DROP`` E*], swept ascending by continuation.
     viscosity, length, inner_radius, theory, threshold, method, gap_floor, law
         As in :func:`fastline.leak_rate` (Pa s, m, m, -, -, str, m, -): ``length`` for a line
         contact only, ``inner_radius`` (the hole, inside the contact) for a point contact only.
@@ -238,7 +243,7 @@ def seal_leak(
         Not a line- or point-contact result; an input outside its range, another model than
         the law's, a hole at or beyond the contact's edge, more than ``MAX_CELLS`` cells.
     """
-    dPs = _pressure_drops(pressure_drops, support, solver)
+    dPs, rigid = _checked(pressure_drops, support, solver, rigid, getattr(result, "E_star", None))
     dry = [leak_rate(result, float(d), viscosity, length, inner_radius=inner_radius,
                      theory=theory, threshold=threshold, method=method, gap_floor=gap_floor,
                      warn=False, law=law) for d in dPs]  # fmt: skip
@@ -264,19 +269,30 @@ def _diagnostics(run: _Run, dry, result) -> dict:
     return diag
 
 
-def _pressure_drops(pressure_drops, support: str, solver: str) -> np.ndarray:
-    """The pressure drops, ascending (and the choices of support and solver), checked."""
+def _checked(pressure_drops, support: str, solver: str, rigid, E_star) -> tuple[np.ndarray, bool]:
+    """The pressure drops, ascending, and ``rigid`` (the choices of support and solver too),
+    checked; dP at most ``MAX_DROP`` E* (``E_star`` None: not a contact result, which
+    :func:`leak_rate` refuses)."""
+    rigid = boolean("rigid", rigid)
     if support not in SUPPORTS:
         raise ValueError(f"support must be one of {SUPPORTS}, got {support!r}")
     if solver not in SOLVERS:
         raise ValueError(f"solver must be one of {SOLVERS}, got {solver!r}")
-    d = np.atleast_1d(np.asarray(pressure_drops, dtype=float))
+    d = np.atleast_1d(real_array("pressure_drops", pressure_drops))
     if d.ndim != 1 or d.size == 0 or not np.all(np.isfinite(d)) or np.any(d <= 0.0):
         raise ValueError(
             "pressure_drops must be one or more finite pressure drops > 0 Pa (allowed range "
             "(0, inf))"
         )
-    return np.sort(d)
+    top = None if E_star is None else MAX_DROP * float(E_star)
+    if top is not None and d.max() > top:
+        raise ValueError(
+            f"pressure_drops must lie in (0, {top:.6g}] Pa ({MAX_DROP:g} E*, the contact's "
+            f"modulus E* = {float(E_star):.6g} Pa), got {d.max():.6g}: a fluid pressure of "
+            f"{MAX_DROP:g} E* would strain the body a hundredfold (no seal holds it; the "
+            "static seal lifts off near its peak contact pressure, far below E*)"
+        )
+    return np.sort(d), rigid
 
 
 def _system(result, leak, theory, law, rigid: bool, support: str) -> System:

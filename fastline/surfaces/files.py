@@ -11,6 +11,8 @@ import contextlib
 import math
 import os
 import re
+import stat
+import warnings
 from typing import NamedTuple
 
 import numpy as np
@@ -213,10 +215,34 @@ def _uniform_spacing(x: np.ndarray, path: str) -> float:
     return abs(float(slope))
 
 
+def file_path(path, name: str = "path") -> str:
+    """``path`` as a string: a TypeError naming ``name`` for anything but a file name (str or
+    os.PathLike)."""
+    if not isinstance(path, str | os.PathLike):
+        raise TypeError(
+            f"{name} must be a file name (str or os.PathLike), got {type(path).__name__} ({path!r})"
+        )
+    return os.fspath(path)
+
+
+def refuse_empty(path: str) -> None:
+    """A ValueError for a file that holds nothing to read: 0 bytes, or not a regular file (a
+    device such as /dev/null, a pipe: no reader can take heights from it); a directory too."""
+    mode = os.stat(path).st_mode
+    if stat.S_ISDIR(mode):
+        raise ValueError(f"{path} is a directory, not a file")
+    if not stat.S_ISREG(mode):
+        raise ValueError(f"{path} is empty: not a regular file of heights (a device or a pipe)")
+    if os.path.getsize(path) == 0:
+        raise ValueError(f"{path} is empty (0 bytes): no heights to read")
+
+
 def _surfacetopography(path: str):
     """(dimension, heights in m, spacings in m) of an instrument file, via SurfaceTopography."""
     try:
-        import SurfaceTopography
+        with warnings.catch_warnings():  # its parallel backend's note says nothing to a user
+            warnings.filterwarnings("ignore", "Could not import mpi4py", ImportWarning)
+            import SurfaceTopography
     except ImportError:
         raise ImportError(
             f"reading {os.path.splitext(path)[1] or 'these'} files needs {_INSTALL}"
@@ -328,10 +354,11 @@ def _array(path: str, ext: str, unit, x_unit):
 def _load(path, *, dx, unit, x_unit, kind):
     """(dimension, heights, spacings) from a text, .npy or instrument file (kind: profile,
     map or None for either)."""
-    path = os.fspath(path)
+    path = file_path(path)
     ext = os.path.splitext(path)[1].lower()
     if not os.path.exists(path):
         raise FileNotFoundError(f"no such file: {path}")
+    refuse_empty(path)
     if ext not in _TEXT + _NUMPY:
         return _surfacetopography(path)
     data, scale, scale_x = _array(path, ext, unit, x_unit)

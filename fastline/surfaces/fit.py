@@ -14,7 +14,7 @@ from typing import NamedTuple
 import numpy as np
 from numpy.typing import ArrayLike
 
-from fastline._lib.validate import positive
+from fastline._lib.validate import boolean, positive
 from fastline.surfaces.heights import topography_warning
 from fastline.surfaces.profiles import ProfileSpectrum
 from fastline.surfaces.ranges import range_argument
@@ -515,6 +515,7 @@ def fit_self_affine(
     -------
     SelfAffineFit
     """
+    rolloff = boolean("rolloff", rolloff)
     profile = isinstance(psd, ProfileSpectrum)
     m0, m1 = _model_range(psd, q0, q1)
     fitted = (_fit_profile if profile else _fit_table)(psd, q_range, rolloff)

@@ -30,7 +30,7 @@ import numpy as np
 
 from fastline._lib.validate import positive
 from fastline.surfaces import topography as tp
-from fastline.surfaces.files import unit_advice
+from fastline.surfaces.files import file_path, unit_advice
 from fastline.surfaces.heights import heights_refused
 from fastline.surfaces.maps import map_spectrum
 from fastline.surfaces.profiles import spectrum_and_periodogram
@@ -519,7 +519,7 @@ def analyse_scan(
         Bad options (before any work), an unreadable or implausible file, an empty usable
         range, q1 above it without ``extend`` (FileNotFoundError: no such file).
     """
-    path = os.fspath(path)
+    path = file_path(path)
     detrend, q1 = _checked_options(as_map, detrend, q1, extend)
     options = _spectrum_options(window, detrend, nan, bins_per_decade, q_range, tip_radius, noise)
     scan = _read(path, dx, dy, as_map, unit, x_unit)
