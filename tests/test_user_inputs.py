@@ -39,6 +39,15 @@ def test_implausible_modulus_warns_once_with_the_unit(E, unit):
     assert slips[0].filename == __file__
 
 
+def test_a_table_sweeps_modulus_warning_points_at_the_callers_line():
+    """Reached through another subpackage (fl.sweep -> the scene's LineContact), the
+    implausible-modulus warning still names the user's line, not fastline's."""
+    scene = dict(h_rms=1e-6, hurst=0.8, q0=1e4, qr=1e4, q1=1e9, E_star=5e3, radius=R, load=1.0)
+    table, w = caught(lambda: fl.sweep([scene], "serial", progress=False))
+    units = [x for x in w if issubclass(x.category, fl.UnitWarning)]
+    assert len(units) == 1 and units[0].filename == __file__
+
+
 @pytest.mark.parametrize("E", [1e4, 1.33e9, 1.2e12])
 def test_plausible_modulus_is_silent(E):
     _, w = caught(lambda: fl.check_modulus(E))

@@ -492,7 +492,7 @@ def summarise_warnings(results: Iterable) -> list[tuple[str, str]]:
 
 
 #: the package's directory: frames there are fastline's own (:func:`outside_stacklevel`)
-_PACKAGE_DIR = os.path.dirname(os.path.abspath(__file__)) + os.sep
+_PACKAGE_DIR = os.path.dirname(os.path.dirname(os.path.abspath(__file__))) + os.sep  # fastline/
 
 
 def outside_stacklevel() -> int:
