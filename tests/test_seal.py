@@ -261,4 +261,4 @@ def test_cli_coupled_refuses_a_pressure_drop_beyond_the_bound(capsys):
         warnings.simplefilter("error")  # no overflow on the way
         assert main([str(a) for a in argv + ["--coupled", "--pressure-drop", 1e300]]) == 2
     err = capsys.readouterr().err
-    assert "pressure_drops must lie in" in err and "warning" not in err
+    assert "--pressure-drop must lie in" in err and "warning" not in err

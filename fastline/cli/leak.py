@@ -576,11 +576,14 @@ def _leak_coupled(args, geometry, psd, E, source, th) -> int:
     r = solve(psd, E, args.radius, args.load, model=args.model, **solve_kwargs(args, th))
     _check_inner_radius(args, [r])
     law = args.model if isinstance(args.model, fl.CalibratedLaw) else None
-    sweep = fl.seal_leak(
-        r, args.pressure_drops, args.viscosity, args.length, inner_radius=args.inner_radius,
-        theory=th, threshold=args.threshold, method=args.method, gap_floor=args.gap_floor,
-        law=law,
-    )  # fmt: skip
+    try:
+        sweep = fl.seal_leak(
+            r, args.pressure_drops, args.viscosity, args.length, inner_radius=args.inner_radius,
+            theory=th, threshold=args.threshold, method=args.method, gap_floor=args.gap_floor,
+            law=law,
+        )  # fmt: skip
+    except ValueError as e:  # the option's name, not the function's
+        raise CLIError(str(e).replace("pressure_drops must", "--pressure-drop must")) from None
     print(spectrum_line(psd, source))
     print("\n".join(result_lines(r, r.diagnostics)))
     print(_fluid_line(args).replace(f"pressure drop {args.pressure_drop:.6g} Pa", "coupled"))
