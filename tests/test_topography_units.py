@@ -154,3 +154,16 @@ def test_warnings_point_at_the_callers_line(surface_um, tmp_path):
         assert {w.filename for w in mine} == {__file__}, [(w.filename, w.lineno) for w in mine]
         seen.update(text.split(":")[0] for text in texts)
     assert {"psd_from_profile", "psd_from_map", "isotropic_from_1d", "fit_self_affine"} <= seen
+
+
+@pytest.mark.parametrize("layout", ["column", "rows"])
+def test_a_unit_of_positions_without_an_x_column_is_refused(layout, surface_um, tmp_path):
+    """x_unit (--x-units) names the unit of an x column: for heights alone (their spacing
+    is dx, in m) it is refused by name instead of ignored; with an x column it is used."""
+    path = tmp_path / f"{layout}.txt"
+    _export(path, layout, surface_um)
+    with pytest.raises(ValueError, match=r"x_unit \(--x-units\) sets the unit of an x column"):
+        _read(layout, path, x_unit="mm")
+    xh = tmp_path / "xh.txt"
+    _export(xh, "xh", surface_um)
+    assert _read("xh", xh, x_unit="um").dx == pytest.approx(DX, rel=1e-9)

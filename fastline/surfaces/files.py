@@ -372,12 +372,23 @@ def _load(path, *, dx, unit, x_unit, kind):
             raise ValueError(f"{path}: a map needs a 2D array of heights, got shape {data.shape}")
         if dx is None:
             raise ValueError(f"{path}: a height map from a text or .npy file needs dx (m)")
+        _no_x_column(path, x_unit, "rows of heights (traces or a map)")
         return 2, _scaled(data, scale), (dx, None)
     if columns == 1:
         if dx is None:
             raise ValueError(f"{path}: one column of heights: dx (m) is required")
+        _no_x_column(path, x_unit, "one column of heights")
         return 1, _scaled(data.ravel(), scale), (dx,)
     return _xh_profile(path, data, scale, scale_x, dx)
+
+
+def _no_x_column(path, x_unit, what: str) -> None:
+    """Refuse a unit of positions for a file that holds none (its spacing is dx, in m)."""
+    if x_unit is not None:
+        raise ValueError(
+            f"{path}: x_unit (--x-units) sets the unit of an x column; this file holds {what} "
+            "without one (its spacing is dx, in m)"
+        )
 
 
 def _scaled(h: np.ndarray, scale: float) -> np.ndarray:
