@@ -276,15 +276,9 @@ def write_csv(
 
 
 def _is_point(result) -> bool:
-    """Whether ``result`` is a point contact's (radius ``r``), a line contact's (``x``), or
-    neither (TypeError)."""
-    if hasattr(result, "r") and hasattr(result, "hertz_radius"):
-        return True
-    if hasattr(result, "x") and hasattr(result, "p0_ratio"):
-        return False
-    raise TypeError(
-        f"expected a LineContactResult or PointContactResult, got {type(result).__name__}"
-    )
+    """Whether ``result`` is a point contact's (it has a Hertz radius): else a line contact's,
+    or a row of a table sweep."""
+    return hasattr(result, "hertz_radius")
 
 
 def write_profile_csv(
@@ -301,6 +295,10 @@ def write_profile_csv(
     if _is_point(result):
         write_point_profile_csv(path, result, meta)
         return
+    if not (hasattr(result, "x") and hasattr(result, "p0_ratio")):
+        raise TypeError(
+            f"expected a LineContactResult or PointContactResult, got {type(result).__name__}"
+        )
     info = dict(meta or {})
     info.update(
         load_N_per_m=result.load,
@@ -329,7 +327,7 @@ def write_sweep_csv(
     """Write a load sweep: one row per result, columns :data:`SWEEP_COLUMNS`; a point
     contact's sweep as :func:`write_point_sweep_csv` writes it (the load in N)."""
     results = list(results)
-    kinds = {hasattr(r, "hertz_radius") for r in results}  # rows of a table sweep: a line's
+    kinds = {_is_point(r) for r in results}
     if len(kinds) > 1:
         raise ValueError("results mix line and point contacts: write each sweep on its own")
     if kinds == {True}:
