@@ -40,8 +40,6 @@ SI units throughout: Pa, m, N/m (N for a point contact).
 from __future__ import annotations
 
 import math
-import os
-import sys
 import warnings
 from collections.abc import Iterable
 from typing import TYPE_CHECKING
@@ -489,23 +487,6 @@ def summarise_warnings(results: Iterable) -> list[tuple[str, str]]:
         loads = _loads_text([r.load for r in rs], len(results), symbol, unit)
         out.append((c, f"{msg} [{loads}]"))
     return out
-
-
-#: the package's directory: frames there are fastline's own (:func:`outside_stacklevel`)
-_PACKAGE_DIR = os.path.dirname(os.path.dirname(os.path.abspath(__file__))) + os.sep  # fastline/
-
-
-def outside_stacklevel() -> int:
-    """The ``stacklevel`` that makes a warning emitted by the caller of this function point at
-    the first frame outside fastline: the user's line, however many of fastline's functions lie
-    between (``solve_line_contact`` -> ``LineContact.solve`` -> ...). Python 3.12's
-    ``skip_file_prefixes`` does this in ``warnings.warn``; fastline supports 3.10."""
-    frame = sys._getframe(1)
-    level = 1
-    while frame is not None and frame.f_code.co_filename.startswith(_PACKAGE_DIR):
-        frame = frame.f_back
-        level += 1
-    return level
 
 
 def warn_once(results: Iterable, *, stacklevel: int = 1) -> list[str]:

@@ -32,6 +32,7 @@ from typing import NamedTuple
 
 import numpy as np
 
+from fastline._lib.stack import outside_stacklevel
 from fastline._lib.validate import (
     MAX_ITER_RANGE,
     RADIUS_RANGE,
@@ -45,7 +46,7 @@ from fastline._lib.validate import (
 from fastline.contact import core as _core
 from fastline.contact import kernels as _kernels
 from fastline.contact.core import ConvergenceWarning, dot, normalise
-from fastline.contact.diagnostics import assess, outside_stacklevel, warn_once
+from fastline.contact.diagnostics import assess, warn_once
 from fastline.contact.hard import hard_contact
 from fastline.contact.kernels import cold_start_into, cold_start_normalised, hermite_accumulate
 from fastline.theory.files import read_spectrum

@@ -12,15 +12,14 @@ from __future__ import annotations
 import contextlib
 import contextvars
 import math
-import os
 import re
-import sys
 import warnings
 from collections.abc import Callable
 from typing import TypeVar
 
 import numpy as np
 
+from fastline._lib.stack import outside_stacklevel
 from fastline._lib.validate import in_span, real_array
 from fastline.errors import TopographyWarning
 from fastline.surfaces.rowkernels import hann_in_place
@@ -97,8 +96,6 @@ def checked_spacing(name: str, value) -> float:
     return in_span(name, value, SPACING_SPAN, "m")
 
 
-#: fastline's own directory: warnings point at the first frame outside it
-_PACKAGE_DIR = os.path.dirname(os.path.dirname(os.path.abspath(__file__))) + os.sep
 #: set while a caller recomputes what it has already analysed (and warned about) once
 _QUIET: contextvars.ContextVar[bool] = contextvars.ContextVar("fastline_topography_quiet")
 
@@ -121,12 +118,8 @@ def topography_warning(text: str) -> None:
     user's code that called a public function (``analyse_scan``, a reader, the fit), however
     deep inside fastline the warning was raised. (Python 3.12's ``skip_file_prefixes`` of
     ``warnings.warn`` does this; fastline supports 3.10.)"""
-    if _QUIET.get(False):
-        return
-    frame, level = sys._getframe(1), 2  # level 2: this function's caller
-    while frame is not None and frame.f_code.co_filename.startswith(_PACKAGE_DIR):
-        frame, level = frame.f_back, level + 1
-    warnings.warn(text, TopographyWarning, stacklevel=level)
+    if not _QUIET.get(False):
+        warnings.warn(text, TopographyWarning, stacklevel=outside_stacklevel())
 
 
 def fill_dropouts(h: np.ndarray, nan: str) -> np.ndarray:
