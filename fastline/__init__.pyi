@@ -25,6 +25,7 @@ from .errors import AccuracyWarning as AccuracyWarning
 from .errors import CalibrationFileError as CalibrationFileError
 from .errors import CalibrationWarning as CalibrationWarning
 from .errors import ConvergenceWarning as ConvergenceWarning
+from .errors import ImplausibleSpectrumError as ImplausibleSpectrumError
 from .errors import LeakageWarning as LeakageWarning
 from .errors import NarrowContactWarning as NarrowContactWarning
 from .errors import UnitWarning as UnitWarning

@@ -17,6 +17,7 @@ __all__ = [
     "TopographyWarning",
     "SceneFailureWarning",
     "SpectrumFileError",
+    "ImplausibleSpectrumError",
     "UnitWarning",
     "CalibrationWarning",
     "CalibrationFileError",
@@ -60,6 +61,17 @@ class UnitWarning(UserWarning):
 
 class SpectrumFileError(ValueError):
     """A spectrum file that cannot be read or does not look like a spectrum."""
+
+
+class ImplausibleSpectrumError(ValueError):
+    """A spectrum whose h_rms lies outside the span of any measured surface (``h_rms``, m, and
+    that ``span``, (lo, hi) in m): most often a unit slip in C(q) or in the heights it came
+    from."""
+
+    def __init__(self, message: str, h_rms: float, span: tuple[float, float]) -> None:
+        super().__init__(message)
+        self.h_rms = h_rms
+        self.span = span
 
 
 class CalibrationWarning(ValidityWarning):

@@ -12,6 +12,7 @@ import numpy as np
 import pytest
 from scipy.integrate import quad
 
+from fastline.errors import ImplausibleSpectrumError
 from fastline.theory.spectra import PSD, SelfAffinePSD, SumPSD, TabulatedPSD, effective_modulus
 
 RTOL_QUAD = 1e-10  # closed-form / exact moments vs adaptive quadrature of the definition
@@ -350,3 +351,15 @@ GOOD_MOD = dict(E1=210e9, nu1=0.3, E2=10e6, nu2=0.5)
 def test_effective_modulus_rejects(name, value):
     with _raises(name):
         effective_modulus(**{**GOOD_MOD, name: value})
+
+
+def test_an_implausible_table_names_its_h_rms_by_type():
+    """C(q) in um^4 read as m^4: refused as an ImplausibleSpectrumError (a ValueError) that
+    carries the h_rms it implies and the span it left, for callers to reword."""
+    q = np.geomspace(1e3, 1e8, 40)
+    C = 1e-18 * (q / 1e3) ** -3.0 * 1e24  # a micrometre-scale table scaled by (1e6)^4
+    with pytest.raises(ImplausibleSpectrumError, match="C gives h_rms") as info:
+        TabulatedPSD(q, C)
+    err = info.value
+    assert isinstance(err, ValueError) and err.h_rms > err.span[1]
+    assert err.h_rms == pytest.approx(TabulatedPSD(q, C * 1e-24).h_rms * 1e12, rel=1e-9)

@@ -12,7 +12,6 @@ from __future__ import annotations
 import contextlib
 import contextvars
 import math
-import re
 import warnings
 from collections.abc import Callable
 from typing import TypeVar
@@ -21,7 +20,7 @@ import numpy as np
 
 from fastline._lib.stack import outside_stacklevel
 from fastline._lib.validate import in_span, real_array
-from fastline.errors import TopographyWarning
+from fastline.errors import ImplausibleSpectrumError, TopographyWarning
 from fastline.surfaces.rowkernels import hann_in_place
 
 #: fewest points per profile (and per map direction): a usable range of at least a factor 2
@@ -68,26 +67,21 @@ def checked_heights(h, ndim_allowed: tuple[int, ...]) -> np.ndarray:
     return arr
 
 
-#: the refusal of the h_rms a spectrum table implies (fastline.theory.spectra.TabulatedPSD),
-#: worded for a spectrum file (C in m^4, q in 1/m)
-_TABLE_H_RMS = re.compile(r"C gives h_rms = (\S+) m, outside \[(\S+), (\S+)\] m")
-
-
 @contextlib.contextmanager
 def heights_refused(what: str, advice: Callable[[], str]):
-    """Inside the block, the spectrum table's refusal of its h_rms said of the heights it was
-    computed from: ``what`` names them (a function, a file), ``advice()`` the unit they were
-    taken in and what to do; any other error passes unchanged."""
+    """Inside the block, a spectrum table's refusal of its h_rms
+    (:class:`~fastline.errors.ImplausibleSpectrumError`) said of the heights it was computed
+    from: ``what`` names them (a function, a file), ``advice()`` the unit they were taken in
+    and what to do."""
     try:
         yield
-    except ValueError as e:
-        found = _TABLE_H_RMS.match(str(e))
-        if found is None:
-            raise
-        h_rms, lo, hi = found.groups()
-        raise ValueError(
-            f"{what}: the heights give h_rms = {h_rms} m over the usable range, outside "
-            f"[{lo}, {hi}] m, the span of a measured surface: {advice()}"
+    except ImplausibleSpectrumError as e:
+        lo, hi = e.span
+        raise ImplausibleSpectrumError(
+            f"{what}: the heights give h_rms = {e.h_rms:.3g} m over the usable range, outside "
+            f"[{lo:g}, {hi:g}] m, the span of a measured surface: {advice()}",
+            e.h_rms,
+            e.span,
         ) from None
 
 

@@ -36,7 +36,7 @@ from fastline._lib.validate import (
     positive,
     real_array,
 )
-from fastline.errors import UnitWarning
+from fastline.errors import ImplausibleSpectrumError, UnitWarning
 from fastline.theory.quadrature import interval_moments
 
 __all__ = [
@@ -240,10 +240,12 @@ class TabulatedPSD(PSD):
             raise ValueError(f"q must lie in [{lo:g}, {hi:g}] 1/m (check the units: 1/m)")
         h = self.h_rms
         if not (LENGTH_RANGE[0] <= h <= LENGTH_RANGE[1]) or not math.isfinite(self.rms_slope):
-            raise ValueError(
+            raise ImplausibleSpectrumError(
                 f"C gives h_rms = {h:.3g} m, outside [{LENGTH_RANGE[0]:g}, {LENGTH_RANGE[1]:g}] m "
                 "(check the units: C in m^4, q in 1/m, Persson's convention h_rms^2 = "
-                "2 pi int q C dq)"
+                "2 pi int q C dq)",
+                h,
+                LENGTH_RANGE,
             )
 
     def __repr__(self):
